@@ -1,0 +1,117 @@
+#include "app/cli.h"
+
+#include <charconv>
+#include <functional>
+#include <map>
+
+namespace caustic {
+namespace {
+
+template <class T>
+bool parseInt(const std::string& s, long long lo, long long hi, T* out) {
+    long long v = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || ptr != s.data() + s.size() || v < lo || v > hi) return false;
+    *out = static_cast<T>(v);
+    return true;
+}
+
+}  // namespace
+
+std::string cliUsage() {
+    return R"(usage: caustic --scene <file.json> [options]     render headless and exit
+       caustic [scene.json]                         open the editor (not built yet)
+
+options:
+  --scene <file.json>   the scene to render in batch mode
+  --samples <n>         samples per pixel (default: the scene's, else 256)
+  --width <px>          image width (default: the scene's, else 800)
+  --height <px>         image height (default: the scene's, else 600)
+  --max-depth <n>       maximum scattering events per path (default: the scene's, else 10)
+  --seed <n>            random seed, 0..4294967295 (default: the scene's, else 0)
+  --output <dir>        output folder, created if missing (default: renders); files are named
+                        after the scene
+  --png | --hdr | --exr output formats, any combination (default: --png); PNG is 8-bit sRGB
+                        after tone mapping, HDR (Radiance) and EXR are linear float
+  --reinhard            Reinhard tone mapping for PNG (default: ACES filmic)
+  --sky                 replace the scene's environment with the procedural sky
+  --envmap <file.hdr>   light the scene with an HDR environment map (not available yet)
+  --oidn                denoise with Intel Open Image Denoise (not available yet)
+  --aovs                also write the albedo and normal passes (not available yet)
+  --help                show this text
+  --version             show the version
+
+Written files are printed on stdout, one per line; progress and the summary go to stderr.
+Exit status: 0 success, 1 the render failed (bad scene, GL or I/O error), 2 bad command line.
+)";
+}
+
+CliParseResult parseCli(const std::vector<std::string>& args) {
+    CliOptions o;
+    CliParseResult result;
+    using Handler = std::function<bool(const std::string&, std::string*)>;
+    auto intFlag = [](auto* field, long long lo, long long hi) {
+        return [=](const std::string& v, std::string* why) {
+            using T = typename std::decay_t<decltype(*field)>::value_type;
+            T parsed{};
+            if (!parseInt(v, lo, hi, &parsed)) {
+                *why = "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'";
+                return false;
+            }
+            *field = parsed;
+            return true;
+        };
+    };
+    const std::map<std::string, Handler> withValue = {
+        {"--scene", [&](const std::string& v, std::string*) { o.scene = v; return true; }},
+        {"--samples", intFlag(&o.samples, 1, 1 << 24)},
+        {"--width", intFlag(&o.width, 1, 16384)},
+        {"--height", intFlag(&o.height, 1, 16384)},
+        {"--max-depth", intFlag(&o.maxDepth, 0, 1024)},
+        {"--seed", intFlag(&o.seed, 0, 4294967295LL)},
+        {"--output", [&](const std::string& v, std::string* why) {
+             if (v.empty()) { *why = "expected a folder"; return false; }
+             o.outputDir = v;
+             return true;
+         }},
+        {"--envmap", [&](const std::string& v, std::string*) { o.envmap = v; return true; }},
+    };
+    const std::map<std::string, bool*> switches = {
+        {"--png", &o.png}, {"--hdr", &o.hdr}, {"--exr", &o.exr}, {"--reinhard", &o.reinhard},
+        {"--oidn", &o.oidn}, {"--aovs", &o.aovs}, {"--sky", &o.sky}, {"--help", &o.help},
+        {"--version", &o.version},
+    };
+    for (size_t i = 0; i < args.size(); ++i) {
+        std::string arg = args[i];
+        std::string value;
+        bool hasInlineValue = false;
+        if (auto eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+            value = arg.substr(eq + 1);
+            arg = arg.substr(0, eq);
+            hasInlineValue = true;
+        }
+        if (auto it = switches.find(arg); it != switches.end()) {
+            if (hasInlineValue) { result.error = arg + ": takes no value"; return result; }
+            *it->second = true;
+        } else if (auto wv = withValue.find(arg); wv != withValue.end()) {
+            if (!hasInlineValue) {
+                if (i + 1 >= args.size()) { result.error = arg + ": missing value"; return result; }
+                value = args[++i];
+            }
+            std::string why;
+            if (!wv->second(value, &why)) { result.error = arg + ": " + why; return result; }
+        } else if (arg.rfind("-", 0) == 0 && arg.size() > 1) {
+            result.error = arg + ": unknown option (see --help)";
+            return result;
+        } else if (!o.editorScene) {
+            o.editorScene = arg;  // `caustic scene.json`: the scene to open in the editor
+        } else {
+            result.error = "unexpected argument '" + arg + "'";
+            return result;
+        }
+    }
+    result.options = o;
+    return result;
+}
+
+}  // namespace caustic

@@ -1,0 +1,32 @@
+// The batch command line: parsing only (no side effects), so every rule is unit-tested.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+struct CliOptions {
+    std::optional<std::string> scene;        // --scene: batch mode
+    std::optional<std::string> editorScene;  // a bare file name: open it in the editor
+    std::optional<int> samples, width, height, maxDepth;
+    std::optional<std::uint32_t> seed;
+    std::string outputDir = "renders";
+    bool png = false, hdr = false, exr = false;   // PNG when none is given
+    bool reinhard = false;
+    bool oidn = false, aovs = false, sky = false;
+    std::optional<std::string> envmap;
+    bool help = false, version = false;
+};
+
+struct CliParseResult {
+    std::optional<CliOptions> options;
+    std::string error;   // "--samples: expected an integer >= 1, got '-4'"
+};
+
+CliParseResult parseCli(const std::vector<std::string>& args);  // args without argv[0]
+std::string cliUsage();
+
+}  // namespace caustic

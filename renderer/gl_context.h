@@ -1,0 +1,44 @@
+// A headless OpenGL 4.5+ core context through EGL, with no display server: the EGL device
+// platform first (NVIDIA's driver exposes GPUs as EGL devices), then Mesa's surfaceless platform
+// (llvmpipe on machines without a GPU). The editor makes its context with GLFW instead; the
+// renderer does not care which one is current.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace caustic {
+
+struct GlContextInfo {
+    std::string platform;   // "EGL device" or "EGL surfaceless (Mesa)"
+    std::string vendor, renderer, version;
+};
+
+class HeadlessGlContext {
+public:
+    // Creates the context and makes it current on the calling thread. On failure returns null and
+    // sets *error to a message naming every platform tried and why it failed.
+    // debugOutput turns on GL_KHR_debug messages (errors are printed to stderr).
+    static std::unique_ptr<HeadlessGlContext> create(bool debugOutput, std::string* error);
+    ~HeadlessGlContext();
+    HeadlessGlContext(const HeadlessGlContext&) = delete;
+    HeadlessGlContext& operator=(const HeadlessGlContext&) = delete;
+
+    const GlContextInfo& info() const { return m_info; }
+    void makeCurrent();
+
+private:
+    HeadlessGlContext() = default;
+    void* m_display = nullptr;
+    void* m_context = nullptr;
+    GlContextInfo m_info;
+};
+
+// Loads GL entry points with glad through the given loader and, if asked, installs the debug
+// callback. Shared by the headless context and the editor's window context.
+bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::string* error);
+
+// Number of GL errors reported through the debug callback so far (tests assert it stays zero).
+int glDebugErrorCount();
+
+}  // namespace caustic

@@ -1,0 +1,282 @@
+#include "renderer/gpu_scene.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+
+namespace caustic {
+namespace gpu {
+static_assert(sizeof(GpuPrimitive) == 64);
+static_assert(sizeof(GpuMaterial) == 64);
+static_assert(sizeof(GpuLight) == 80);
+static_assert(sizeof(GpuFrame) == 176);
+static_assert(offsetof(GpuLight, info) == 64);
+static_assert(offsetof(GpuFrame, envZenith) == 160);
+}  // namespace gpu
+
+namespace {
+constexpr float kPi = std::numbers::pi_v<float>;
+
+float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+struct Builder {
+    const Scene& scene;
+    CompiledScene& out;
+    std::string* error;
+
+    void growBounds(glm::vec3 p) {
+        out.boundsMin = glm::min(out.boundsMin, p);
+        out.boundsMax = glm::max(out.boundsMax, p);
+    }
+
+    std::uint32_t addQuad(const glm::mat4& m, std::uint32_t material, std::uint32_t flags = 0) {
+        gpu::GpuPrimitive p{};
+        glm::vec3 corner = glm::vec3(m * glm::vec4(-1, -1, 0, 1));
+        glm::vec3 eu = glm::vec3(m * glm::vec4(2, 0, 0, 0));
+        glm::vec3 ev = glm::vec3(m * glm::vec4(0, 2, 0, 0));
+        p.a = glm::vec4(corner, 0);
+        p.b = glm::vec4(eu, 0);
+        p.c = glm::vec4(ev, 0);
+        p.info = glm::uvec4(PRIM_QUAD, material, 0, flags);
+        for (glm::vec3 q : {corner, corner + eu, corner + ev, corner + eu + ev}) growBounds(q);
+        out.primitives.push_back(p);
+        return static_cast<std::uint32_t>(out.primitives.size() - 1);
+    }
+
+    std::uint32_t addSphere(const glm::mat4& m, std::uint32_t material) {
+        glm::mat4 w2o = glm::inverse(m);
+        glm::mat4 rows = glm::transpose(w2o);  // rows of w2o as columns
+        gpu::GpuPrimitive p{};
+        p.a = rows[0];
+        p.b = rows[1];
+        p.c = rows[2];
+        p.info = glm::uvec4(PRIM_SPHERE, material, 0, 0);
+        // Bounds of the transformed unit sphere: |row_i of the linear part| around the centre.
+        glm::vec3 c = glm::vec3(m[3]);
+        glm::mat3 lin(m);
+        glm::vec3 ext(glm::length(glm::vec3(lin[0].x, lin[1].x, lin[2].x)),
+                      glm::length(glm::vec3(lin[0].y, lin[1].y, lin[2].y)),
+                      glm::length(glm::vec3(lin[0].z, lin[1].z, lin[2].z)));
+        growBounds(c - ext);
+        growBounds(c + ext);
+        out.primitives.push_back(p);
+        return static_cast<std::uint32_t>(out.primitives.size() - 1);
+    }
+
+    void addLight(gpu::GpuLight l, float power, int primitive) {
+        if (primitive >= 0) {
+            out.primitives[primitive].info.z = static_cast<std::uint32_t>(out.lights.size() + 1);
+            l.info.z = static_cast<std::uint32_t>(primitive);
+        }
+        out.lights.push_back(l);
+        out.lightPower.push_back(power);
+    }
+
+    void addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided) {
+        const auto& p = out.primitives[prim];
+        gpu::GpuLight l{};
+        float area = glm::length(glm::cross(glm::vec3(p.b), glm::vec3(p.c)));
+        l.p0 = p.a;
+        l.p1 = glm::vec4(glm::vec3(p.b), area);
+        l.p2 = p.c;
+        l.color = glm::vec4(radiance, 0);
+        l.info = glm::uvec4(LIGHT_RECT, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, 0, 0);
+        addLight(l, kPi * area * luminance(radiance) * (twoSided ? 2.0f : 1.0f), static_cast<int>(prim));
+    }
+
+    // A sphere light needs a similarity transform (sampled by the cone it subtends).
+    bool addSphereLight(std::uint32_t prim, const glm::mat4& m, glm::vec3 radiance, const std::string& where) {
+        glm::mat3 lin(m);
+        float sx = glm::length(lin[0]), sy = glm::length(lin[1]), sz = glm::length(lin[2]);
+        float tol = 1e-4f * std::max({sx, sy, sz});
+        if (std::abs(sx - sy) > tol || std::abs(sx - sz) > tol || std::abs(glm::dot(lin[0], lin[1])) > tol * sx ||
+            std::abs(glm::dot(lin[0], lin[2])) > tol * sx || std::abs(glm::dot(lin[1], lin[2])) > tol * sx) {
+            *error = where + ": an emissive sphere must be uniformly scaled (it is sampled as a sphere light)";
+            return false;
+        }
+        gpu::GpuLight l{};
+        l.p0 = glm::vec4(glm::vec3(m[3]), sx);
+        l.color = glm::vec4(radiance, 0);
+        l.info = glm::uvec4(LIGHT_SPHERE, 0, 0, 0);
+        addLight(l, kPi * 4.0f * kPi * sx * sx * luminance(radiance), static_cast<int>(prim));
+        return true;
+    }
+
+    std::uint32_t internalMaterial(glm::vec3 emission) {
+        gpu::GpuMaterial m{};
+        m.albedo = glm::vec4(0, 0, 0, 0);
+        m.emission = glm::vec4(emission, 0);
+        m.info = glm::uvec4(MAT_DIFFUSE, 0, 0, 0);
+        out.materials.push_back(m);
+        return static_cast<std::uint32_t>(out.materials.size() - 1);
+    }
+
+    bool run() {
+        out = CompiledScene{};
+        out.boundsMin = glm::vec3(std::numeric_limits<float>::max());
+        out.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
+        for (const Material& m : scene.materials) {
+            gpu::GpuMaterial g{};
+            g.albedo = glm::vec4(m.albedo, 0);
+            g.emission = glm::vec4(m.emission, 0);
+            g.info = glm::uvec4(MAT_DIFFUSE, 0, 0, 0);
+            out.materials.push_back(g);
+        }
+        for (size_t i = 0; i < scene.objects.size(); ++i) {
+            const Object& o = scene.objects[i];
+            const std::string where = "objects[" + std::to_string(i) + "]";
+            auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
+                                   [&](const Material& m) { return m.name == o.material; });
+            if (it == scene.materials.end()) {
+                *error = where + ".material: unknown material '" + o.material + "'";
+                return false;
+            }
+            auto mat = static_cast<std::uint32_t>(it - scene.materials.begin());
+            bool emissive = glm::any(glm::greaterThan(it->emission, glm::vec3(0.0f)));
+            glm::mat4 m = o.transform.toMatrix();
+            switch (o.shape) {
+                case Shape::Sphere: {
+                    std::uint32_t p = addSphere(m, mat);
+                    if (emissive && !addSphereLight(p, m, it->emission, where)) return false;
+                    break;
+                }
+                case Shape::Quad: {
+                    std::uint32_t p = addQuad(m, mat);
+                    if (emissive) addRectLight(p, it->emission, true);
+                    break;
+                }
+                case Shape::Box: {
+                    // Six faces of [-1,1]^3, each the canonical quad turned to face outward.
+                    const glm::mat4 I(1.0f);
+                    const glm::vec3 X(1, 0, 0), Y(0, 1, 0);
+                    const glm::mat4 faces[6] = {
+                        glm::translate(I, {0, 0, 1}),
+                        glm::rotate(glm::translate(I, {0, 0, -1}), kPi, Y),
+                        glm::rotate(glm::translate(I, {1, 0, 0}), kPi / 2, Y),
+                        glm::rotate(glm::translate(I, {-1, 0, 0}), -kPi / 2, Y),
+                        glm::rotate(glm::translate(I, {0, 1, 0}), -kPi / 2, X),
+                        glm::rotate(glm::translate(I, {0, -1, 0}), kPi / 2, X),
+                    };
+                    for (const glm::mat4& f : faces) {
+                        std::uint32_t p = addQuad(m * f, mat);
+                        if (emissive) addRectLight(p, it->emission, true);
+                    }
+                    break;
+                }
+            }
+        }
+        for (size_t i = 0; i < scene.lights.size(); ++i) {
+            const Light& L = scene.lights[i];
+            const std::string where = "lights[" + std::to_string(i) + "]";
+            switch (L.type) {
+                case LightType::Rect: {
+                    std::uint32_t p = addQuad(L.transform.toMatrix(), internalMaterial(L.color),
+                                              L.twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER);
+                    addRectLight(p, L.color, L.twoSided);
+                    break;
+                }
+                case LightType::Sphere: {
+                    glm::mat4 m = glm::scale(glm::translate(glm::mat4(1.0f), L.position), glm::vec3(L.radius));
+                    std::uint32_t p = addSphere(m, internalMaterial(L.color));
+                    if (!addSphereLight(p, m, L.color, where)) return false;
+                    break;
+                }
+                case LightType::Point:
+                case LightType::Spot: {
+                    gpu::GpuLight l{};
+                    l.p0 = glm::vec4(L.position, 0);
+                    l.color = glm::vec4(L.color, 0);
+                    float power = 4.0f * kPi * luminance(L.color);
+                    if (L.type == LightType::Spot) {
+                        float cosOuter = std::cos(glm::radians(L.outerAngle));
+                        float cosInner = std::cos(glm::radians(L.innerAngle));
+                        // smoothstep needs edge0 < edge1.
+                        if (cosInner <= cosOuter) cosInner = cosOuter + 1e-6f;
+                        l.p1 = glm::vec4(glm::normalize(L.direction), cosOuter);
+                        l.p2 = glm::vec4(0, 0, 0, cosInner);
+                        // PBRT 4th ed. eq. 12.3 (the smoothstep falloff's approximate power).
+                        power = 2.0f * kPi * luminance(L.color) * (1.0f - 0.5f * (cosInner + cosOuter));
+                    }
+                    l.info = glm::uvec4(L.type == LightType::Spot ? LIGHT_SPOT : LIGHT_POINT, 0, 0, 0);
+                    addLight(l, power, -1);
+                    growBounds(L.position);
+                    break;
+                }
+            }
+        }
+        if (out.primitives.empty() && out.lights.empty()) out.boundsMin = out.boundsMax = glm::vec3(0.0f);
+        const Environment& env = scene.environment;
+        if (env.type != EnvironmentType::None) {
+            glm::vec3 average = env.type == EnvironmentType::Constant
+                                    ? env.radiance
+                                    // mean of the sky over the sphere: horizon below, and the
+                                    // mean of sqrt(y) over the upper half (y uniform) is 2/3.
+                                    : env.horizon + (env.zenith - env.horizon) / 3.0f;
+            average *= env.intensity;
+            float radius = 0.5f * glm::length(out.boundsMax - out.boundsMin);
+            radius = std::max(radius, 1e-3f);
+            gpu::GpuLight l{};
+            l.info = glm::uvec4(LIGHT_ENV, 0, 0, 0);
+            out.envLightIndex = static_cast<int>(out.lights.size());
+            // Power an infinite light delivers into the scene's bounding sphere: pi * pi r^2 * L.
+            addLight(l, kPi * kPi * radius * radius * luminance(average), -1);
+        }
+        // Selection probabilities: by power (default) or uniform; uniform when nothing emits.
+        double total = 0.0;
+        for (float p : out.lightPower) total += p;
+        bool uniform = scene.render.lightSelection == LightSelection::Uniform || !(total > 0.0);
+        double acc = 0.0;
+        const size_t n = out.lights.size();
+        for (size_t i = 0; i < n; ++i) {
+            double pmf = uniform ? 1.0 / double(n) : out.lightPower[i] / total;
+            out.lights[i].color.w = static_cast<float>(pmf);
+            acc += pmf;
+            out.lightCdf.push_back(static_cast<float>(acc));
+        }
+        if (!out.lightCdf.empty()) out.lightCdf.back() = 1.0f;
+        return true;
+    }
+};
+
+}  // namespace
+
+bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {
+    Builder b{scene, *out, error};
+    return b.run();
+}
+
+gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::uint32_t strategy) {
+    gpu::GpuFrame f{};
+    const Camera& c = scene.camera;
+    const int w = scene.render.width, h = scene.render.height;
+    glm::vec3 forward = glm::normalize(c.lookAt - c.position);
+    glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
+    glm::vec3 up = glm::cross(right, forward);
+    float t = std::tan(glm::radians(c.fovDegrees) * 0.5f);
+    float aspect = float(w) / float(h);
+    bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
+                  (c.fovAxis == FovAxis::Larger && w > h);
+    float tanX = alongX ? t : t * aspect;
+    float tanY = alongX ? t / aspect : t;
+    f.camPosition = glm::vec4(c.position, 0);
+    f.camRight = glm::vec4(right * tanX, 0);
+    f.camUp = glm::vec4(up * tanY, 0);
+    f.camForward = glm::vec4(forward, 0);
+    f.image = glm::uvec4(w, h, 0, scene.render.seed);
+    f.counts = glm::uvec4(compiled.primitives.size(), compiled.lights.size(), scene.render.maxDepth, strategy);
+    f.dispatch = glm::uvec4(1, compiled.envLightIndex + 1, 0, 0);
+    const Environment& env = scene.environment;
+    std::uint32_t envType = env.type == EnvironmentType::Constant ? ENV_CONSTANT
+                            : env.type == EnvironmentType::Sky    ? ENV_SKY
+                                                                  : ENV_NONE;
+    f.envInfo = glm::uvec4(envType, 0, 0, 0);
+    f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
+    f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
+    f.envZenith = glm::vec4(env.zenith * env.intensity, 0);
+    return f;
+}
+
+}  // namespace caustic

@@ -1,0 +1,186 @@
+#include "renderer/renderer.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+
+namespace caustic {
+namespace {
+
+// A dispatch should take about this long: long enough to amortise its overhead, short enough that
+// the driver never queues seconds of work (see docs/gpu-machine notes: a long queue is lost).
+constexpr double kTargetDispatchSeconds = 0.05;
+constexpr std::uint32_t kMaxSamplesPerDispatch = 64;
+
+template <class T>
+void uploadBuffer(unsigned buffer, const std::vector<T>& data) {
+    // An empty SSBO cannot be bound with a size of zero; keep one zeroed element.
+    std::vector<T> padded = data.empty() ? std::vector<T>(1) : data;
+    glNamedBufferData(buffer, static_cast<GLsizeiptr>(padded.size() * sizeof(T)), padded.data(), GL_STATIC_DRAW);
+}
+
+void waitFence(GLsync fence) {
+    while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000) == GL_TIMEOUT_EXPIRED) {}
+    glDeleteSync(fence);
+}
+
+}  // namespace
+
+std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::string* error) {
+    ShaderLoader loader(shaderDir);
+    ShaderSource source;
+    if (!loader.load("integrator/path.comp", {}, &source, error)) return nullptr;
+    unsigned program = compileComputeProgram(source, "integrator/path.comp", error);
+    if (!program) return nullptr;
+    std::unique_ptr<Renderer> r(new Renderer());
+    r->m_program = program;
+    unsigned buffers[6];
+    glCreateBuffers(6, buffers);
+    r->m_frameUbo = buffers[0];
+    r->m_primitives = buffers[1];
+    r->m_materials = buffers[2];
+    r->m_lights = buffers[3];
+    r->m_lightCdf = buffers[4];
+    r->m_counters = buffers[5];
+    std::uint32_t zero[4] = {0, 0, 0, 0};
+    glNamedBufferData(r->m_counters, sizeof zero, zero, GL_DYNAMIC_COPY);
+    return r;
+}
+
+Renderer::~Renderer() {
+    unsigned buffers[6] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters};
+    glDeleteBuffers(6, buffers);
+    unsigned textures[2] = {m_accum, m_accumSq};
+    glDeleteTextures(2, textures);
+    glDeleteProgram(m_program);
+}
+
+bool Renderer::setScene(const Scene& scene, std::string* error) {
+    CompiledScene compiled;
+    if (!compileScene(scene, &compiled, error)) return false;
+    m_scene = scene;
+    m_compiled = std::move(compiled);
+    upload();
+    if (m_width != scene.render.width || m_height != scene.render.height) {
+        unsigned textures[2] = {m_accum, m_accumSq};
+        if (m_accum) glDeleteTextures(2, textures);
+        glCreateTextures(GL_TEXTURE_2D, 2, textures);
+        m_accum = textures[0];
+        m_accumSq = textures[1];
+        m_width = scene.render.width;
+        m_height = scene.render.height;
+        glTextureStorage2D(m_accum, 1, GL_RGBA32F, m_width, m_height);
+        glTextureStorage2D(m_accumSq, 1, GL_RGBA32F, m_width, m_height);
+    }
+    resetAccumulation();
+    return true;
+}
+
+void Renderer::upload() {
+    uploadBuffer(m_primitives, m_compiled.primitives);
+    uploadBuffer(m_materials, m_compiled.materials);
+    uploadBuffer(m_lights, m_compiled.lights);
+    uploadBuffer(m_lightCdf, m_compiled.lightCdf);
+}
+
+void Renderer::setStrategy(std::uint32_t strategy) {
+    m_strategy = strategy;
+    resetAccumulation();
+}
+
+void Renderer::resetAccumulation() {
+    const float zero[4] = {0, 0, 0, 0};
+    if (m_accum) {
+        glClearTexImage(m_accum, 0, GL_RGBA, GL_FLOAT, zero);
+        glClearTexImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, zero);
+    }
+    std::uint32_t counters[4] = {0, 0, 0, 0};
+    glNamedBufferSubData(m_counters, 0, sizeof counters, counters);
+    m_samplesDone = 0;
+}
+
+void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {
+    gpu::GpuFrame frame = makeFrame(m_scene, m_compiled, m_strategy);
+    frame.image.z = firstSample;
+    frame.dispatch.x = samples;
+    // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
+    glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
+    glUseProgram(m_program);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_CDF, m_lightCdf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
+    glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (static_cast<GLuint>(m_height) + 7) / 8, 1);
+    // The next dispatch reads what this one wrote.
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void Renderer::render(int count, const std::function<void(int)>& progress) {
+    using Clock = std::chrono::steady_clock;
+    struct InFlight { GLsync fence; std::uint32_t samples; Clock::time_point issued; };
+    std::deque<InFlight> inFlight;
+    int issued = 0;
+    const int firstSample = m_samplesDone;  // m_samplesDone counts retired samples only
+    auto retireOldest = [&] {
+        InFlight f = inFlight.front();
+        inFlight.pop_front();
+        waitFence(f.fence);
+        // With two in flight the wait measures roughly one dispatch; smooth the estimate.
+        double seconds = std::chrono::duration<double>(Clock::now() - f.issued).count() / double(f.samples);
+        if (!inFlight.empty()) seconds *= 0.5;
+        m_secondsPerSample = m_secondsPerSample == 0.0 ? seconds : 0.7 * m_secondsPerSample + 0.3 * seconds;
+        m_samplesDone += static_cast<int>(f.samples);
+        if (progress) progress(m_samplesDone);
+    };
+    while (issued < count) {
+        std::uint32_t n = 1;
+        if (m_secondsPerSample > 0.0)
+            n = static_cast<std::uint32_t>(std::clamp(kTargetDispatchSeconds / m_secondsPerSample, 1.0, double(kMaxSamplesPerDispatch)));
+        n = std::min<std::uint32_t>(n, static_cast<std::uint32_t>(count - issued));
+        dispatch(static_cast<std::uint32_t>(firstSample + issued), n);
+        inFlight.push_back({glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0), n, Clock::now()});
+        issued += static_cast<int>(n);
+        if (inFlight.size() >= 2) retireOldest();
+    }
+    while (!inFlight.empty()) retireOldest();
+}
+
+std::uint64_t Renderer::droppedSamples() const {
+    std::uint32_t counters[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
+    return counters[0];
+}
+
+Film Renderer::readFilm() const {
+    Film film;
+    film.width = m_width;
+    film.height = m_height;
+    const size_t n = static_cast<size_t>(m_width) * m_height;
+    std::vector<glm::vec4> sum(n), sumSq(n);
+    glGetTextureImage(m_accum, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)), sum.data());
+    glGetTextureImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)), sumSq.data());
+    film.mean.resize(n);
+    film.varianceOfMean.resize(n);
+    film.count.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        float c = sum[i].a;
+        film.count[i] = c;
+        if (c <= 0.0f) continue;
+        glm::vec3 mean = glm::vec3(sum[i]) / c;
+        film.mean[i] = mean;
+        if (c > 1.0f) {
+            glm::vec3 var = (glm::vec3(sumSq[i]) - c * mean * mean) / (c - 1.0f);
+            film.varianceOfMean[i] = glm::max(var, glm::vec3(0.0f)) / c;
+        }
+    }
+    return film;
+}
+
+}  // namespace caustic

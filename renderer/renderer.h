@@ -1,0 +1,61 @@
+// The path tracer on the GPU: owns the integrator program, the scene buffers and the
+// accumulation images. Needs a current OpenGL 4.5 context (headless EGL or the editor's window).
+#pragma once
+
+#include "renderer/film.h"
+#include "renderer/gpu_scene.h"
+#include "renderer/scene.h"
+#include "renderer/shader_loader.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace caustic {
+
+class Renderer {
+public:
+    // Compiles shaders/integrator/path.comp from shaderDir. On failure returns null with the
+    // compiler's messages mapped to file:line.
+    static std::unique_ptr<Renderer> create(const std::string& shaderDir, std::string* error);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Compiles and uploads the scene (resolution, seed, depth come from scene.render) and
+    // restarts accumulation.
+    bool setScene(const Scene& scene, std::string* error);
+
+    // STRATEGY_MIS (default), STRATEGY_LIGHT_ONLY or STRATEGY_BSDF_ONLY; restarts accumulation.
+    void setStrategy(std::uint32_t strategy);
+
+    void resetAccumulation();
+
+    // Adds `count` samples per pixel. Work is split into short dispatches (adapted to the
+    // measured speed) with at most two in flight, so the driver never holds a long queue.
+    // progress(samplesDone) is called after each completed dispatch.
+    void render(int count, const std::function<void(int)>& progress = {});
+
+    int samplesDone() const { return m_samplesDone; }
+    std::uint64_t droppedSamples() const;
+    Film readFilm() const;
+    const CompiledScene& compiled() const { return m_compiled; }
+
+private:
+    Renderer() = default;
+    void upload();
+    void dispatch(std::uint32_t firstSample, std::uint32_t samples);
+
+    unsigned m_program = 0;
+    unsigned m_accum = 0, m_accumSq = 0;
+    unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_lightCdf = 0, m_counters = 0;
+    int m_width = 0, m_height = 0;
+    Scene m_scene;
+    CompiledScene m_compiled;
+    std::uint32_t m_strategy = STRATEGY_MIS;
+    int m_samplesDone = 0;
+    double m_secondsPerSample = 0.0;   // measured, for sizing dispatches
+};
+
+}  // namespace caustic

@@ -1,0 +1,129 @@
+// The scene: plain C++ data, no GL. The single source of truth that the JSON file, the batch
+// renderer and (later) the editor's commands all read and write. docs/scene-format.md is the user
+// documentation of every field below; keep the two in step.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+inline constexpr int kSceneVersion = 1;
+
+// translate / rotate / scale, composed as M = T * Rz * Ry * Rx * S (scale first, then rotation
+// about x, then y, then z, then translation), angles in degrees, right-handed (a positive angle
+// turns counter-clockwise when looking down the axis towards the origin). A matrix, when given,
+// replaces the three.
+struct Transform {
+    glm::vec3 translate{0.0f};
+    glm::vec3 rotate{0.0f};
+    glm::vec3 scale{1.0f};
+    std::optional<glm::mat4> matrix;
+
+    glm::mat4 toMatrix() const;
+    bool operator==(const Transform&) const = default;
+};
+
+enum class FovAxis { Smaller, Larger, X, Y };
+
+struct Camera {
+    glm::vec3 position{0.0f, 0.0f, 5.0f};
+    glm::vec3 lookAt{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovDegrees = 40.0f;          // full angle along fovAxis, (0, 180)
+    FovAxis fovAxis = FovAxis::Smaller;
+    bool operator==(const Camera&) const = default;
+};
+
+enum class LightSelection { Power, Uniform };
+
+struct RenderSettings {
+    int width = 800;
+    int height = 600;
+    int samples = 256;                 // samples per pixel
+    int maxDepth = 10;                 // maximum number of scattering events on a path
+    std::uint32_t seed = 0;
+    LightSelection lightSelection = LightSelection::Power;
+    bool operator==(const RenderSettings&) const = default;
+};
+
+enum class MaterialType { Diffuse };
+
+struct Material {
+    std::string name;
+    MaterialType type = MaterialType::Diffuse;
+    glm::vec3 albedo{0.8f};            // [0, 1] per channel
+    glm::vec3 emission{0.0f};          // emitted radiance, >= 0; non-zero makes the object a light
+    bool operator==(const Material&) const = default;
+};
+
+// Canonical shapes, before the object's transform:
+//   sphere: the unit sphere at the origin;
+//   quad:   the square [-1, 1]^2 in the z = 0 plane, front side facing +z;
+//   box:    the cube [-1, 1]^3 (six quads facing outward).
+enum class Shape { Sphere, Quad, Box };
+
+struct Object {
+    std::string name;
+    Shape shape = Shape::Sphere;
+    std::string material;              // name of an entry of Scene::materials
+    Transform transform;
+    bool operator==(const Object&) const = default;
+};
+
+enum class LightType { Rect, Sphere, Point, Spot };
+
+struct Light {
+    std::string name;
+    LightType type = LightType::Point;
+    // rect: radiance (W sr^-1 m^-2) of the canonical quad under `transform`, emitted from its front
+    //       (+z before the transform) only, unless twoSided.
+    // sphere: radiance of a sphere at `position` with `radius`.
+    // point / spot: intensity (W sr^-1) at `position`.
+    glm::vec3 color{1.0f};             // radiance or intensity, >= 0
+    Transform transform;               // rect only
+    bool twoSided = false;             // rect only
+    glm::vec3 position{0.0f};          // sphere, point, spot
+    float radius = 0.1f;               // sphere, > 0
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // spot
+    float innerAngle = 20.0f;          // spot: full intensity inside this half-angle (degrees)
+    float outerAngle = 30.0f;          // spot: zero outside this half-angle (degrees)
+    bool operator==(const Light&) const = default;
+};
+
+enum class EnvironmentType { None, Constant, Sky };
+
+struct Environment {
+    EnvironmentType type = EnvironmentType::None;
+    glm::vec3 radiance{1.0f};          // constant
+    glm::vec3 horizon{1.0f, 1.0f, 1.0f};     // sky: radiance at the horizon
+    glm::vec3 zenith{0.3f, 0.5f, 1.0f};      // sky: radiance straight up
+    float intensity = 1.0f;            // scales the whole environment, >= 0
+    bool operator==(const Environment&) const = default;
+};
+
+struct Scene {
+    int version = kSceneVersion;
+    Camera camera;
+    RenderSettings render;
+    std::vector<Material> materials;
+    std::vector<Object> objects;
+    std::vector<Light> lights;
+    Environment environment;
+
+    // Where the scene was loaded from (not saved); relative paths in the file are relative to it.
+    std::string sourcePath;
+
+    const Material* findMaterial(const std::string& name) const;
+    bool operator==(const Scene& o) const {
+        return version == o.version && camera == o.camera && render == o.render &&
+               materials == o.materials && objects == o.objects && lights == o.lights &&
+               environment == o.environment;
+    }
+};
+
+}  // namespace caustic

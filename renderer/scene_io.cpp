@@ -1,0 +1,1010 @@
+// Scene JSON reading and writing. The format is documented in docs/scene-format.md.
+//
+// Reading and writing are driven by one table of Fields per struct (camera, render settings, each
+// material/light/environment type, ...): a field names its JSON key, the member it maps to and the
+// valid range, and the same entry serves the unknown-key check, the reader and the writer. Adding a
+// key is adding one line to a table. Readers throw SceneError (path + message) internally;
+// parseScene catches it, and everything else, at the boundary.
+#include "renderer/scene_io.h"
+
+#include "renderer/file_util.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <new>
+#include <set>
+#include <span>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace caustic {
+
+namespace {
+
+// ordered_json keeps keys in insertion order, so saved files read top to bottom like the docs.
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------------------------------------
+// Errors, paths, formatting
+
+struct SceneError {
+    std::string path;     // JSON path, "" for the document itself
+    std::string message;
+};
+
+[[noreturn]] void fail(const std::string& path, std::string message) {
+    throw SceneError{path, std::move(message)};
+}
+
+std::string member(const std::string& path, std::string_view key) {
+    return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+std::string element(const std::string& path, std::size_t index) {
+    return path + "[" + std::to_string(index) + "]";
+}
+
+// Shortest text that reads back as the same value (ints, floats and doubles alike).
+template <class N>
+std::string formatNumber(N value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+std::string dumpCompact(const Json& value) {
+    return value.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+// What a rejected value was, for messages: "string \"abc\"", "array [1,2]", "null".
+std::string describe(const Json& value) {
+    if (value.is_null()) return "null";
+    std::string text = dumpCompact(value);
+    if (text.size() > 40) text = text.substr(0, 37) + "...";
+    return std::string(value.type_name()) + " " + text;
+}
+
+std::string join(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& item : items) {
+        if (!out.empty()) out += ", ";
+        out += item;
+    }
+    return out;
+}
+
+// Messages are one line whatever the user's strings contain.
+std::string oneLine(std::string text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+        if (c == '\n') out += "\\n";
+        else if (c == '\r') out += "\\r";
+        else if (c == '\t') out += "\\t";
+        else if (static_cast<unsigned char>(c) < 0x20) out += '?';
+        else out += c;
+    }
+    return out;
+}
+
+std::string formatError(const std::string& file, const std::string& path,
+                        const std::string& message) {
+    return oneLine(file + ": " + (path.empty() ? "" : path + ": ") + message);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ranges
+
+struct Range {
+    double min = -std::numeric_limits<double>::infinity();
+    double max = std::numeric_limits<double>::infinity();
+    bool minExclusive = false;
+    bool maxExclusive = false;
+    bool nonZero = false;
+};
+
+constexpr Range kAnyValue{};
+
+constexpr Range atLeast(double min) {
+    Range range;
+    range.min = min;
+    return range;
+}
+
+constexpr Range greaterThan(double min) {
+    Range range = atLeast(min);
+    range.minExclusive = true;
+    return range;
+}
+
+constexpr Range between(double min, double max) {
+    Range range = atLeast(min);
+    range.max = max;
+    return range;
+}
+
+constexpr Range nonZero() {
+    Range range;
+    range.nonZero = true;
+    return range;
+}
+
+// Fails naming the violated bound: "must be >= 1, got -4".
+template <class N>
+void checkRange(N value, const Range& range, const std::string& path) {
+    const double x = static_cast<double>(value);
+    if (range.minExclusive ? !(x > range.min) : !(x >= range.min)) {
+        fail(path, std::string("must be ") + (range.minExclusive ? "> " : ">= ") +
+                       formatNumber(range.min) + ", got " + formatNumber(value));
+    }
+    if (range.maxExclusive ? !(x < range.max) : !(x <= range.max)) {
+        fail(path, std::string("must be ") + (range.maxExclusive ? "< " : "<= ") +
+                       formatNumber(range.max) + ", got " + formatNumber(value));
+    }
+    if (range.nonZero && x == 0.0) fail(path, "must be non-zero, got " + formatNumber(value));
+}
+
+void requireType(bool ok, const Json& value, const std::string& path, const char* expected) {
+    if (!ok) fail(path, std::string("must be ") + expected + ", got " + describe(value));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Enum names
+
+template <class E>
+struct EnumName {
+    E value;
+    std::string_view name;
+};
+
+std::span<const EnumName<FovAxis>> enumNames(FovAxis) {
+    static constexpr EnumName<FovAxis> kNames[] = {
+        {FovAxis::Smaller, "smaller"}, {FovAxis::Larger, "larger"},
+        {FovAxis::X, "x"},             {FovAxis::Y, "y"}};
+    return kNames;
+}
+
+std::span<const EnumName<LightSelection>> enumNames(LightSelection) {
+    static constexpr EnumName<LightSelection> kNames[] = {{LightSelection::Power, "power"},
+                                                          {LightSelection::Uniform, "uniform"}};
+    return kNames;
+}
+
+std::span<const EnumName<MaterialType>> enumNames(MaterialType) {
+    static constexpr EnumName<MaterialType> kNames[] = {{MaterialType::Diffuse, "diffuse"}};
+    return kNames;
+}
+
+std::span<const EnumName<Shape>> enumNames(Shape) {
+    static constexpr EnumName<Shape> kNames[] = {
+        {Shape::Quad, "quad"}, {Shape::Sphere, "sphere"}, {Shape::Box, "box"}};
+    return kNames;
+}
+
+std::span<const EnumName<LightType>> enumNames(LightType) {
+    static constexpr EnumName<LightType> kNames[] = {{LightType::Rect, "rect"},
+                                                     {LightType::Sphere, "sphere"},
+                                                     {LightType::Point, "point"},
+                                                     {LightType::Spot, "spot"}};
+    return kNames;
+}
+
+std::span<const EnumName<EnvironmentType>> enumNames(EnvironmentType) {
+    static constexpr EnumName<EnvironmentType> kNames[] = {{EnvironmentType::None, "none"},
+                                                           {EnvironmentType::Constant, "constant"},
+                                                           {EnvironmentType::Sky, "sky"}};
+    return kNames;
+}
+
+template <class E>
+std::string enumName(E value) {
+    for (const auto& entry : enumNames(E{})) {
+        if (entry.value == value) return std::string(entry.name);
+    }
+    return "<invalid " + std::to_string(static_cast<long long>(value)) + ">";
+}
+
+// ---------------------------------------------------------------------------------------------
+// The scene's structs are read and written by overloads defined further down; the templates below
+// (vectors, fields) need them declared first.
+
+Json toJson(const Transform& transform);
+Json toJson(const Camera& camera);
+Json toJson(const RenderSettings& render);
+Json toJson(const Material& material);
+Json toJson(const Object& object);
+Json toJson(const Light& light);
+Json toJson(const Environment& environment);
+void readValue(const Json& value, const std::string& path, Transform& out, const Range&);
+void readValue(const Json& value, const std::string& path, Camera& out, const Range&);
+void readValue(const Json& value, const std::string& path, RenderSettings& out, const Range&);
+void readValue(const Json& value, const std::string& path, Material& out, const Range&);
+void readValue(const Json& value, const std::string& path, Object& out, const Range&);
+void readValue(const Json& value, const std::string& path, Light& out, const Range&);
+void readValue(const Json& value, const std::string& path, Environment& out, const Range&);
+
+// ---------------------------------------------------------------------------------------------
+// Value readers and writers, one overload per C++ type. The Range applies to numbers (and to
+// each component of a vector); other types ignore it.
+
+void readValue(const Json& value, const std::string& path, float& out, const Range& range) {
+    requireType(value.is_number(), value, path, "a number");
+    const double x = value.get<double>();
+    // Doubles below FLT_MAX + half an ulp round to FLT_MAX (which prints as 3.4028235e+38, a
+    // little above it); from there on they would round to infinity.
+    constexpr double kFloatOverflow = 0x1.ffffffp127;
+    if (!std::isfinite(x) || std::abs(x) >= kFloatOverflow) {
+        fail(path, "must be a finite 32-bit float, got " + formatNumber(x));
+    }
+    const float f = static_cast<float>(x);
+    checkRange(f, range, path);
+    out = f;
+}
+
+// An integral JSON number in range: 10, 10.0 and 1e3 are integers, 10.5 is not.
+long long readInteger(const Json& value, const std::string& path, const Range& range) {
+    requireType(value.is_number(), value, path, "an integer");
+    long long result = 0;
+    if (value.is_number_unsigned()) {
+        const auto u = value.get<unsigned long long>();
+        if (u > static_cast<unsigned long long>(LLONG_MAX)) {
+            fail(path, "must be <= " + formatNumber(range.max) + ", got " + formatNumber(u));
+        }
+        result = static_cast<long long>(u);
+    } else if (value.is_number_integer()) {
+        result = value.get<long long>();
+    } else {
+        const double x = value.get<double>();
+        if (!std::isfinite(x) || std::floor(x) != x) {
+            fail(path, "must be an integer, got " + formatNumber(x));
+        }
+        if (std::abs(x) > 9.0e18) fail(path, "integer out of range, got " + formatNumber(x));
+        result = static_cast<long long>(x);
+    }
+    checkRange(result, range, path);
+    return result;
+}
+
+void readValue(const Json& value, const std::string& path, int& out, const Range& range) {
+    Range clamped = range;
+    clamped.min = std::max(clamped.min, static_cast<double>(INT_MIN));
+    clamped.max = std::min(clamped.max, static_cast<double>(INT_MAX));
+    out = static_cast<int>(readInteger(value, path, clamped));
+}
+
+void readValue(const Json& value, const std::string& path, std::uint32_t& out,
+               const Range& range) {
+    Range clamped = range;
+    clamped.min = std::max(clamped.min, 0.0);
+    clamped.max = std::min(clamped.max, static_cast<double>(UINT32_MAX));
+    out = static_cast<std::uint32_t>(readInteger(value, path, clamped));
+}
+
+void readValue(const Json& value, const std::string& path, bool& out, const Range&) {
+    requireType(value.is_boolean(), value, path, "true or false");
+    out = value.get<bool>();
+}
+
+void readValue(const Json& value, const std::string& path, std::string& out, const Range&) {
+    requireType(value.is_string(), value, path, "a string");
+    out = value.get<std::string>();
+}
+
+void readValue(const Json& value, const std::string& path, glm::vec3& out, const Range& range) {
+    requireType(value.is_array() && value.size() == 3, value, path, "an array of 3 numbers");
+    glm::vec3 result;
+    for (int i = 0; i < 3; ++i) readValue(value[i], element(path, i), result[i], range);
+    out = result;
+}
+
+template <class E>
+    requires std::is_enum_v<E>
+void readValue(const Json& value, const std::string& path, E& out, const Range&) {
+    requireType(value.is_string(), value, path, "a string");
+    const auto& text = value.get_ref<const std::string&>();
+    std::vector<std::string> allowed;
+    for (const auto& entry : enumNames(E{})) {
+        if (entry.name == text) {
+            out = entry.value;
+            return;
+        }
+        allowed.emplace_back(entry.name);
+    }
+    fail(path, "unknown value '" + text + "' (allowed: " + join(allowed) + ")");
+}
+
+// Every element with the same Range; the vector is replaced, not appended to.
+template <class T>
+void readValue(const Json& value, const std::string& path, std::vector<T>& out,
+               const Range& range) {
+    requireType(value.is_array(), value, path, "an array");
+    std::vector<T> result;
+    result.reserve(value.size());
+    for (std::size_t i = 0; i < value.size(); ++i) {
+        T item{};
+        readValue(value[i], element(path, i), item, range);
+        result.push_back(std::move(item));
+    }
+    out = std::move(result);
+}
+
+// nlohmann stores doubles, and widening x would print 0.1f as 0.10000000149011612. Store instead the
+// double nearest to x's shortest decimal form, which prints as that short form and reads back
+// (to double, then to float) as x; fall back to the exact widening in the rare case it does not.
+Json toJson(float x) {
+    char buffer[64];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+    double shortest = 0.0;
+    const auto parsed = std::from_chars(buffer, end, shortest);
+    if (parsed.ec == std::errc() && static_cast<float>(shortest) == x) {
+        // Whole numbers as integers ("[0, 1, 0]", not "[0.0, 1.0, 0.0]"); -0 keeps its sign.
+        if (std::abs(shortest) < 1e15 && std::trunc(shortest) == shortest && !std::signbit(x)) {
+            return static_cast<long long>(shortest);
+        }
+        return shortest;
+    }
+    return static_cast<double>(x);
+}
+
+Json toJson(int x) { return x; }
+Json toJson(std::uint32_t x) { return x; }
+Json toJson(bool x) { return x; }
+Json toJson(const std::string& x) { return x; }
+Json toJson(const glm::vec3& v) { return Json::array({toJson(v.x), toJson(v.y), toJson(v.z)}); }
+
+template <class E>
+    requires std::is_enum_v<E>
+Json toJson(E value) {
+    for (const auto& entry : enumNames(E{})) {
+        if (entry.value == value) return std::string(entry.name);
+    }
+    return nullptr;  // an invalid enum value; saveScene's validation reports it
+}
+
+template <class T>
+Json toJson(const std::vector<T>& items) {
+    Json out = Json::array();
+    for (const T& item : items) out.push_back(toJson(item));
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Field tables
+
+template <class T>
+struct Field {
+    std::string_view key;
+    std::function<void(const Json&, const std::string&, T&)> read;
+    std::function<Json(const T&)> write;    // empty: never written
+    std::function<bool(const T&)> omit;     // empty: always written
+};
+
+template <class T>
+using Fields = std::vector<Field<T>>;
+
+// The usual field: a member read with readValue(range) and written with toJson.
+template <class T, class V>
+Field<T> field(std::string_view key, V T::*memberPtr, Range range = kAnyValue) {
+    return {key,
+            [memberPtr, range](const Json& value, const std::string& path, T& out) {
+                readValue(value, path, out.*memberPtr, range);
+            },
+            [memberPtr](const T& in) { return toJson(in.*memberPtr); },
+            {}};
+}
+
+// An optional name, saved only when non-empty.
+template <class T>
+Field<T> nameField(std::string T::*memberPtr) {
+    Field<T> result = field("name", memberPtr);
+    result.omit = [memberPtr](const T& in) { return (in.*memberPtr).empty(); };
+    return result;
+}
+
+template <class T>
+Fields<T> concat(Fields<T> a, const Fields<T>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+template <class T>
+std::string keyList(const Fields<T>& fields) {
+    std::vector<std::string> keys;
+    for (const Field<T>& f : fields) keys.emplace_back(f.key);
+    return join(keys);
+}
+
+// Reads the keys of a JSON object in file order; an unknown key is an error. Keys that are absent
+// keep out's current value (the defaults of scene.h). `what` qualifies the unknown-key message
+// (" for a 'point' light").
+template <class T>
+void readFields(const Json& value, const std::string& path, const Fields<T>& fields, T& out,
+                const std::string& what = "") {
+    requireType(value.is_object(), value, path, "an object");
+    for (auto it = value.begin(); it != value.end(); ++it) {
+        const auto found = std::find_if(fields.begin(), fields.end(),
+                                        [&](const Field<T>& f) { return f.key == it.key(); });
+        const std::string keyPath = member(path, it.key());
+        if (found == fields.end()) {
+            fail(keyPath, "unknown key" + what + " (allowed: " + keyList(fields) + ")");
+        }
+        found->read(it.value(), keyPath, out);
+    }
+}
+
+template <class T>
+Json writeFields(const T& in, const Fields<T>& fields) {
+    Json out = Json::object();
+    for (const Field<T>& f : fields) {
+        if (f.write && !(f.omit && f.omit(in))) out[std::string(f.key)] = f.write(in);
+    }
+    return out;
+}
+
+// For structs whose keys depend on their "type": read the type first (keeping the default when
+// absent), then the keys of that type.
+template <class T, class E>
+void readTyped(const Json& value, const std::string& path, T& out, E T::*typeMember,
+               const Fields<T>& (*fieldsFor)(E), const char* noun) {
+    requireType(value.is_object(), value, path, "an object");
+    if (const auto it = value.find("type"); it != value.end()) {
+        readValue(*it, member(path, "type"), out.*typeMember, kAnyValue);
+    }
+    readFields(value, path, fieldsFor(out.*typeMember), out,
+               " for a '" + enumName(out.*typeMember) + "' " + noun);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transform
+
+void readScale(const Json& value, const std::string& path, Transform& out) {
+    if (value.is_number()) {
+        float s = 1.0f;
+        readValue(value, path, s, nonZero());
+        out.scale = glm::vec3(s);
+        return;
+    }
+    requireType(value.is_array() && value.size() == 3, value, path,
+                "a number or an array of 3 numbers");
+    readValue(value, path, out.scale, nonZero());
+}
+
+// 16 numbers, row-major (the way a matrix is written on paper); glm is column-major.
+void readMatrix(const Json& value, const std::string& path, Transform& out) {
+    requireType(value.is_array() && value.size() == 16, value, path,
+                "an array of 16 numbers (row-major)");
+    glm::mat4 m(1.0f);
+    for (int row = 0; row < 4; ++row) {
+        for (int col = 0; col < 4; ++col) {
+            const int i = row * 4 + col;
+            readValue(value[i], element(path, i), m[col][row], kAnyValue);
+        }
+    }
+    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) {
+        fail(path, "the last row must be [0, 0, 0, 1] (an affine transform)");
+    }
+    const double det = glm::determinant(glm::dmat4(m));
+    if (!(std::abs(det) > 1e-12)) {
+        fail(path, "must be invertible, but its determinant is " + formatNumber(det));
+    }
+    out.matrix = m;
+}
+
+const Fields<Transform>& transformFields() {
+    static const Fields<Transform> kFields = {
+        field("translate", &Transform::translate),
+        field("rotate", &Transform::rotate),
+        {"scale", readScale, {}, {}},
+        {"matrix", readMatrix, {}, {}},
+    };
+    return kFields;
+}
+
+void readValue(const Json& value, const std::string& path, Transform& out, const Range&) {
+    readFields(value, path, transformFields(), out);
+    if (value.contains("matrix")) {
+        for (const char* key : {"translate", "rotate", "scale"}) {
+            if (value.contains(key)) {
+                fail(member(path, key),
+                     "cannot be combined with 'matrix' (a matrix replaces translate, rotate and "
+                     "scale)");
+            }
+        }
+    }
+}
+
+Json toJson(const Transform& t) {
+    Json out = Json::object();
+    if (t.matrix) {
+        Json m = Json::array();
+        for (int row = 0; row < 4; ++row) {
+            for (int col = 0; col < 4; ++col) m.push_back(toJson((*t.matrix)[col][row]));
+        }
+        out["matrix"] = std::move(m);
+    } else {
+        out["translate"] = toJson(t.translate);
+        out["rotate"] = toJson(t.rotate);
+        out["scale"] = toJson(t.scale);
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Camera and render settings
+
+const Fields<Camera>& cameraFields() {
+    static const Fields<Camera> kFields = {
+        field("position", &Camera::position),
+        field("look_at", &Camera::lookAt),
+        field("up", &Camera::up),
+        field("fov", &Camera::fovDegrees, [] {
+            Range r = between(0.0, 180.0);
+            r.minExclusive = r.maxExclusive = true;
+            return r;
+        }()),
+        field("fov_axis", &Camera::fovAxis),
+    };
+    return kFields;
+}
+
+void readValue(const Json& value, const std::string& path, Camera& out, const Range&) {
+    readFields(value, path, cameraFields(), out);
+    const glm::dvec3 view = glm::dvec3(out.lookAt) - glm::dvec3(out.position);
+    const glm::dvec3 up(out.up);
+    if (view == glm::dvec3(0.0)) {
+        fail(member(path, "look_at"), "must differ from position (both are " +
+                                          dumpCompact(toJson(out.position)) + ")");
+    }
+    if (up == glm::dvec3(0.0)) fail(member(path, "up"), "must be non-zero");
+    if (glm::length(glm::cross(glm::normalize(view), glm::normalize(up))) < 1e-6) {
+        fail(member(path, "up"), "must not be parallel to the view direction (look_at - position)");
+    }
+}
+
+Json toJson(const Camera& camera) { return writeFields(camera, cameraFields()); }
+
+const Fields<RenderSettings>& renderFields() {
+    static const Fields<RenderSettings> kFields = {
+        field("width", &RenderSettings::width, between(1, 16384)),
+        field("height", &RenderSettings::height, between(1, 16384)),
+        field("samples", &RenderSettings::samples, between(1, 1 << 24)),
+        field("max_depth", &RenderSettings::maxDepth, between(0, 1024)),
+        field("seed", &RenderSettings::seed),
+        field("light_selection", &RenderSettings::lightSelection),
+    };
+    return kFields;
+}
+
+void readValue(const Json& value, const std::string& path, RenderSettings& out, const Range&) {
+    readFields(value, path, renderFields(), out);
+}
+
+Json toJson(const RenderSettings& render) { return writeFields(render, renderFields()); }
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+
+const Fields<Material>& materialFields(MaterialType type) {
+    static const Fields<Material> kCommon = {
+        field("name", &Material::name),
+        field("type", &Material::type),
+    };
+    static const Fields<Material> kDiffuse = concat(kCommon, {
+        field("albedo", &Material::albedo, between(0.0, 1.0)),
+        field("emission", &Material::emission, atLeast(0.0)),
+    });
+    switch (type) {
+    case MaterialType::Diffuse: return kDiffuse;
+    }
+    return kCommon;
+}
+
+void readValue(const Json& value, const std::string& path, Material& out, const Range&) {
+    readTyped(value, path, out, &Material::type, materialFields, "material");
+    if (!value.contains("name")) fail(path, "missing key 'name' (every material needs a unique name)");
+    if (out.name.empty()) fail(member(path, "name"), "must not be empty");
+}
+
+Json toJson(const Material& material) {
+    return writeFields(material, materialFields(material.type));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Objects
+
+const Fields<Object>& objectFields() {
+    static const Fields<Object> kFields = {
+        nameField(&Object::name),
+        field("shape", &Object::shape),
+        field("material", &Object::material),
+        field("transform", &Object::transform),
+    };
+    return kFields;
+}
+
+void readValue(const Json& value, const std::string& path, Object& out, const Range&) {
+    readFields(value, path, objectFields(), out);
+}
+
+Json toJson(const Object& object) { return writeFields(object, objectFields()); }
+
+// ---------------------------------------------------------------------------------------------
+// Lights
+
+const Fields<Light>& lightFields(LightType type) {
+    static const Fields<Light> kCommon = {
+        nameField(&Light::name),
+        field("type", &Light::type),
+        field("color", &Light::color, atLeast(0.0)),
+    };
+    static const Fields<Light> kRect = concat(kCommon, {
+        field("transform", &Light::transform),
+        field("two_sided", &Light::twoSided),
+    });
+    static const Fields<Light> kSphere = concat(kCommon, {
+        field("position", &Light::position),
+        field("radius", &Light::radius, greaterThan(0.0)),
+    });
+    static const Fields<Light> kPoint = concat(kCommon, {
+        field("position", &Light::position),
+    });
+    static const Fields<Light> kSpot = concat(kCommon, {
+        field("position", &Light::position),
+        field("direction", &Light::direction),
+        field("inner_angle", &Light::innerAngle, between(0.0, 180.0)),
+        field("outer_angle", &Light::outerAngle, [] {
+            Range r = between(0.0, 180.0);
+            r.minExclusive = true;
+            return r;
+        }()),
+    });
+    switch (type) {
+    case LightType::Rect: return kRect;
+    case LightType::Sphere: return kSphere;
+    case LightType::Point: return kPoint;
+    case LightType::Spot: return kSpot;
+    }
+    return kCommon;
+}
+
+void readValue(const Json& value, const std::string& path, Light& out, const Range&) {
+    readTyped(value, path, out, &Light::type, lightFields, "light");
+    if (out.type == LightType::Spot) {
+        if (out.direction == glm::vec3(0.0f)) fail(member(path, "direction"), "must be non-zero");
+        if (out.innerAngle > out.outerAngle) {
+            fail(member(path, "inner_angle"), "must be <= outer_angle (" +
+                                                  formatNumber(out.outerAngle) + "), got " +
+                                                  formatNumber(out.innerAngle));
+        }
+    }
+}
+
+Json toJson(const Light& light) { return writeFields(light, lightFields(light.type)); }
+
+// ---------------------------------------------------------------------------------------------
+// Environment
+
+const Fields<Environment>& environmentFields(EnvironmentType type) {
+    static const Fields<Environment> kNone = {
+        field("type", &Environment::type),
+    };
+    static const Fields<Environment> kConstant = concat(kNone, {
+        field("radiance", &Environment::radiance, atLeast(0.0)),
+        field("intensity", &Environment::intensity, atLeast(0.0)),
+    });
+    static const Fields<Environment> kSky = concat(kNone, {
+        field("horizon", &Environment::horizon, atLeast(0.0)),
+        field("zenith", &Environment::zenith, atLeast(0.0)),
+        field("intensity", &Environment::intensity, atLeast(0.0)),
+    });
+    switch (type) {
+    case EnvironmentType::None: return kNone;
+    case EnvironmentType::Constant: return kConstant;
+    case EnvironmentType::Sky: return kSky;
+    }
+    return kNone;
+}
+
+void readValue(const Json& value, const std::string& path, Environment& out, const Range&) {
+    readTyped(value, path, out, &Environment::type, environmentFields, "environment");
+}
+
+Json toJson(const Environment& environment) {
+    return writeFields(environment, environmentFields(environment.type));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene
+
+const Fields<Scene>& sceneFields() {
+    static const Fields<Scene> kFields = {
+        // Checked before anything else in readScene; always written as the current version.
+        {"version", [](const Json&, const std::string&, Scene&) {},
+         [](const Scene&) { return Json(kSceneVersion); }, {}},
+        field("camera", &Scene::camera),
+        field("render", &Scene::render),
+        field("materials", &Scene::materials),
+        field("objects", &Scene::objects),
+        field("lights", &Scene::lights),
+        field("environment", &Scene::environment),
+    };
+    return kFields;
+}
+
+void readScene(const Json& root, Scene& scene) {
+    if (!root.is_object()) fail("", "the top level must be a JSON object, got " + describe(root));
+    const auto version = root.find("version");
+    if (version == root.end()) {
+        fail("version", "missing (a scene file must contain \"version\": " +
+                            std::to_string(kSceneVersion) + ")");
+    }
+    const long long v = readInteger(*version, "version", kAnyValue);
+    if (v != kSceneVersion) {
+        fail("version", "unsupported scene version " + std::to_string(v) +
+                            " (this build reads version " + std::to_string(kSceneVersion) + ")");
+    }
+
+    readFields(root, "", sceneFields(), scene);
+
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const std::string& name = scene.materials[i].name;
+        const auto previous = std::find(names.begin(), names.end(), name);
+        if (previous != names.end()) {
+            fail(member(element("materials", i), "name"),
+                 "duplicate material name '" + name + "' (also " +
+                     element("materials", static_cast<std::size_t>(previous - names.begin())) +
+                     ")");
+        }
+        names.push_back(name);
+    }
+    const std::string known =
+        names.empty() ? "no materials are defined" : "known: " + join(names);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const std::string& ref = scene.objects[i].material;
+        const std::string path = member(element("objects", i), "material");
+        if (ref.empty()) fail(path, "missing; every object needs a material (" + known + ")");
+        if (!scene.findMaterial(ref)) fail(path, "unknown material '" + ref + "' (" + known + ")");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing
+
+// Follows the JSON path while nlohmann parses, to report duplicate keys (nlohmann would keep the
+// last silently) and to name the value whose number overflowed (nlohmann's error has no position).
+class PathTracker {
+public:
+    bool onEvent(Json::parse_event_t event, const Json& parsed) {
+        using Event = Json::parse_event_t;
+        switch (event) {
+        case Event::object_start:
+        case Event::array_start:
+            countElement();
+            m_frames.push_back(Frame{event == Event::array_start, 0, {}, {}});
+            break;
+        case Event::object_end:
+        case Event::array_end:
+            if (!m_frames.empty()) m_frames.pop_back();
+            break;
+        case Event::key:
+            if (!m_frames.empty() && parsed.is_string()) {
+                Frame& top = m_frames.back();
+                top.key = parsed.get<std::string>();
+                if (!top.keys.insert(top.key).second && !m_duplicate) {
+                    m_duplicate = member(pathOfParents(), top.key);
+                }
+            }
+            break;
+        case Event::value: countElement(); break;
+        }
+        return true;
+    }
+
+    const std::optional<std::string>& duplicate() const { return m_duplicate; }
+
+    // The path of the value being parsed (not yet reported to onEvent).
+    std::string currentPath() const {
+        if (m_frames.empty()) return "";
+        const Frame& top = m_frames.back();
+        return top.isArray ? element(pathOfParents(), top.count) : member(pathOfParents(), top.key);
+    }
+
+private:
+    struct Frame {
+        bool isArray = false;
+        std::size_t count = 0;        // arrays: elements started so far
+        std::string key;              // objects: the latest key
+        std::set<std::string> keys;   // objects: every key so far
+    };
+
+    void countElement() {
+        if (!m_frames.empty() && m_frames.back().isArray) ++m_frames.back().count;
+    }
+
+    // The path of the innermost open object/array.
+    std::string pathOfParents() const {
+        std::string path;
+        for (std::size_t i = 0; i + 1 < m_frames.size(); ++i) {
+            const Frame& frame = m_frames[i];
+            path = frame.isArray ? element(path, frame.count - 1) : member(path, frame.key);
+        }
+        return path;
+    }
+
+    std::vector<Frame> m_frames;
+    std::optional<std::string> m_duplicate;
+};
+
+// "<file>:<line>:<column>: JSON syntax error: <explanation>"; byte is nlohmann's 1-based offset of
+// the character where parsing stopped; columns count UTF-8 code points.
+std::string syntaxError(const std::string& file, const std::string& text, std::size_t byte,
+                        const std::string& what) {
+    const std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
+    std::size_t line = 1;
+    std::size_t column = 1;
+    for (std::size_t i = 0; i < end; ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
+            ++column;
+        }
+    }
+    // what() reads "[json.exception.parse_error.101] parse error at line 3, column 8: <explanation>".
+    std::string explanation = what;
+    if (const std::size_t at = what.find("parse error"); at != std::string::npos) {
+        if (const std::size_t colon = what.find(": ", at); colon != std::string::npos) {
+            explanation = what.substr(colon + 2);
+        }
+    } else if (const std::size_t bracket = what.find("] "); bracket != std::string::npos) {
+        explanation = what.substr(bracket + 2);
+    }
+    return oneLine(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                   ": JSON syntax error: " + explanation);
+}
+
+}  // namespace
+
+SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages) {
+    SceneLoadResult result;
+    try {
+        PathTracker tracker;
+        Json root;
+        try {
+            root = Json::parse(jsonText, [&tracker](int, Json::parse_event_t event, Json& parsed) {
+                return tracker.onEvent(event, parsed);
+            });
+        } catch (const Json::parse_error& e) {
+            result.error = syntaxError(fileForMessages, jsonText, e.byte, e.what());
+            return result;
+        } catch (const Json::out_of_range& e) {
+            // 406: a number like 1e999 that overflows a double. what() ends with "parsing '<token>'".
+            const std::string what = e.what();
+            const std::size_t open = what.find('\'');
+            const std::size_t close = what.rfind('\'');
+            const std::string token =
+                open != std::string::npos && close > open ? what.substr(open + 1, close - open - 1)
+                                                          : what;
+            fail(tracker.currentPath(), "number out of range (must be a finite number), got " + token);
+        }
+        if (tracker.duplicate()) {
+            fail(*tracker.duplicate(), "duplicate key (each key may appear only once per object)");
+        }
+        Scene scene;
+        readScene(root, scene);
+        result.scene = std::move(scene);
+    } catch (const SceneError& e) {
+        result.error = formatError(fileForMessages, e.path, e.message);
+    } catch (const std::bad_alloc&) {
+        result.error = fileForMessages + ": out of memory while reading the scene";
+    } catch (const std::exception& e) {
+        result.error = oneLine(fileForMessages + ": internal error: " + e.what());
+    } catch (...) {
+        result.error = fileForMessages + ": internal error while reading the scene";
+    }
+    if (!result.error.empty()) result.scene.reset();
+    return result;
+}
+
+SceneLoadResult loadScene(const std::string& file) {
+    try {
+        std::string error;
+        const std::optional<std::string> text = readTextFile(file, &error);
+        if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
+        SceneLoadResult result = parseScene(*text, file);
+        if (result.scene) result.scene->sourcePath = file;
+        return result;
+    } catch (const std::bad_alloc&) {
+        return SceneLoadResult{std::nullopt, file + ": out of memory while reading the scene"};
+    } catch (...) {
+        return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
+    }
+}
+
+namespace {
+
+// Pretty JSON with 2-space indentation, but arrays of numbers/strings on one line ("[0, 1, 0]").
+void appendPretty(const Json& value, std::size_t indent, std::string& out) {
+    if (!value.is_structured()) {
+        out += dumpCompact(value);
+        return;
+    }
+    const bool isObject = value.is_object();
+    if (value.empty()) {
+        out += isObject ? "{}" : "[]";
+        return;
+    }
+    if (!isObject && std::none_of(value.begin(), value.end(),
+                                  [](const Json& item) { return item.is_structured(); })) {
+        out += '[';
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            if (i > 0) out += ", ";
+            out += dumpCompact(value[i]);
+        }
+        out += ']';
+        return;
+    }
+    out += isObject ? "{\n" : "[\n";
+    bool first = true;
+    for (auto it = value.begin(); it != value.end(); ++it) {
+        if (!first) out += ",\n";
+        first = false;
+        out.append(indent + 2, ' ');
+        if (isObject) out += dumpCompact(Json(it.key())) + ": ";
+        appendPretty(it.value(), indent + 2, out);
+    }
+    out += '\n';
+    out.append(indent, ' ');
+    out += isObject ? '}' : ']';
+}
+
+}  // namespace
+
+std::string sceneToJson(const Scene& scene) {
+    try {
+        std::string out;
+        appendPretty(writeFields(scene, sceneFields()), 0, out);
+        out += '\n';
+        return out;
+    } catch (...) {
+        return std::string();
+    }
+}
+
+bool saveScene(const Scene& scene, const std::string& file, std::string* error) {
+    try {
+        const std::string text = sceneToJson(scene);
+        if (text.empty()) {
+            if (error) *error = file + ": cannot write: out of memory";
+            return false;
+        }
+        // Refuse to write a file that would not load (NaN, dangling material, ...).
+        const SceneLoadResult check = parseScene(text, file);
+        if (!check) {
+            if (error) {
+                const std::string prefix = file + ": ";
+                const std::string reason = check.error.starts_with(prefix)
+                                               ? check.error.substr(prefix.size())
+                                               : check.error;
+                *error = file + ": not saved, the scene is invalid: " + reason;
+            }
+            return false;
+        }
+        return writeFileAtomically(file, text, error);
+    } catch (...) {
+        if (error) *error = file + ": cannot write: out of memory";
+        return false;
+    }
+}
+
+}  // namespace caustic

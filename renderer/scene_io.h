@@ -1,0 +1,41 @@
+// Scene files: JSON <-> Scene. docs/scene-format.md documents the format; keep the two in step.
+// Nothing here throws: every failure (unreadable file, JSON syntax, unknown key, wrong type,
+// out-of-range value, dangling reference, out of memory) comes back as a one-line message:
+//   "<file>: <json.path>: <what is wrong>"      e.g. "a.json: objects[3].material: unknown material 'blue' (known: white, red)"
+//   "<file>:<line>:<column>: JSON syntax error: <explanation>"
+//   "<file>: cannot read: <OS reason>"
+#pragma once
+
+#include "renderer/scene.h"
+
+#include <optional>
+#include <string>
+
+namespace caustic {
+
+struct SceneLoadResult {
+    std::optional<Scene> scene;
+    std::string error;         // empty when scene is set
+    explicit operator bool() const { return scene.has_value(); }
+};
+
+// Reads, parses and validates a scene file; sets Scene::sourcePath to file.
+SceneLoadResult loadScene(const std::string& file);
+
+// Parses and validates scene JSON; fileForMessages only prefixes error messages (sourcePath stays
+// empty).
+SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages);
+
+// The scene as pretty JSON (2-space indent, numeric vectors on one line, trailing newline) in the
+// full explicit form: every field of the scene's types is written, so parseScene(sceneToJson(s))
+// reproduces s exactly (floats are written with enough digits to round-trip). Fields that do not
+// apply (e.g. a point light's radius) and empty object/light names are omitted. Returns an empty
+// string only when out of memory.
+std::string sceneToJson(const Scene& scene);
+
+// Validates the scene (by parsing sceneToJson's output, so a saved file always loads) and writes it
+// atomically (writeFileAtomically): on failure the old file, if any, is untouched and no partial or
+// temporary file is left; *error (if non-null) gets the reason.
+bool saveScene(const Scene& scene, const std::string& file, std::string* error);
+
+}  // namespace caustic

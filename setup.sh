@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# caustic's one set-up script. On a fresh Debian 12 machine it installs what is missing (a second
+# run skips what is there), builds build/caustic in Release, and then:
+#   ./setup.sh          renders scenes/cornell-box.json headless and prints the image's path
+#   ./setup.sh test     runs every test (ctest), as CI does
+#   ./setup.sh build    only installs and builds
+# Downloaded and generated third-party files go to .deps/ (git-ignored).
+set -euo pipefail
+cd "$(dirname "$0")"
+mode=${1:-render}
+case "$mode" in render|test|build) ;; *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;; esac
+
+log() { printf '== %s\n' "$*" >&2; }
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+# 1. Debian packages (shared/docs/dependencies.md says why each one and where from).
+packages=(
+  build-essential cmake ninja-build pkg-config python3 python3-venv
+  libglm-dev nlohmann-json3-dev catch2
+  libopenimageio-dev openimageio-tools libopenexr-dev
+  libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  log "installing ${#missing[@]} Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# 2. glad2 (the OpenGL loader generator) in its own venv: PyPI's glad (v1) shares its module name.
+venv=.deps/venv
+if ! "$venv/bin/python" -c 'import glad, sys; sys.exit(0 if glad.__version__ == "2.0.8" else 1)' 2>/dev/null; then
+  log "creating $venv with glad2==2.0.8"
+  rm -rf "$venv"
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install -q --disable-pip-version-check glad2==2.0.8
+fi
+
+# 3. Configure and build (Release).
+if [ ! -f build/CMakeCache.txt ]; then
+  log "configuring build/"
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+fi
+log "building"
+cmake --build build -j "$(nproc)" >&2
+
+# 4. Render, or test.
+case "$mode" in
+  render)
+    log "rendering scenes/cornell-box.json"
+    build/caustic --scene scenes/cornell-box.json --output renders
+    ;;
+  test)
+    log "running the tests"
+    cd build && ctest --output-on-failure -j 2
+    ;;
+esac

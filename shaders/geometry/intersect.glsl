@@ -1,0 +1,97 @@
+// Ray-primitive intersection and the scene queries (closest hit, any hit).
+// Brute force over all primitives for now; the two-level BVH of the geometry issue replaces the
+// loops in sceneIntersect / sceneOccluded and nothing else.
+#ifndef GEOMETRY_INTERSECT_GLSL
+#define GEOMETRY_INTERSECT_GLSL
+#include "../lib/math.glsl"
+#include "../scene/buffers.glsl"
+
+struct Ray { vec3 o; vec3 d; };
+
+struct Hit {
+    float t;
+    uint prim;
+    vec3 p;    // world position
+    vec3 ng;   // unit geometric normal (front side, not flipped towards the ray)
+};
+
+// The unit sphere in object space; p.abc are the rows of the affine world-to-object matrix.
+bool intersectSphere(GpuPrimitive s, Ray r, float tMax, out float tHit) {
+    vec3 o = vec3(dot(s.a, vec4(r.o, 1.0)), dot(s.b, vec4(r.o, 1.0)), dot(s.c, vec4(r.o, 1.0)));
+    vec3 d = vec3(dot(s.a.xyz, r.d), dot(s.b.xyz, r.d), dot(s.c.xyz, r.d));
+    float a = dot(d, d);
+    float b = dot(o, d);
+    // c computed as |o|^2 - 1 loses precision far away; the closest-approach form below is the
+    // "Ray Tracing Gems" ch. 7 (Haines et al. 2019) rearrangement: disc = r^2 - |o - (o.d)d/|d|^2|^2.
+    vec3 perp = o - (b / a) * d;
+    float disc = a * (1.0 - dot(perp, perp));
+    if (disc < 0.0) return false;
+    float c = dot(o, o) - 1.0;
+    float q = -(b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+    float t0 = c / q, t1 = q / a;
+    if (t0 > t1) { float tmp = t0; t0 = t1; t1 = tmp; }
+    if (t0 > 0.0 && t0 < tMax) { tHit = t0; return true; }
+    if (t1 > 0.0 && t1 < tMax) { tHit = t1; return true; }
+    return false;
+}
+
+vec3 sphereNormal(GpuPrimitive s, vec3 p) {
+    vec3 po = vec3(dot(s.a, vec4(p, 1.0)), dot(s.b, vec4(p, 1.0)), dot(s.c, vec4(p, 1.0)));
+    // Normals transform with the inverse transpose: (W2O)^T * n_object.
+    return normalize(s.a.xyz * po.x + s.b.xyz * po.y + s.c.xyz * po.z);
+}
+
+bool intersectQuad(GpuPrimitive q, Ray r, float tMax, out float tHit) {
+    vec3 n = cross(q.b.xyz, q.c.xyz);
+    float denom = dot(n, r.d);
+    if (abs(denom) < 1e-20) return false;
+    float t = dot(n, q.a.xyz - r.o) / denom;
+    if (!(t > 0.0 && t < tMax)) return false;
+    vec3 hp = r.o + t * r.d - q.a.xyz;
+    vec3 w = n / dot(n, n);
+    float alpha = dot(w, cross(hp, q.c.xyz));
+    float beta = dot(w, cross(q.b.xyz, hp));
+    if (alpha < 0.0 || alpha > 1.0 || beta < 0.0 || beta > 1.0) return false;
+    tHit = t;
+    return true;
+}
+
+bool intersectPrimitive(GpuPrimitive prim, Ray r, float tMax, out float t) {
+    if (prim.info.x == PRIM_SPHERE) return intersectSphere(prim, r, tMax, t);
+    return intersectQuad(prim, r, tMax, t);
+}
+
+// Closest hit with t in (0, tMax).
+bool sceneIntersect(Ray r, float tMax, out Hit hit) {
+    hit.t = tMax;
+    hit.prim = 0xffffffffu;
+    uint count = frame.counts.x;
+    for (uint i = 0u; i < count; ++i) {
+        float t;
+        if (intersectPrimitive(primitives[i], r, hit.t, t)) { hit.t = t; hit.prim = i; }
+    }
+    if (hit.prim == 0xffffffffu) return false;
+    GpuPrimitive prim = primitives[hit.prim];
+    hit.p = r.o + hit.t * r.d;
+    hit.ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
+    return true;
+}
+
+// Any hit with t in (0, tMax): shadow rays, early exit.
+bool sceneOccluded(Ray r, float tMax) {
+    uint count = frame.counts.x;
+    for (uint i = 0u; i < count; ++i) {
+        float t;
+        if (intersectPrimitive(primitives[i], r, tMax, t)) return true;
+    }
+    return false;
+}
+
+// Offsets a ray origin off the surface on the side of `dir`, by an amount that grows with the
+// magnitude of the position (float spacing), so secondary rays do not re-hit their own surface.
+vec3 offsetRayOrigin(vec3 p, vec3 ng, vec3 dir) {
+    float eps = 1e-4 * max(1.0, maxComponent(abs(p)));
+    return p + (dot(ng, dir) >= 0.0 ? eps : -eps) * ng;
+}
+
+#endif

@@ -1,0 +1,116 @@
+// Unidirectional path tracing with next event estimation and multiple importance sampling.
+//
+// At every vertex: emission is added once, either because nothing else could have sampled it
+// (the camera ray, a delta bounce, the BSDF-only strategy) or with the MIS weight of the BSDF
+// strategy against the light strategy; then one light is chosen (by power or uniformly), sampled
+// and traced with a shadow ray, weighted by the power heuristic against the BSDF pdf; then the
+// BSDF is sampled for the continuation ray, whose hit supplies the BSDF strategy's emission term.
+// A bounce therefore costs one continuation ray and one shadow ray.
+//
+// Depth: `bounces` counts the scattering events on the path so far. frame.counts.z (max depth)
+// caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on.
+// Russian roulette from the fourth vertex on (after three bounces): survive with
+// q = clamp(max(throughput), 0.05, 1) and divide by q.
+#ifndef INTEGRATOR_PATH_GLSL
+#define INTEGRATOR_PATH_GLSL
+#include "../lib/rng.glsl"
+#include "../geometry/intersect.glsl"
+#include "../bsdf/bsdf.glsl"
+#include "../lights/lights.glsl"
+
+vec3 pathRadiance(Ray ray, inout uint rng) {
+    uint strategy = frame.counts.w;
+    uint maxDepth = frame.counts.z;
+    bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
+    bool misOn = strategy == STRATEGY_MIS;
+    vec3 L = vec3(0.0);
+    vec3 beta = vec3(1.0);
+    bool countEmitted = true;  // camera ray or after a delta bounce or BSDF-only: weight 1
+    float prevBsdfPdf = 0.0;
+    vec3 prevP = ray.o;
+
+    for (uint bounces = 0u;; ++bounces) {
+        Hit hit;
+        if (!sceneIntersect(ray, FLT_MAX, hit)) {
+            uint envIndex = frame.dispatch.y;
+            if (frame.envInfo.x != ENV_NONE) {
+                vec3 Le = environmentRadiance(ray.d);
+                if (countEmitted || !useLights) {
+                    L += beta * Le;
+                } else if (misOn && envIndex > 0u) {
+                    float pl = lightSelectionPmf(envIndex - 1u) * lightPdf(envIndex - 1u, prevP, ray.d, vec3(0.0), vec3(0.0));
+                    L += beta * Le * powerHeuristic(prevBsdfPdf, pl);
+                }
+            }
+            break;
+        }
+
+        GpuPrimitive prim = primitives[hit.prim];
+        GpuMaterial mat = materials[prim.info.y];
+        vec3 wo = -ray.d;
+
+        // Emission (both faces, unless the primitive is a one-sided emitter seen from behind).
+        bool frontFacing = dot(hit.ng, wo) > 0.0;
+        if (maxComponent(mat.emission.rgb) > 0.0 &&
+            (frontFacing || (prim.info.w & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u)) {
+            if (countEmitted || !useLights) {
+                L += beta * mat.emission.rgb;
+            } else if (misOn && prim.info.z > 0u) {
+                uint li = prim.info.z - 1u;
+                float pl = lightSelectionPmf(li) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
+                L += beta * mat.emission.rgb * powerHeuristic(prevBsdfPdf, pl);
+            }
+        }
+        if (bounces >= maxDepth) break;
+
+        // Shading frame: two-sided surfaces, the normal turned towards the viewer.
+        vec3 n = dot(hit.ng, wo) < 0.0 ? -hit.ng : hit.ng;
+        Frame f = frameFromNormal(n);
+        vec3 woL = toLocal(f, wo);
+
+        // Next event estimation.
+        if (useLights) {
+            float uSel = rngNext(rng);
+            vec2 uLight = rngNext2(rng);
+            uint li = selectLight(uSel);
+            float pmf = lightSelectionPmf(li);
+            LightSample ls = sampleLight(li, hit.p, uLight);
+            if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
+                vec3 wiL = toLocal(f, ls.wi);
+                vec3 fv = bsdfEval(mat, woL, wiL);
+                if (maxComponent(fv) > 0.0) {
+                    Ray shadow;
+                    shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
+                    shadow.d = ls.wi;
+                    float tMax = ls.dist >= FLT_MAX ? FLT_MAX : ls.dist * (1.0 - 1e-4);
+                    if (!sceneOccluded(shadow, tMax)) {
+                        float pl = pmf * ls.pdf;
+                        float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, bsdfPdf(mat, woL, wiL));
+                        L += beta * fv * abs(wiL.z) * ls.Li * (w / pl);
+                    }
+                }
+            }
+        }
+
+        // Continuation ray by BSDF sampling.
+        BsdfSample bs = bsdfSample(mat, woL, rngNext2(rng));
+        if (bs.pdf <= 0.0) break;
+        beta *= bs.f * abs(bs.wi.z) / bs.pdf;
+        countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
+        prevBsdfPdf = bs.pdf;
+        prevP = hit.p;
+        vec3 wiW = toWorld(f, bs.wi);
+        ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
+        ray.d = wiW;
+
+        if (bounces + 1u >= 3u) {
+            float q = clamp(maxComponent(beta), 0.05, 1.0);
+            if (rngNext(rng) >= q) break;
+            beta /= q;
+        }
+        if (maxComponent(beta) <= 0.0) break;
+    }
+    return L;
+}
+
+#endif

@@ -1,0 +1,153 @@
+// Light sampling for next event estimation, and the pdfs that multiple importance sampling needs
+// when a BSDF-sampled ray hits an emitter.
+//
+// Conventions (docs/scene-format.md): area lights and the environment are given in radiance
+// (W sr^-1 m^-2), point and spot lights in intensity (W sr^-1). All pdfs returned here are per
+// unit solid angle at the shading point and do NOT include the probability of choosing the light
+// (that is GpuLight::color.w, see lightSelectionPmf).
+//
+// rect:   uniform point on the parallelogram; p_area = 1/A, p_omega = r^2 / (|cos theta_l| A).
+//         One-sided (the front is cross(edge u, edge v)) unless LIGHT_FLAG_TWO_SIDED.
+// sphere: outside: uniform direction in the cone that subtends the sphere,
+//         cos theta_max = sqrt(1 - R^2/d^2), p_omega = 1 / (2 pi (1 - cos theta_max))
+//         (PBRT 4th ed. sec. 6.2.4); inside: uniform point on the surface, converted to solid
+//         angle. Emits from both faces, as every emissive material does.
+// point:  a delta light, L_i = I / r^2.
+// spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2).
+// env:    uniform directions on the sphere, p_omega = 1/(4 pi) (the constant colour and the sky
+//         are smooth; an HDR map will use its luminance table).
+#ifndef LIGHTS_LIGHTS_GLSL
+#define LIGHTS_LIGHTS_GLSL
+#include "../lib/sampling.glsl"
+#include "../scene/buffers.glsl"
+#include "environment.glsl"
+
+struct LightSample {
+    vec3 wi;       // unit direction from the shading point towards the light
+    float dist;    // distance to the sampled point (FLT_MAX for the environment)
+    vec3 Li;       // incident radiance (or intensity / r^2 for delta lights)
+    float pdf;     // solid-angle pdf (1 for delta lights), 0 if the sample is invalid
+    bool isDelta;
+};
+
+// Chooses a light index with probability color.w by inverting the CDF (binary search).
+uint selectLight(float u) {
+    uint count = frame.counts.y;
+    uint lo = 0u, hi = count - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) >> 1;
+        if (u < lightCdf[mid]) hi = mid; else lo = mid + 1u;
+    }
+    return lo;
+}
+
+float lightSelectionPmf(uint index) { return lights[index].color.w; }
+
+// Solid-angle pdf of sampling direction wi from `p` towards point `q` on an area light with unit
+// normal `nl`, given the area pdf 1/area.
+float areaToSolidAngle(float pdfArea, vec3 p, vec3 q, vec3 nl) {
+    vec3 d = q - p;
+    float dist2 = dot(d, d);
+    float cosL = abs(dot(nl, d)) * inversesqrt(dist2);
+    return cosL > 0.0 ? pdfArea * dist2 / cosL : 0.0;
+}
+
+LightSample sampleLight(uint index, vec3 p, vec2 u) {
+    GpuLight l = lights[index];
+    LightSample s;
+    s.isDelta = false;
+    s.pdf = 0.0;
+    s.Li = vec3(0.0);
+    s.dist = 0.0;
+    s.wi = vec3(0.0, 0.0, 1.0);
+    uint type = l.info.x;
+    if (type == LIGHT_RECT) {
+        vec3 q = l.p0.xyz + u.x * l.p1.xyz + u.y * l.p2.xyz;
+        vec3 n = normalize(cross(l.p1.xyz, l.p2.xyz));
+        vec3 d = q - p;
+        float dist2 = dot(d, d);
+        if (dist2 <= 0.0) return s;
+        s.dist = sqrt(dist2);
+        s.wi = d / s.dist;
+        float cosL = -dot(n, s.wi);
+        if (cosL <= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return s;
+        cosL = abs(cosL);
+        if (cosL <= 0.0) return s;
+        s.pdf = dist2 / (cosL * l.p1.w);
+        s.Li = l.color.rgb;
+    } else if (type == LIGHT_SPHERE) {
+        vec3 c = l.p0.xyz;
+        float radius = l.p0.w;
+        vec3 toC = c - p;
+        float d2 = dot(toC, toC);
+        if (d2 > radius * radius * 1.00001) {
+            float d = sqrt(d2);
+            vec3 axis = toC / d;
+            float sin2Max = radius * radius / d2;
+            float cosMax = safeSqrt(1.0 - sin2Max);
+            // For tiny cones, 1 - cosMax cancels; use the series 1 - cos = sin^2/2 + sin^4/8.
+            float oneMinusCos = sin2Max < 1e-3 ? 0.5 * sin2Max + 0.125 * sin2Max * sin2Max : 1.0 - cosMax;
+            vec3 local = sampleUniformCone(u, 1.0 - oneMinusCos);
+            Frame f = frameFromNormal(axis);
+            s.wi = normalize(toWorld(f, local));
+            // Distance to the near side of the sphere along wi.
+            float b = dot(toC, s.wi);
+            float h2 = max(d2 - b * b, 0.0);
+            s.dist = b - safeSqrt(radius * radius - h2);
+            s.pdf = 1.0 / (2.0 * PI * oneMinusCos);
+        } else {
+            vec3 n = sampleUniformSphere(u);
+            vec3 q = c + radius * n;
+            vec3 d = q - p;
+            float dist2 = dot(d, d);
+            if (dist2 <= 0.0) return s;
+            s.dist = sqrt(dist2);
+            s.wi = d / s.dist;
+            s.pdf = areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, n);
+        }
+        s.Li = l.color.rgb;
+    } else if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+        vec3 d = l.p0.xyz - p;
+        float dist2 = dot(d, d);
+        if (dist2 <= 0.0) return s;
+        s.dist = sqrt(dist2);
+        s.wi = d / s.dist;
+        s.isDelta = true;
+        s.pdf = 1.0;
+        float falloff = 1.0;
+        if (type == LIGHT_SPOT) falloff = smoothstep(l.p1.w, l.p2.w, dot(-s.wi, l.p1.xyz));
+        s.Li = l.color.rgb * falloff / dist2;
+    } else if (type == LIGHT_ENV) {
+        s.wi = sampleUniformSphere(u);
+        s.dist = FLT_MAX;
+        s.pdf = uniformSpherePdf();
+        s.Li = environmentRadiance(s.wi);
+    }
+    return s;
+}
+
+// Solid-angle pdf that sampleLight(index, p, .) produces direction wi hitting the light at q
+// (with unit geometric normal nl there). For the environment q and nl are unused.
+float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
+    GpuLight l = lights[index];
+    uint type = l.info.x;
+    if (type == LIGHT_RECT) {
+        if (dot(nl, wi) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
+        return areaToSolidAngle(1.0 / l.p1.w, p, q, nl);
+    }
+    if (type == LIGHT_SPHERE) {
+        vec3 toC = l.p0.xyz - p;
+        float d2 = dot(toC, toC);
+        float radius = l.p0.w;
+        if (d2 > radius * radius * 1.00001) {
+            float sin2Max = radius * radius / d2;
+            float oneMinusCos = sin2Max < 1e-3 ? 0.5 * sin2Max + 0.125 * sin2Max * sin2Max : 1.0 - safeSqrt(1.0 - sin2Max);
+            return 1.0 / (2.0 * PI * oneMinusCos);
+        }
+        return areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, nl);
+    }
+    if (type == LIGHT_ENV) return uniformSpherePdf();
+    return 0.0;  // delta lights cannot be hit
+}
+
+#endif

@@ -1,0 +1,16 @@
+// The scene as the GPU sees it: storage buffers whose element layouts live in shared/layout.h.
+// Included by the integrator and by every test kernel, so that they read the same data.
+#ifndef SCENE_BUFFERS_GLSL
+#define SCENE_BUFFERS_GLSL
+#include "../shared/layout.h"
+
+layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock { GpuFrame frame; };
+layout(std430, binding = BINDING_PRIMITIVES) readonly buffer PrimitiveBuffer { GpuPrimitive primitives[]; };
+layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
+layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
+// lightCdf[i] = probability of choosing a light with index <= i; the last entry is 1.
+layout(std430, binding = BINDING_LIGHT_CDF) readonly buffer LightCdfBuffer { float lightCdf[]; };
+// x: samples dropped because they were NaN or infinite.
+layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
+
+#endif

@@ -1,0 +1,110 @@
+// Struct layouts shared by C++ and GLSL (std430 storage buffers, std140 uniform block).
+// Compiled by both: C++ sees glm types inside namespace caustic::gpu, GLSL sees its own types.
+// Rules (style.md): vec4 / uvec4 and scalars only, sizes multiple of 16, no bool / vec3 arrays.
+// C++ static_asserts the sizes (renderer/gpu_scene.cpp); a GPU test compares the offsets the
+// driver reports with offsetof.
+#ifndef CAUSTIC_SHARED_LAYOUT_H
+#define CAUSTIC_SHARED_LAYOUT_H
+
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+#include <cstdint>
+namespace caustic::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = std::uint32_t;
+#define CAUSTIC_STRUCT(name) struct alignas(16) name
+#else
+#define CAUSTIC_STRUCT(name) struct name
+#endif
+
+// Binding points (shared constants, never magic numbers).
+#define BINDING_ACCUM_IMAGE 0      // image2D rgba32f: rgb = sum of samples, a = sample count
+#define BINDING_ACCUM_SQ_IMAGE 1   // image2D rgba32f: rgb = sum of squared samples
+#define BINDING_FRAME_UBO 0
+#define BINDING_PRIMITIVES 1
+#define BINDING_MATERIALS 2
+#define BINDING_LIGHTS 3
+#define BINDING_LIGHT_CDF 4
+#define BINDING_COUNTERS 5
+
+// Primitive types.
+#define PRIM_SPHERE 0u
+#define PRIM_QUAD 1u
+
+// Primitive flags (GpuPrimitive::info.w).
+#define PRIM_FLAG_ONE_SIDED_EMITTER 1u  // emits from its front face only (one-sided rect lights)
+
+// Material types.
+#define MAT_DIFFUSE 0u
+
+// Light types.
+#define LIGHT_RECT 0u
+#define LIGHT_SPHERE 1u
+#define LIGHT_POINT 2u
+#define LIGHT_SPOT 3u
+#define LIGHT_ENV 4u
+
+// Light flags.
+#define LIGHT_FLAG_TWO_SIDED 1u
+
+// Environment types (GpuFrame::envInfo.x).
+#define ENV_NONE 0u
+#define ENV_CONSTANT 1u
+#define ENV_SKY 2u
+
+// Integrator strategies (GpuFrame::counts.w): MIS is the product; the other two exist so that
+// tests can show that all three estimate the same integral.
+#define STRATEGY_MIS 0u
+#define STRATEGY_LIGHT_ONLY 1u
+#define STRATEGY_BSDF_ONLY 2u
+
+// A sphere or a parallelogram.
+// sphere: a, b, c = rows of the affine world-to-object matrix (the object is the unit sphere);
+// quad:   a.xyz = corner, b.xyz = first edge, c.xyz = second edge; front normal = cross(b, c).
+CAUSTIC_STRUCT(GpuPrimitive) {
+    vec4 a;
+    vec4 b;
+    vec4 c;
+    uvec4 info;  // x: PRIM_*, y: material index, z: light index + 1 (0: not a light), w: PRIM_FLAG_*
+};
+
+CAUSTIC_STRUCT(GpuMaterial) {
+    vec4 albedo;    // rgb reflectance
+    vec4 emission;  // rgb emitted radiance (both faces)
+    vec4 params;    // reserved for the material models to come
+    uvec4 info;     // x: MAT_*
+};
+
+// rect:   p0 = corner, p1.xyz = edge u, p1.w = area, p2.xyz = edge v
+// sphere: p0.xyz = centre, p0.w = radius
+// point:  p0.xyz = position
+// spot:   p0.xyz = position, p1.xyz = unit direction, p1.w = cos(outer), p2.w = cos(inner)
+// env:    nothing (the environment is described by GpuFrame)
+CAUSTIC_STRUCT(GpuLight) {
+    vec4 p0;
+    vec4 p1;
+    vec4 p2;
+    vec4 color;  // rgb: radiance (area, env) or intensity (point, spot); w: selection probability
+    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: unused
+};
+
+// Per-dispatch constants (std140; only vec4/uvec4 so std140 == std430 == C++).
+CAUSTIC_STRUCT(GpuFrame) {
+    vec4 camPosition;
+    vec4 camRight;     // unit right * tan(half horizontal fov)
+    vec4 camUp;        // unit up * tan(half vertical fov)
+    vec4 camForward;   // unit view direction
+    uvec4 image;       // x: width, y: height, z: index of the first sample of this dispatch, w: seed
+    uvec4 counts;      // x: primitives, y: lights, z: max depth, w: STRATEGY_*
+    uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: unused
+    uvec4 envInfo;     // x: ENV_*
+    vec4 envRadiance;  // constant radiance (already times intensity)
+    vec4 envHorizon;   // sky: radiance at the horizon (times intensity)
+    vec4 envZenith;    // sky: radiance at the zenith (times intensity)
+};
+
+#ifdef __cplusplus
+}  // namespace caustic::gpu
+#endif
+#endif

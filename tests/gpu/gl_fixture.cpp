@@ -1,0 +1,50 @@
+#include "tests/gpu/gl_fixture.h"
+
+#include "renderer/shader_loader.h"
+
+#include <catch2/catch.hpp>
+
+namespace caustic::test {
+
+HeadlessGlContext& glContext() {
+    static std::string error;
+    static std::unique_ptr<HeadlessGlContext> context = HeadlessGlContext::create(true, &error);
+    INFO(error);
+    REQUIRE(context != nullptr);
+    return *context;
+}
+
+std::unique_ptr<Renderer> makeRenderer() {
+    glContext();
+    std::string error;
+    auto renderer = Renderer::create(defaultShaderDir(), &error);
+    INFO(error);
+    REQUIRE(renderer != nullptr);
+    return renderer;
+}
+
+Film renderFilm(Renderer& renderer, const Scene& scene, int samples) {
+    std::string error;
+    bool ok = renderer.setScene(scene, &error);
+    INFO(error);
+    REQUIRE(ok);
+    renderer.render(samples);
+    REQUIRE(renderer.samplesDone() == samples);
+    REQUIRE(glDebugErrorCount() == 0);
+    return renderer.readFilm();
+}
+
+ImageStats imageStats(const Film& film) {
+    ImageStats s;
+    const double n = double(film.mean.size());
+    glm::dvec3 var(0.0);
+    for (size_t i = 0; i < film.mean.size(); ++i) {
+        s.mean += glm::dvec3(film.mean[i]);
+        var += glm::dvec3(film.varianceOfMean[i]);
+    }
+    s.mean /= n;
+    s.standardError = glm::sqrt(var) / n;
+    return s;
+}
+
+}  // namespace caustic::test
