@@ -41,6 +41,7 @@ public:
     std::uint64_t droppedSamples() const;
     Film readFilm() const;
     const CompiledScene& compiled() const { return m_compiled; }
+    unsigned program() const { return m_program; }
 
 private:
     Renderer() = default;

@@ -599,3 +599,19 @@ TEST_CASE("File helpers", "[file_util]") {
     CHECK(error.find("No such file or directory") != std::string::npos);
     CHECK_FALSE(fs::exists(tmpFile));
 }
+
+TEST_CASE("The example in docs/scene-format.md loads", "[scene_io]") {
+    const std::string docPath = std::string(CAUSTIC_SOURCE_DIR) + "/docs/scene-format.md";
+    std::string error;
+    const std::optional<std::string> doc = readTextFile(docPath, &error);
+    INFO(error);
+    REQUIRE(doc.has_value());
+    const std::size_t start = doc->find("```json\n");
+    REQUIRE(start != std::string::npos);
+    const std::size_t end = doc->find("```", start + 8);
+    REQUIRE(end != std::string::npos);
+    const Scene example = mustParse(doc->substr(start + 8, end - start - 8));
+    CHECK(example.objects.size() == 2);
+    CHECK(example.lights.size() == 1);
+    CHECK(example.environment.type == EnvironmentType::Sky);
+}

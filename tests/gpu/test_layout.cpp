@@ -1,0 +1,73 @@
+// The struct layouts in shaders/shared/layout.h must mean the same to the GLSL compiler as to
+// C++: compare the offsets the driver reports for the integrator program with offsetof.
+#include "shaders/shared/layout.h"
+#include "tests/gpu/gl_fixture.h"
+
+#include <glad/gl.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstddef>
+
+using namespace caustic;
+
+namespace {
+
+GLint resourceOffset(GLuint program, GLenum interface, const char* name) {
+    GLuint index = glGetProgramResourceIndex(program, interface, name);
+    INFO(name);
+    REQUIRE(index != GL_INVALID_INDEX);
+    const GLenum prop = GL_OFFSET;
+    GLint offset = -1;
+    glGetProgramResourceiv(program, interface, index, 1, &prop, 1, nullptr, &offset);
+    return offset;
+}
+
+GLint arrayStride(GLuint program, const char* name) {
+    GLuint index = glGetProgramResourceIndex(program, GL_BUFFER_VARIABLE, name);
+    REQUIRE(index != GL_INVALID_INDEX);
+    const GLenum prop = GL_TOP_LEVEL_ARRAY_STRIDE;
+    GLint stride = -1;
+    glGetProgramResourceiv(program, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &stride);
+    return stride;
+}
+
+}  // namespace
+
+TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]") {
+    auto renderer = test::makeRenderer();
+    const GLuint p = renderer->program();
+    using namespace caustic::gpu;
+#define CHECK_MEMBER(array, Type, member) \
+    CHECK(resourceOffset(p, GL_BUFFER_VARIABLE, array "[0]." #member) == GLint(offsetof(Type, member)))
+    CHECK_MEMBER("primitives", GpuPrimitive, a);
+    CHECK_MEMBER("primitives", GpuPrimitive, b);
+    CHECK_MEMBER("primitives", GpuPrimitive, c);
+    CHECK_MEMBER("primitives", GpuPrimitive, info);
+    CHECK(arrayStride(p, "primitives[0].a") == GLint(sizeof(GpuPrimitive)));
+    CHECK_MEMBER("materials", GpuMaterial, albedo);
+    CHECK_MEMBER("materials", GpuMaterial, emission);
+    CHECK_MEMBER("materials", GpuMaterial, params);
+    CHECK_MEMBER("materials", GpuMaterial, info);
+    CHECK(arrayStride(p, "materials[0].albedo") == GLint(sizeof(GpuMaterial)));
+    CHECK_MEMBER("lights", GpuLight, p0);
+    CHECK_MEMBER("lights", GpuLight, p1);
+    CHECK_MEMBER("lights", GpuLight, p2);
+    CHECK_MEMBER("lights", GpuLight, color);
+    CHECK_MEMBER("lights", GpuLight, info);
+    CHECK(arrayStride(p, "lights[0].p0") == GLint(sizeof(GpuLight)));
+#undef CHECK_MEMBER
+#define CHECK_FRAME(member) CHECK(resourceOffset(p, GL_UNIFORM, "frame." #member) == GLint(offsetof(GpuFrame, member)))
+    CHECK_FRAME(camPosition);
+    CHECK_FRAME(camRight);
+    CHECK_FRAME(camUp);
+    CHECK_FRAME(camForward);
+    CHECK_FRAME(image);
+    CHECK_FRAME(counts);
+    CHECK_FRAME(dispatch);
+    CHECK_FRAME(envInfo);
+    CHECK_FRAME(envRadiance);
+    CHECK_FRAME(envHorizon);
+    CHECK_FRAME(envZenith);
+#undef CHECK_FRAME
+}
