@@ -101,19 +101,23 @@ void Renderer::resetAccumulation() {
     m_samplesDone = 0;
 }
 
-void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {
+void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     gpu::GpuFrame frame = makeFrame(m_scene, m_compiled, m_strategy);
     frame.image.z = firstSample;
     frame.dispatch.x = samples;
     // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
-    glUseProgram(m_program);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_CDF, m_lightCdf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
+}
+
+void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {
+    bindScene(firstSample, samples);
+    glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (static_cast<GLuint>(m_height) + 7) / 8, 1);
@@ -155,7 +159,13 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
 std::uint64_t Renderer::droppedSamples() const {
     std::uint32_t counters[4] = {0, 0, 0, 0};
     glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
-    return counters[0];
+    return counters[COUNTER_DROPPED];
+}
+
+std::uint64_t Renderer::raysTraced() const {
+    std::uint32_t counters[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
+    return (std::uint64_t(counters[COUNTER_RAYS_HI]) << 32) | counters[COUNTER_RAYS_LO];
 }
 
 Film Renderer::readFilm() const {

@@ -39,6 +39,11 @@ public:
 
     int samplesDone() const { return m_samplesDone; }
     std::uint64_t droppedSamples() const;
+    std::uint64_t raysTraced() const;      // since the last restart of accumulation
+
+    // Binds the frame constants (for samples [firstSample, firstSample + samples)) and the scene
+    // buffers at their shared binding points; the integrator and test kernels both use it.
+    void bindScene(std::uint32_t firstSample, std::uint32_t samples);
     Film readFilm() const;
     const CompiledScene& compiled() const { return m_compiled; }
     unsigned program() const { return m_program; }

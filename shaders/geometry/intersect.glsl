@@ -8,6 +8,9 @@
 
 struct Ray { vec3 o; vec3 d; };
 
+// Rays traced by this invocation (closest-hit and any-hit queries), for the rays/s figure.
+uint g_rayCount = 0u;
+
 struct Hit {
     float t;
     uint prim;
@@ -63,6 +66,7 @@ bool intersectPrimitive(GpuPrimitive prim, Ray r, float tMax, out float t) {
 
 // Closest hit with t in (0, tMax).
 bool sceneIntersect(Ray r, float tMax, out Hit hit) {
+    ++g_rayCount;
     hit.t = tMax;
     hit.prim = 0xffffffffu;
     uint count = frame.counts.x;
@@ -79,6 +83,7 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
 
 // Any hit with t in (0, tMax): shadow rays, early exit.
 bool sceneOccluded(Ray r, float tMax) {
+    ++g_rayCount;
     uint count = frame.counts.x;
     for (uint i = 0u; i < count; ++i) {
         float t;

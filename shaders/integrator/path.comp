@@ -25,7 +25,10 @@ void main() {
         sum += vec4(L, 1.0);
         sumSq += vec4(L * L, 0.0);
     }
-    if (dropped > 0u) atomicAdd(counters[0], dropped);
+    if (dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], dropped);
+    // A 64-bit ray count from two 32-bit words: carry into the high word on wrap-around.
+    uint before = atomicAdd(counters[COUNTER_RAYS_LO], g_rayCount);
+    if (before + g_rayCount < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
     imageStore(accumImage, ip, sum);
     imageStore(accumSqImage, ip, sumSq);
 }

@@ -10,7 +10,7 @@ layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { Gpu
 layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
 // lightCdf[i] = probability of choosing a light with index <= i; the last entry is 1.
 layout(std430, binding = BINDING_LIGHT_CDF) readonly buffer LightCdfBuffer { float lightCdf[]; };
-// x: samples dropped because they were NaN or infinite.
+// COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 
 #endif

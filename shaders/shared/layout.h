@@ -27,6 +27,12 @@ using uint = std::uint32_t;
 #define BINDING_LIGHTS 3
 #define BINDING_LIGHT_CDF 4
 #define BINDING_COUNTERS 5
+#define BINDING_TEST_OUTPUT 7      // test kernels only
+
+// Words of the counter buffer.
+#define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
+#define COUNTER_RAYS_LO 1          // rays traced, low 32 bits
+#define COUNTER_RAYS_HI 2          // rays traced, high 32 bits
 
 // Primitive types.
 #define PRIM_SPHERE 0u

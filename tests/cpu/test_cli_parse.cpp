@@ -1,0 +1,218 @@
+// The batch command-line parser (app/cli.cpp): defaults, every flag in both spellings, and the
+// wording of every kind of error (each names the flag or the argument at fault).
+#include "app/cli.h"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+using namespace caustic;
+
+namespace {
+
+CliOptions parseOk(const std::vector<std::string>& args) {
+    CliParseResult r = parseCli(args);
+    INFO("error: " << r.error);
+    REQUIRE(r.options.has_value());
+    CHECK(r.error.empty());
+    return *r.options;
+}
+
+std::string parseError(const std::vector<std::string>& args) {
+    CliParseResult r = parseCli(args);
+    CHECK_FALSE(r.options.has_value());
+    CHECK_FALSE(r.error.empty());
+    return r.error;
+}
+
+bool contains(const std::string& haystack, const std::string& needle) {
+    return haystack.find(needle) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("parseCli: no arguments gives the defaults", "[cli]") {
+    const CliOptions o = parseOk({});
+    CHECK_FALSE(o.scene);
+    CHECK_FALSE(o.editorScene);
+    CHECK_FALSE(o.samples);
+    CHECK_FALSE(o.width);
+    CHECK_FALSE(o.height);
+    CHECK_FALSE(o.maxDepth);
+    CHECK_FALSE(o.seed);
+    CHECK(o.outputDir == "renders");
+    CHECK_FALSE(o.png);
+    CHECK_FALSE(o.hdr);
+    CHECK_FALSE(o.exr);
+    CHECK_FALSE(o.reinhard);
+    CHECK_FALSE(o.oidn);
+    CHECK_FALSE(o.aovs);
+    CHECK_FALSE(o.sky);
+    CHECK_FALSE(o.envmap);
+    CHECK_FALSE(o.help);
+    CHECK_FALSE(o.version);
+}
+
+TEST_CASE("parseCli: every flag with a separate value", "[cli]") {
+    const CliOptions o = parseOk({"--scene", "scenes/a.json", "--samples", "64", "--width", "320",
+                                  "--height", "200", "--max-depth", "5", "--seed", "42", "--output",
+                                  "out/dir", "--envmap", "sky.hdr"});
+    REQUIRE(o.scene);
+    CHECK(*o.scene == "scenes/a.json");
+    CHECK(o.samples == 64);
+    CHECK(o.width == 320);
+    CHECK(o.height == 200);
+    CHECK(o.maxDepth == 5);
+    CHECK(o.seed == 42u);
+    CHECK(o.outputDir == "out/dir");
+    REQUIRE(o.envmap);
+    CHECK(*o.envmap == "sky.hdr");
+    CHECK_FALSE(o.editorScene);
+}
+
+TEST_CASE("parseCli: every flag in --flag=value form", "[cli]") {
+    const CliOptions o = parseOk({"--scene=b.json", "--samples=3", "--width=7", "--height=9",
+                                  "--max-depth=0", "--seed=4294967295", "--output=x", "--envmap=e.hdr"});
+    CHECK(o.scene == std::string("b.json"));
+    CHECK(o.samples == 3);
+    CHECK(o.width == 7);
+    CHECK(o.height == 9);
+    CHECK(o.maxDepth == 0);
+    CHECK(o.seed == 4294967295u);
+    CHECK(o.outputDir == "x");
+    CHECK(o.envmap == std::string("e.hdr"));
+}
+
+TEST_CASE("parseCli: a value containing '=' keeps everything after the first '='", "[cli]") {
+    const CliOptions o = parseOk({"--output=a=b"});
+    CHECK(o.outputDir == "a=b");
+}
+
+TEST_CASE("parseCli: each switch sets only its own field", "[cli]") {
+    SECTION("--png") { CliOptions o = parseOk({"--png"}); CHECK(o.png); CHECK_FALSE(o.hdr); CHECK_FALSE(o.exr); }
+    SECTION("--hdr") { CliOptions o = parseOk({"--hdr"}); CHECK(o.hdr); CHECK_FALSE(o.png); CHECK_FALSE(o.exr); }
+    SECTION("--exr") { CliOptions o = parseOk({"--exr"}); CHECK(o.exr); CHECK_FALSE(o.png); CHECK_FALSE(o.hdr); }
+    SECTION("--reinhard") { CliOptions o = parseOk({"--reinhard"}); CHECK(o.reinhard); CHECK_FALSE(o.png); }
+    SECTION("--oidn") { CliOptions o = parseOk({"--oidn"}); CHECK(o.oidn); CHECK_FALSE(o.aovs); }
+    SECTION("--aovs") { CliOptions o = parseOk({"--aovs"}); CHECK(o.aovs); CHECK_FALSE(o.oidn); }
+    SECTION("--sky") { CliOptions o = parseOk({"--sky"}); CHECK(o.sky); CHECK_FALSE(o.envmap); }
+    SECTION("--help") { CliOptions o = parseOk({"--help"}); CHECK(o.help); CHECK_FALSE(o.version); }
+    SECTION("--version") { CliOptions o = parseOk({"--version"}); CHECK(o.version); CHECK_FALSE(o.help); }
+    SECTION("all formats together") {
+        CliOptions o = parseOk({"--png", "--hdr", "--exr"});
+        CHECK(o.png);
+        CHECK(o.hdr);
+        CHECK(o.exr);
+    }
+}
+
+TEST_CASE("parseCli: a switch given a value is an error", "[cli]") {
+    CHECK(contains(parseError({"--png=yes"}), "--png"));
+    CHECK(contains(parseError({"--png=yes"}), "takes no value"));
+}
+
+TEST_CASE("parseCli: later values override earlier ones", "[cli]") {
+    const CliOptions o = parseOk({"--samples", "4", "--samples=9"});
+    CHECK(o.samples == 9);
+}
+
+TEST_CASE("parseCli: a flag at the end without its value is an error naming the flag", "[cli]") {
+    for (const char* flag : {"--scene", "--samples", "--width", "--height", "--max-depth", "--seed",
+                             "--output", "--envmap"}) {
+        INFO(flag);
+        const std::string e = parseError({flag});
+        CHECK(contains(e, flag));
+        CHECK(contains(e, "missing value"));
+    }
+    // The value check must not read past the end even after other arguments.
+    CHECK(contains(parseError({"--png", "--samples"}), "--samples"));
+}
+
+TEST_CASE("parseCli: non-integer values are rejected with the flag and the value", "[cli]") {
+    for (const char* bad : {"abc", "", "12abc", "1.5", "1e3", " 8", "0x10"}) {
+        INFO("value '" << bad << "'");
+        const std::string e = parseError({"--samples", bad});
+        CHECK(contains(e, "--samples"));
+        CHECK(contains(e, std::string("'") + bad + "'"));
+    }
+    CHECK(contains(parseError({"--width=wide"}), "--width"));
+    CHECK(contains(parseError({"--seed", "seven"}), "--seed"));
+    CHECK(contains(parseError({"--max-depth", "deep"}), "--max-depth"));
+}
+
+TEST_CASE("parseCli: out-of-range values are rejected, bounds are accepted", "[cli]") {
+    SECTION("samples") {
+        CHECK(contains(parseError({"--samples", "0"}), "--samples"));
+        CHECK(contains(parseError({"--samples", "-4"}), "'-4'"));
+        CHECK(parseOk({"--samples", "1"}).samples == 1);
+        CHECK(parseOk({"--samples", "16777216"}).samples == 16777216);
+        CHECK(contains(parseError({"--samples", "16777217"}), "--samples"));
+    }
+    SECTION("width and height") {
+        CHECK(contains(parseError({"--width", "20000"}), "--width"));
+        CHECK(contains(parseError({"--width", "0"}), "--width"));
+        CHECK(contains(parseError({"--height", "20000"}), "--height"));
+        CHECK(contains(parseError({"--height", "-1"}), "--height"));
+        CHECK(parseOk({"--width", "16384"}).width == 16384);
+        CHECK(parseOk({"--height", "1"}).height == 1);
+    }
+    SECTION("max depth") {
+        CHECK(parseOk({"--max-depth", "0"}).maxDepth == 0);
+        CHECK(contains(parseError({"--max-depth", "-1"}), "--max-depth"));
+    }
+    SECTION("seed covers exactly the uint32 range") {
+        CHECK(contains(parseError({"--seed", "-1"}), "--seed"));
+        CHECK(parseOk({"--seed", "0"}).seed == 0u);
+        CHECK(parseOk({"--seed", "4294967295"}).seed == 4294967295u);
+        CHECK(contains(parseError({"--seed", "4294967296"}), "--seed"));
+        // Far beyond long long: from_chars overflows, which must still be a clean error.
+        CHECK(contains(parseError({"--seed", "99999999999999999999999"}), "--seed"));
+    }
+}
+
+TEST_CASE("parseCli: an empty --output is an error", "[cli]") {
+    CHECK(contains(parseError({"--output", ""}), "--output"));
+    CHECK(contains(parseError({"--output="}), "--output"));
+}
+
+TEST_CASE("parseCli: unknown options are errors naming the option", "[cli]") {
+    CHECK(contains(parseError({"--bogus"}), "--bogus"));
+    CHECK(contains(parseError({"--bogus"}), "unknown option"));
+    CHECK(contains(parseError({"--scene", "a.json", "-x"}), "-x"));
+    CHECK(contains(parseError({"--bogus=3"}), "--bogus"));
+    // A near miss of a real flag is still unknown.
+    CHECK(contains(parseError({"--sample", "4"}), "--sample"));
+}
+
+TEST_CASE("parseCli: a bare argument is the editor's scene; a second one is an error", "[cli]") {
+    const CliOptions o = parseOk({"my scene.json"});
+    REQUIRE(o.editorScene);
+    CHECK(*o.editorScene == "my scene.json");
+    CHECK_FALSE(o.scene);
+
+    // A lone "-" is not an option (conventionally stdin) and is taken as the positional.
+    CHECK(parseOk({"-"}).editorScene == std::string("-"));
+
+    const std::string e = parseError({"a.json", "b.json"});
+    CHECK(contains(e, "b.json"));
+    CHECK(contains(e, "unexpected argument"));
+
+    // A value that looks like a file does not count as a positional.
+    CHECK_FALSE(parseOk({"--scene", "a.json"}).editorScene);
+    // A value starting with '-' is consumed as the flag's value, not parsed as an option.
+    CHECK(parseOk({"--output", "-dir"}).outputDir == "-dir");
+}
+
+TEST_CASE("cliUsage documents every flag the parser accepts", "[cli]") {
+    const std::string usage = cliUsage();
+    for (const char* flag : {"--scene", "--samples", "--width", "--height", "--max-depth", "--seed",
+                             "--output", "--png", "--hdr", "--exr", "--reinhard", "--sky", "--envmap",
+                             "--oidn", "--aovs", "--help", "--version"}) {
+        INFO(flag);
+        CHECK(contains(usage, flag));
+        // And the parser really accepts it (with a value where it takes one).
+        CliParseResult r = parseCli({flag, "1"});
+        if (!r.options) CHECK(contains(r.error, "unexpected argument"));  // a switch: "1" is positional
+    }
+}

@@ -1,0 +1,151 @@
+// Every light's sampler, run through the real GLSL: the mean of 1/pdf over its samples equals
+// the solid angle the light subtends (a pdf that integrates to one over exactly that set), each
+// sampled direction reaches the light at the sampled distance, and lightPdf (used by MIS for
+// BSDF-sampled hits) agrees with the sampler's own pdf.
+#include "renderer/shader_loader.h"
+#include "tests/gpu/gl_fixture.h"
+
+#include <glad/gl.h>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <glm/gtc/type_ptr.hpp>
+
+using namespace caustic;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kSamples = 1 << 16;
+
+// Solid angle of the triangle (a, b, c) seen from the origin: Van Oosterom and Strackee 1983,
+// tan(omega / 2) = |a . (b x c)| / (|a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|).
+double triangleSolidAngle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+    double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    double num = std::abs(glm::dot(a, glm::cross(b, c)));
+    double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    double w = 2.0 * std::atan2(num, den);
+    return w < 0 ? w + 2.0 * kPi : w;
+}
+
+struct SamplerStats { double meanInvPdf = 0, standardError = 0, maxPdfMismatch = 0, hitFraction = 0; int valid = 0; };
+
+SamplerStats runSampler(Renderer& renderer, const Scene& scene, glm::vec3 point) {
+    std::string error;
+    REQUIRE(renderer.setScene(scene, &error));
+    static GLuint program = [] {
+        ShaderLoader loader(defaultShaderDir());
+        ShaderSource src;
+        std::string err;
+        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/light_sampling.comp", {}, &src, &err);
+        INFO(err);
+        REQUIRE(loaded);
+        GLuint p = compileComputeProgram(src, "light_sampling.comp", &err);
+        INFO(err);
+        REQUIRE(p != 0);
+        return p;
+    }();
+    GLuint out = 0;
+    glCreateBuffers(1, &out);
+    glNamedBufferData(out, kSamples * sizeof(glm::vec4), nullptr, GL_DYNAMIC_READ);
+    renderer.bindScene(0, 1);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, out);
+    glUseProgram(program);
+    glProgramUniform1ui(program, glGetUniformLocation(program, "u_light"), 0u);
+    glProgramUniform3fv(program, glGetUniformLocation(program, "u_point"), 1, glm::value_ptr(point));
+    glDispatchCompute(kSamples / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> results(kSamples);
+    glGetNamedBufferSubData(out, 0, kSamples * sizeof(glm::vec4), results.data());
+    glDeleteBuffers(1, &out);
+    REQUIRE(glDebugErrorCount() == 0);
+    SamplerStats st;
+    double sum = 0, sumSq = 0, hits = 0;
+    for (const glm::vec4& r : results) {
+        sum += r.x;
+        sumSq += double(r.x) * r.x;
+        if (r.w > 0) {
+            ++st.valid;
+            hits += r.z;
+            st.maxPdfMismatch = std::max(st.maxPdfMismatch, double(r.y));
+        }
+    }
+    st.meanInvPdf = sum / kSamples;
+    st.standardError = std::sqrt(std::max(0.0, sumSq / kSamples - st.meanInvPdf * st.meanInvPdf) / (kSamples - 1));
+    st.hitFraction = st.valid ? hits / st.valid : 0;
+    return st;
+}
+
+void checkSolidAngle(const SamplerStats& st, double expected) {
+    INFO("mean 1/pdf " << st.meanInvPdf << " +- " << st.standardError << ", expected solid angle " << expected
+                       << "; valid " << st.valid << ", hit fraction " << st.hitFraction
+                       << ", max pdf mismatch " << st.maxPdfMismatch);
+    CHECK(std::abs(st.meanInvPdf - expected) <= 4.0 * st.standardError + 1e-4 * expected);
+    if (expected > 0) {
+        CHECK(st.hitFraction > 0.999);
+        CHECK(st.maxPdfMismatch < 2e-3);
+    } else {
+        CHECK(st.valid == 0);
+    }
+}
+
+Scene lightOnly(Light light) {
+    Scene s;
+    s.render.width = s.render.height = 1;
+    s.lights.push_back(light);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("rectangle light: mean 1/pdf is the solid angle, one- and two-sided", "[gpu][lights]") {
+    auto renderer = test::makeRenderer();
+    Light rect;
+    rect.type = LightType::Rect;
+    rect.transform.translate = glm::vec3(0.2f, -0.1f, 0.0f);
+    rect.transform.rotate = glm::vec3(10.0f, -20.0f, 5.0f);
+    rect.transform.scale = glm::vec3(0.5f, 0.3f, 1.0f);
+    const glm::dmat4 m = rect.transform.toMatrix();
+    auto corner = [&](double x, double y) { return glm::dvec3(m * glm::dvec4(x, y, 0, 1)); };
+    const glm::dvec3 front = glm::normalize(glm::dvec3(m * glm::dvec4(0, 0, 1, 0)));
+    for (glm::dvec3 p : {glm::dvec3(0, 0, 1), glm::dvec3(0.9, -0.6, 0.5), glm::dvec3(0.3, 0.2, 0.05)}) {
+        auto rel = [&](glm::dvec3 c) { return c - p; };
+        double omega = triangleSolidAngle(rel(corner(-1, -1)), rel(corner(1, -1)), rel(corner(1, 1))) +
+                       triangleSolidAngle(rel(corner(-1, -1)), rel(corner(1, 1)), rel(corner(-1, 1)));
+        const bool inFront = glm::dot(p - corner(0, 0), front) > 0;
+        INFO("point " << p.x << " " << p.y << " " << p.z << (inFront ? " in front" : " behind"));
+        rect.twoSided = false;
+        checkSolidAngle(runSampler(*renderer, lightOnly(rect), glm::vec3(p)), inFront ? omega : 0.0);
+        rect.twoSided = true;
+        checkSolidAngle(runSampler(*renderer, lightOnly(rect), glm::vec3(p)), omega);
+    }
+}
+
+TEST_CASE("sphere light: the cone from outside, the whole sphere of directions from inside", "[gpu][lights]") {
+    auto renderer = test::makeRenderer();
+    Light sphere;
+    sphere.type = LightType::Sphere;
+    sphere.position = glm::vec3(0.5f, 0.0f, -0.25f);
+    sphere.radius = 0.5f;
+    for (double d : {0.6, 2.0, 300.0}) {
+        INFO("distance " << d);
+        glm::vec3 p = sphere.position + glm::vec3(0.0f, float(d), 0.0f);
+        double sin2 = 0.25 / (d * d);
+        // 2 pi (1 - cos theta_max), with 1 - cos written to avoid cancellation for far spheres.
+        double omega = 2.0 * kPi * sin2 / (1.0 + std::sqrt(1.0 - sin2));
+        SamplerStats st = runSampler(*renderer, lightOnly(sphere), p);
+        checkSolidAngle(st, omega);
+    }
+    SamplerStats inside = runSampler(*renderer, lightOnly(sphere), sphere.position + glm::vec3(0.1f, -0.2f, 0.15f));
+    checkSolidAngle(inside, 4.0 * kPi);
+}
+
+TEST_CASE("environment light: mean 1/pdf is 4 pi", "[gpu][lights]") {
+    auto renderer = test::makeRenderer();
+    Scene s;
+    s.render.width = s.render.height = 1;
+    s.environment.type = EnvironmentType::Sky;
+    SamplerStats st = runSampler(*renderer, s, glm::vec3(0.0f));
+    checkSolidAngle(st, 4.0 * kPi);
+}
