@@ -109,23 +109,23 @@ int runBatch(const CliOptions& o) {
         {"caustic:seed", std::to_string(scene.render.seed)},
         {"caustic:render_seconds", std::to_string(seconds)},
     };
-    std::vector<std::string> written;
+    // Each path is printed as soon as its file is complete, so a later failure still reports
+    // what exists.
+    auto wrote = [](const std::string& path) { std::cout << path << std::endl; };
     const bool png = o.png || (!o.hdr && !o.exr);
     if (png) {
         if (!writeImage8(stem + ".png", film.width, film.height, toSrgb8(film, o.reinhard ? ToneMap::Reinhard : ToneMap::Aces), meta, &error))
             return fail(error);
-        written.push_back(stem + ".png");
+        wrote(stem + ".png");
     }
     if (o.hdr || o.exr) {
         std::vector<float> linear = toLinearRgb(film);
         for (auto [wanted, ext] : {std::pair{o.hdr, ".hdr"}, std::pair{o.exr, ".exr"}}) {
             if (!wanted) continue;
             if (!writeImageFloat(stem + ext, film.width, film.height, linear, meta, &error)) return fail(error);
-            written.push_back(stem + ext);
+            wrote(stem + ext);
         }
     }
-    for (const auto& path : written) std::cout << path << "\n";
-    std::cout << std::flush;
     std::fprintf(stderr, "caustic: %s: %dx%d, %d spp in %.2f s (%.1f spp/s, %.2f M samples/s) on %s; %llu NaN/Inf samples dropped\n",
                  fs::path(*o.scene).filename().c_str(), film.width, film.height, total, seconds, total / seconds,
                  double(total) * film.width * film.height / seconds * 1e-6, context->info().renderer.c_str(),

@@ -302,7 +302,9 @@ void readValue(const Json& value, const std::string& path, std::string& out, con
 void readValue(const Json& value, const std::string& path, glm::vec3& out, const Range& range) {
     requireType(value.is_array() && value.size() == 3, value, path, "an array of 3 numbers");
     glm::vec3 result;
-    for (int i = 0; i < 3; ++i) readValue(value[i], element(path, i), result[i], range);
+    for (std::size_t i = 0; i < 3; ++i) {
+        readValue(value[i], element(path, i), result[static_cast<glm::length_t>(i)], range);
+    }
     out = result;
 }
 
@@ -485,7 +487,7 @@ void readMatrix(const Json& value, const std::string& path, Transform& out) {
     glm::mat4 m(1.0f);
     for (int row = 0; row < 4; ++row) {
         for (int col = 0; col < 4; ++col) {
-            const int i = row * 4 + col;
+            const auto i = static_cast<std::size_t>(row * 4 + col);
             readValue(value[i], element(path, i), m[col][row], kAnyValue);
         }
     }

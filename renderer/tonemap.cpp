@@ -6,12 +6,14 @@
 namespace caustic {
 
 float toneAces(float x) {
-    x = std::max(x, 0.0f);
+    if (!(x > 0.0f)) return 0.0f;  // negative and NaN
+    if (x > 8.0f) return 1.0f;     // the fit reaches 1 at x = 7.24; avoids inf / inf for huge x
     return std::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
 }
 
 float toneReinhard(float x) {
-    x = std::max(x, 0.0f);
+    if (!(x > 0.0f)) return 0.0f;
+    if (std::isinf(x)) return 1.0f;
     return x / (1.0f + x);
 }
 

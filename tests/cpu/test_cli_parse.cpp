@@ -185,7 +185,7 @@ TEST_CASE("parseCli: unknown options are errors naming the option", "[cli]") {
     CHECK(contains(parseError({"--sample", "4"}), "--sample"));
 }
 
-TEST_CASE("parseCli: a bare argument is the editor's scene; a second one is an error", "[cli]") {
+TEST_CASE("parseCli: a bare argument is the editor's scene, a second one is an error", "[cli]") {
     const CliOptions o = parseOk({"my scene.json"});
     REQUIRE(o.editorScene);
     CHECK(*o.editorScene == "my scene.json");
@@ -211,8 +211,10 @@ TEST_CASE("cliUsage documents every flag the parser accepts", "[cli]") {
                              "--oidn", "--aovs", "--help", "--version"}) {
         INFO(flag);
         CHECK(contains(usage, flag));
-        // And the parser really accepts it (with a value where it takes one).
+        // And the parser really accepts it: followed by "1", a flag taking a value takes it and a
+        // switch leaves it as the positional argument; either way the parse succeeds.
         CliParseResult r = parseCli({flag, "1"});
-        if (!r.options) CHECK(contains(r.error, "unexpected argument"));  // a switch: "1" is positional
+        INFO(r.error);
+        CHECK(r.options.has_value());
     }
 }

@@ -66,6 +66,9 @@ TEST_CASE("Tone curves saturate for huge finite inputs instead of producing NaN"
         INFO("x = " << x);
         CHECK(toneAces(x) == 1.0f);
         CHECK(toneReinhard(x) == Approx(1.0f));
+        const Film film = makeFilm(1, 1, {glm::vec3(x)});
+        CHECK(toSrgb8(film, ToneMap::Aces) == std::vector<std::uint8_t>{255, 255, 255});
+        CHECK(toSrgb8(film, ToneMap::Reinhard) == std::vector<std::uint8_t>{255, 255, 255});
     }
 }
 
