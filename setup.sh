@@ -19,7 +19,7 @@ packages=(
   build-essential cmake ninja-build pkg-config python3 python3-venv
   libglm-dev nlohmann-json3-dev catch2
   libopenimageio-dev openimageio-tools libopenexr-dev
-  libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -42,10 +42,9 @@ if ! "$venv/bin/python" -c 'import glad, sys; sys.exit(0 if glad.__version__ == 
 fi
 
 # 3. Configure and build (Release).
-if [ ! -f build/CMakeCache.txt ]; then
-  log "configuring build/"
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
-fi
+# Always configure (quick when nothing changed; recovers from an interrupted first configure).
+log "configuring build/"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
 log "building"
 cmake --build build -j "$(nproc)" >&2
 
