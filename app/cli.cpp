@@ -34,6 +34,8 @@ options:
   --png | --hdr | --exr output formats, any combination (default: --png); PNG is 8-bit sRGB
                         after tone mapping, HDR (Radiance) and EXR are linear float
   --reinhard            Reinhard tone mapping for PNG (default: ACES filmic)
+  --strategy <s>        mis (default), light or bsdf: direct lighting by multiple importance
+                        sampling, or by one strategy alone (all three converge to the same image)
   --sky                 replace the scene's environment with the procedural sky
   --envmap <file.hdr>   light the scene with an HDR environment map (not available yet)
   --oidn                denoise with Intel Open Image Denoise (not available yet)
@@ -72,6 +74,11 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
         {"--output", [&](const std::string& v, std::string* why) {
              if (v.empty()) { *why = "expected a folder"; return false; }
              o.outputDir = v;
+             return true;
+         }},
+        {"--strategy", [&](const std::string& v, std::string* why) {
+             if (v != "mis" && v != "light" && v != "bsdf") { *why = "expected mis, light or bsdf, got '" + v + "'"; return false; }
+             o.strategy = v;
              return true;
          }},
         {"--envmap", [&](const std::string& v, std::string*) { o.envmap = v; return true; }},

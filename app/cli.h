@@ -16,6 +16,7 @@ struct CliOptions {
     std::string outputDir = "renders";
     bool png = false, hdr = false, exr = false;   // PNG when none is given
     bool reinhard = false;
+    std::string strategy = "mis";            // mis | light | bsdf (for checking MIS)
     bool oidn = false, aovs = false, sky = false;
     std::optional<std::string> envmap;
     bool help = false, version = false;

@@ -79,6 +79,9 @@ int runBatch(const CliOptions& o) {
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) return fail(error);
     if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
+    renderer->setStrategy(o.strategy == "light" ? STRATEGY_LIGHT_ONLY
+                          : o.strategy == "bsdf" ? STRATEGY_BSDF_ONLY
+                                                 : STRATEGY_MIS);
 
     // 4. Render, with progress on a terminal.
     const int total = scene.render.samples;

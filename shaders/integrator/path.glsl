@@ -79,11 +79,16 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
                 vec3 wiL = toLocal(f, ls.wi);
                 vec3 fv = bsdfEval(mat, woL, wiL);
                 if (maxComponent(fv) > 0.0) {
-                    Ray shadow;
-                    shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
-                    shadow.d = ls.wi;
-                    float tMax = ls.dist >= FLT_MAX ? FLT_MAX : ls.dist * (1.0 - 1e-4);
-                    if (!sceneOccluded(shadow, tMax)) {
+                    bool occluded;
+                    if (ls.dist >= FLT_MAX) {
+                        Ray shadow;
+                        shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
+                        shadow.d = ls.wi;
+                        occluded = sceneOccluded(shadow, FLT_MAX);
+                    } else {
+                        occluded = segmentOccluded(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
+                    }
+                    if (!occluded) {
                         float pl = pmf * ls.pdf;
                         float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, bsdfPdf(mat, woL, wiL));
                         L += beta * fv * abs(wiL.z) * ls.Li * (w / pl);

@@ -25,6 +25,7 @@
 struct LightSample {
     vec3 wi;       // unit direction from the shading point towards the light
     float dist;    // distance to the sampled point (FLT_MAX for the environment)
+    vec3 nl;       // unit surface normal at the sampled point (area lights), else 0
     vec3 Li;       // incident radiance (or intensity / r^2 for delta lights)
     float pdf;     // solid-angle pdf (1 for delta lights), 0 if the sample is invalid
     bool isDelta;
@@ -59,6 +60,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
     s.pdf = 0.0;
     s.Li = vec3(0.0);
     s.dist = 0.0;
+    s.nl = vec3(0.0);
     s.wi = vec3(0.0, 0.0, 1.0);
     uint type = l.info.x;
     if (type == LIGHT_RECT) {
@@ -74,6 +76,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         cosL = abs(cosL);
         if (cosL <= 0.0) return s;
         s.pdf = dist2 / (cosL * l.p1.w);
+        s.nl = n;
         s.Li = l.color.rgb;
     } else if (type == LIGHT_SPHERE) {
         vec3 c = l.p0.xyz;
@@ -94,6 +97,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             float b = dot(toC, s.wi);
             float h2 = max(d2 - b * b, 0.0);
             s.dist = b - safeSqrt(radius * radius - h2);
+            s.nl = normalize(p + s.dist * s.wi - c);
             s.pdf = 1.0 / (2.0 * PI * oneMinusCos);
         } else {
             vec3 n = sampleUniformSphere(u);
@@ -104,6 +108,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             s.dist = sqrt(dist2);
             s.wi = d / s.dist;
             s.pdf = areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, n);
+            s.nl = n;
         }
         s.Li = l.color.rgb;
     } else if (type == LIGHT_POINT || type == LIGHT_SPOT) {
