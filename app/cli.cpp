@@ -37,7 +37,8 @@ options:
   --strategy <s>        mis (default), light or bsdf: direct lighting by multiple importance
                         sampling, or by one strategy alone (all three converge to the same image)
   --sky                 replace the scene's environment with the procedural sky
-  --envmap <file.hdr>   light the scene with an HDR environment map (not available yet)
+  --envmap <file.hdr>   light the scene with an equirectangular HDR environment map (wins
+                        over --sky and the scene's own environment)
   --oidn                denoise with Intel Open Image Denoise (not available yet)
   --aovs                also write the albedo and normal passes (not available yet)
   --help                show this text

@@ -33,7 +33,6 @@ int fail(const std::string& message, int code = kExitRenderFailed) {
 std::string notYet(const CliOptions& o) {
     if (o.oidn) return "--oidn: denoising with Open Image Denoise is not available in this build yet";
     if (o.aovs) return "--aovs: AOV output (albedo, normal) is not available in this build yet";
-    if (o.envmap) return "--envmap: HDR environment maps are not available in this build yet";
     return "";
 }
 
@@ -54,7 +53,11 @@ int runBatch(const CliOptions& o) {
     if (o.height) scene.render.height = *o.height;
     if (o.maxDepth) scene.render.maxDepth = *o.maxDepth;
     if (o.seed) scene.render.seed = *o.seed;
-    if (o.sky) {
+    if (o.envmap) {  // --envmap wins over --sky
+        scene.environment = Environment{};
+        scene.environment.type = EnvironmentType::Map;
+        scene.environment.file = fs::absolute(*o.envmap).string();
+    } else if (o.sky) {
         scene.environment = Environment{};
         scene.environment.type = EnvironmentType::Sky;
     }
@@ -78,6 +81,7 @@ int runBatch(const CliOptions& o) {
     if (!context) return fail(error);
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) return fail(error);
+    renderer->setImageReader(readImage);
     if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
     renderer->setStrategy(o.strategy == "light" ? STRATEGY_LIGHT_ONLY
                           : o.strategy == "bsdf" ? STRATEGY_BSDF_ONLY

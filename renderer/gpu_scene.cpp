@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <numbers>
 
 namespace caustic {
@@ -12,7 +13,7 @@ namespace gpu {
 static_assert(sizeof(GpuPrimitive) == 64);
 static_assert(sizeof(GpuMaterial) == 64);
 static_assert(sizeof(GpuLight) == 80);
-static_assert(sizeof(GpuFrame) == 176);
+static_assert(sizeof(GpuFrame) == 192);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
 }  // namespace gpu
@@ -24,6 +25,7 @@ float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * 
 
 struct Builder {
     const Scene& scene;
+    const ImageReader& readImage;
     CompiledScene& out;
     std::string* error;
 
@@ -209,9 +211,28 @@ struct Builder {
         }
         if (out.primitives.empty() && out.lights.empty()) out.boundsMin = out.boundsMax = glm::vec3(0.0f);
         const Environment& env = scene.environment;
+        if (env.type == EnvironmentType::Map) {
+            if (env.file.empty()) {
+                *error = "environment.file: a map environment needs a file";
+                return false;
+            }
+            std::filesystem::path file(env.file);
+            if (file.is_relative() && !scene.sourcePath.empty())
+                file = std::filesystem::path(scene.sourcePath).parent_path() / file;
+            ImageData image;
+            std::string why;
+            if (!readImage) {
+                *error = "environment.file: " + file.string() + ": this build cannot read images";
+                return false;
+            }
+            if (!readImage(file.string(), &image, &why) || !buildEnvironmentMap(image, &out.envMap, &why)) {
+                *error = "environment.file: " + why;
+                return false;
+            }
+        }
         if (env.type != EnvironmentType::None) {
-            glm::vec3 average = env.type == EnvironmentType::Constant
-                                    ? env.radiance
+            glm::vec3 average = env.type == EnvironmentType::Constant ? env.radiance
+                                : env.type == EnvironmentType::Map   ? out.envMap.average
                                     // mean of the sky over the sphere: horizon below, and the
                                     // mean of sqrt(y) over the upper half (y uniform) is 2/3.
                                     : env.horizon + (env.zenith - env.horizon) / 3.0f;
@@ -243,8 +264,76 @@ struct Builder {
 
 }  // namespace
 
-bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {
-    Builder b{scene, *out, error};
+bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error) {
+    const int w = image.width, h = image.height, ch = image.channels;
+    if (w <= 0 || h <= 0 || ch <= 0 || image.pixels.size() < size_t(w) * h * ch) {
+        *error = "empty environment image";
+        return false;
+    }
+    EnvironmentMap m;
+    m.width = w;
+    m.height = h;
+    m.texels.resize(size_t(w) * h);
+    std::vector<float> lum(size_t(w) * h);
+    for (size_t i = 0; i < m.texels.size(); ++i) {
+        const float* px = &image.pixels[i * ch];
+        glm::vec3 rgb = ch >= 3 ? glm::vec3(px[0], px[1], px[2]) : glm::vec3(px[0]);
+        if (!std::isfinite(rgb.r) || !std::isfinite(rgb.g) || !std::isfinite(rgb.b)) {
+            *error = "environment image has a non-finite pixel at (" + std::to_string(i % w) + ", " +
+                     std::to_string(i / w) + ")";
+            return false;
+        }
+        rgb = glm::max(rgb, glm::vec3(0.0f));
+        m.texels[i] = glm::vec4(rgb, 1.0f);
+        lum[i] = luminance(rgb);
+    }
+    // Weights and the average radiance (solid angle of texel row j: (2 pi / w) (pi / h) sin theta_j).
+    std::vector<double> weight(size_t(w) * h);
+    glm::dvec3 radiance(0.0);
+    for (int j = 0; j < h; ++j) {
+        const double sinTheta = std::sin(double(kPi) * (j + 0.5) / h);
+        for (int i = 0; i < w; ++i) {
+            float dilated = 0.0f;
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    int jj = std::clamp(j + dj, 0, h - 1), ii = (i + di + w) % w;
+                    dilated = std::max(dilated, lum[size_t(jj) * w + ii]);
+                }
+            weight[size_t(j) * w + i] = dilated * sinTheta;
+            radiance += glm::dvec3(m.texels[size_t(j) * w + i]) * sinTheta;
+        }
+    }
+    m.average = glm::vec3(radiance * (2.0 * double(kPi) / w) * (double(kPi) / h) / (4.0 * double(kPi)));
+    m.marginalCdf.assign(size_t(h) + 1, 0.0f);
+    m.conditionalCdf.assign(size_t(h) * (w + 1), 0.0f);
+    std::vector<double> rowSum(h, 0.0);
+    double total = 0.0;
+    for (int j = 0; j < h; ++j) {
+        double acc = 0.0;
+        for (int i = 0; i < w; ++i) acc += weight[size_t(j) * w + i];
+        rowSum[j] = acc;
+        total += acc;
+        double run = 0.0;
+        float* row = &m.conditionalCdf[size_t(j) * (w + 1)];
+        for (int i = 0; i < w; ++i) {
+            // A black row is sampled uniformly (it is never chosen: its marginal probability is 0).
+            run += acc > 0.0 ? weight[size_t(j) * w + i] / acc : 1.0 / w;
+            row[i + 1] = float(run);
+        }
+        row[w] = 1.0f;
+    }
+    double run = 0.0;
+    for (int j = 0; j < h; ++j) {
+        run += total > 0.0 ? rowSum[j] / total : 1.0 / h;
+        m.marginalCdf[size_t(j) + 1] = float(run);
+    }
+    m.marginalCdf[h] = 1.0f;
+    *out = std::move(m);
+    return true;
+}
+
+bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error) {
+    Builder b{scene, readImage, *out, error};
     return b.run();
 }
 
@@ -271,8 +360,11 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     const Environment& env = scene.environment;
     std::uint32_t envType = env.type == EnvironmentType::Constant ? ENV_CONSTANT
                             : env.type == EnvironmentType::Sky    ? ENV_SKY
+                            : env.type == EnvironmentType::Map    ? ENV_MAP
                                                                   : ENV_NONE;
-    f.envInfo = glm::uvec4(envType, 0, 0, 0);
+    f.envInfo = glm::uvec4(envType, compiled.envMap.width, compiled.envMap.height, 0);
+    const float rot = glm::radians(env.rotation);
+    f.envMap = glm::vec4(std::cos(rot), std::sin(rot), env.intensity, 0);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

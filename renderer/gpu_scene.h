@@ -2,6 +2,7 @@
 // is unit-tested directly, and the Renderer only uploads what this produces.
 #pragma once
 
+#include "renderer/image.h"
 #include "renderer/scene.h"
 #include "shaders/shared/layout.h"
 
@@ -10,6 +11,21 @@
 
 namespace caustic {
 
+// An equirectangular environment map and the tables that importance-sample it: texel (i, j) is
+// chosen with probability proportional to w_ij = luminance * sin(theta_j) (luminance taken as the
+// maximum over the texel's 3x3 neighbourhood, so that every direction the bilinear lookup can
+// light up has a non-zero pdf). PBRT 4th ed. sec. 12.5.2 describes the two-level CDF.
+struct EnvironmentMap {
+    int width = 0, height = 0;
+    std::vector<glm::vec4> texels;       // RGB radiance (alpha unused), row 0 = the zenith
+    std::vector<float> marginalCdf;      // height + 1 entries, 0 ... 1
+    std::vector<float> conditionalCdf;   // height rows of width + 1 entries, 0 ... 1
+    glm::vec3 average{0.0f};             // mean radiance over the sphere (before intensity)
+};
+
+// Builds the tables from RGB(A) pixels; fails for an empty or non-finite image.
+bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error);
+
 struct CompiledScene {
     std::vector<gpu::GpuPrimitive> primitives;
     std::vector<gpu::GpuMaterial> materials;
@@ -17,12 +33,18 @@ struct CompiledScene {
     std::vector<float> lightCdf;        // lightCdf[i] = P(index <= i)
     std::vector<float> lightPower;      // the power each light was weighed by (W; see docs)
     int envLightIndex = -1;             // index into lights, -1 when there is no environment
+    EnvironmentMap envMap;              // when the environment is a map
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all finite geometry
 };
 
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
-// pass validation but cannot be rendered as given.
-bool compileScene(const Scene& scene, CompiledScene* out, std::string* error);
+// pass validation but cannot be rendered as given. readImage loads the files the scene names
+// (environment maps; later textures), relative paths resolved against scene.sourcePath.
+bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error);
+// For scenes that name no files.
+inline bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {
+    return compileScene(scene, ImageReader{}, out, error);
+}
 
 // The per-dispatch constants for an image of the scene's render.width x render.height.
 gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::uint32_t strategy);

@@ -3,6 +3,8 @@
 // OpenImageIO's large dependency closure.
 #pragma once
 
+#include "renderer/image.h"
+
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -21,10 +23,6 @@ bool writeImage8(const std::string& path, int width, int height, const std::vect
 bool writeImageFloat(const std::string& path, int width, int height, const std::vector<float>& rgb,
                      const ImageMetadata& metadata, std::string* error);
 
-struct ImageData {
-    int width = 0, height = 0, channels = 0;
-    std::vector<float> pixels;  // as stored (no colour conversion), row 0 at the top
-};
 // Reads any format OpenImageIO knows; errors name the file.
 bool readImage(const std::string& path, ImageData* out, std::string* error);
 

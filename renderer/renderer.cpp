@@ -46,20 +46,25 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_counters = buffers[5];
     std::uint32_t zero[4] = {0, 0, 0, 0};
     glNamedBufferData(r->m_counters, sizeof zero, zero, GL_DYNAMIC_COPY);
+    unsigned envBuffers[2];
+    glCreateBuffers(2, envBuffers);
+    r->m_envMarginal = envBuffers[0];
+    r->m_envConditional = envBuffers[1];
     return r;
 }
 
 Renderer::~Renderer() {
-    unsigned buffers[6] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters};
-    glDeleteBuffers(6, buffers);
-    unsigned textures[2] = {m_accum, m_accumSq};
-    glDeleteTextures(2, textures);
+    unsigned buffers[8] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters,
+                           m_envMarginal, m_envConditional};
+    glDeleteBuffers(8, buffers);
+    unsigned textures[3] = {m_accum, m_accumSq, m_envTexture};
+    glDeleteTextures(3, textures);
     glDeleteProgram(m_program);
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
     CompiledScene compiled;
-    if (!compileScene(scene, &compiled, error)) return false;
+    if (!compileScene(scene, m_readImage, &compiled, error)) return false;
     m_scene = scene;
     m_compiled = std::move(compiled);
     upload();
@@ -83,6 +88,21 @@ void Renderer::upload() {
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
     uploadBuffer(m_lightCdf, m_compiled.lightCdf);
+    // The environment map (a 1x1 black texture when there is none, so the sampler is always
+    // complete). Mipmaps are not needed: the map is looked up at level 0 only.
+    const EnvironmentMap& env = m_compiled.envMap;
+    const int w = std::max(env.width, 1), h = std::max(env.height, 1);
+    if (m_envTexture) glDeleteTextures(1, &m_envTexture);
+    glCreateTextures(GL_TEXTURE_2D, 1, &m_envTexture);
+    glTextureStorage2D(m_envTexture, 1, GL_RGBA32F, w, h);
+    const glm::vec4 black(0.0f);
+    glTextureSubImage2D(m_envTexture, 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, env.texels.empty() ? &black : env.texels.data());
+    glTextureParameteri(m_envTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(m_envTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    uploadBuffer(m_envMarginal, env.marginalCdf);
+    uploadBuffer(m_envConditional, env.conditionalCdf);
 }
 
 void Renderer::setStrategy(std::uint32_t strategy) {
@@ -113,6 +133,9 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_CDF, m_lightCdf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_MARGINAL, m_envMarginal);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_CONDITIONAL, m_envConditional);
+    glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
 }
 
 void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {

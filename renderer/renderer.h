@@ -23,6 +23,10 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
+    // How files named by scenes (environment maps, textures) are read; without one, a scene
+    // that names a file fails to compile with a clear message.
+    void setImageReader(ImageReader reader) { m_readImage = std::move(reader); }
+
     // Compiles and uploads the scene (resolution, seed, depth come from scene.render) and
     // restarts accumulation.
     bool setScene(const Scene& scene, std::string* error);
@@ -56,6 +60,8 @@ private:
     unsigned m_program = 0;
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_lightCdf = 0, m_counters = 0;
+    unsigned m_envMarginal = 0, m_envConditional = 0, m_envTexture = 0;
+    ImageReader m_readImage;
     int m_width = 0, m_height = 0;
     Scene m_scene;
     CompiledScene m_compiled;

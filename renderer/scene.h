@@ -95,13 +95,15 @@ struct Light {
     bool operator==(const Light&) const = default;
 };
 
-enum class EnvironmentType { None, Constant, Sky };
+enum class EnvironmentType { None, Constant, Sky, Map };
 
 struct Environment {
     EnvironmentType type = EnvironmentType::None;
     glm::vec3 radiance{1.0f};          // constant
     glm::vec3 horizon{1.0f, 1.0f, 1.0f};     // sky: radiance at the horizon
     glm::vec3 zenith{0.3f, 0.5f, 1.0f};      // sky: radiance straight up
+    std::string file;                  // map: an equirectangular HDR image (relative to the scene file)
+    float rotation = 0.0f;             // map: degrees about +y (right-handed)
     float intensity = 1.0f;            // scales the whole environment, >= 0
     bool operator==(const Environment&) const = default;
 };

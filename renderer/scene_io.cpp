@@ -201,7 +201,8 @@ std::span<const EnumName<LightType>> enumNames(LightType) {
 std::span<const EnumName<EnvironmentType>> enumNames(EnvironmentType) {
     static constexpr EnumName<EnvironmentType> kNames[] = {{EnvironmentType::None, "none"},
                                                            {EnvironmentType::Constant, "constant"},
-                                                           {EnvironmentType::Sky, "sky"}};
+                                                           {EnvironmentType::Sky, "sky"},
+                                                           {EnvironmentType::Map, "map"}};
     return kNames;
 }
 
@@ -708,10 +709,16 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
         field("zenith", &Environment::zenith, atLeast(0.0)),
         field("intensity", &Environment::intensity, atLeast(0.0)),
     });
+    static const Fields<Environment> kMap = concat(kNone, {
+        field("file", &Environment::file),
+        field("rotation", &Environment::rotation),
+        field("intensity", &Environment::intensity, atLeast(0.0)),
+    });
     switch (type) {
     case EnvironmentType::None: return kNone;
     case EnvironmentType::Constant: return kConstant;
     case EnvironmentType::Sky: return kSky;
+    case EnvironmentType::Map: return kMap;
     }
     return kNone;
 }

@@ -14,8 +14,8 @@
 //         angle. Emits from both faces, as every emissive material does.
 // point:  a delta light, L_i = I / r^2.
 // spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2).
-// env:    uniform directions on the sphere, p_omega = 1/(4 pi) (the constant colour and the sky
-//         are smooth; an HDR map will use its luminance table).
+// env:    a map is importance-sampled by its luminance table (environment.glsl); the constant
+//         colour and the smooth sky use uniform directions on the sphere, p_omega = 1/(4 pi).
 #ifndef LIGHTS_LIGHTS_GLSL
 #define LIGHTS_LIGHTS_GLSL
 #include "../lib/sampling.glsl"
@@ -123,9 +123,13 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         if (type == LIGHT_SPOT) falloff = smoothstep(l.p1.w, l.p2.w, dot(-s.wi, l.p1.xyz));
         s.Li = l.color.rgb * falloff / dist2;
     } else if (type == LIGHT_ENV) {
-        s.wi = sampleUniformSphere(u);
+        if (frame.envInfo.x == ENV_MAP) {
+            s.wi = sampleEnvironmentMap(u, s.pdf);
+        } else {
+            s.wi = sampleUniformSphere(u);
+            s.pdf = uniformSpherePdf();
+        }
         s.dist = FLT_MAX;
-        s.pdf = uniformSpherePdf();
         s.Li = environmentRadiance(s.wi);
     }
     return s;
@@ -151,7 +155,7 @@ float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
         }
         return areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, nl);
     }
-    if (type == LIGHT_ENV) return uniformSpherePdf();
+    if (type == LIGHT_ENV) return frame.envInfo.x == ENV_MAP ? environmentMapPdf(wi) : uniformSpherePdf();
     return 0.0;  // delta lights cannot be hit
 }
 

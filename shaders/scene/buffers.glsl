@@ -10,6 +10,10 @@ layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { Gpu
 layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
 // lightCdf[i] = probability of choosing a light with index <= i; the last entry is 1.
 layout(std430, binding = BINDING_LIGHT_CDF) readonly buffer LightCdfBuffer { float lightCdf[]; };
+// The environment map and its sampling tables (see EnvironmentMap in renderer/gpu_scene.h).
+layout(binding = TEXUNIT_ENV_MAP) uniform sampler2D envMapTexture;
+layout(std430, binding = BINDING_ENV_MARGINAL) readonly buffer EnvMarginalBuffer { float envMarginalCdf[]; };
+layout(std430, binding = BINDING_ENV_CONDITIONAL) readonly buffer EnvConditionalBuffer { float envConditionalCdf[]; };
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 

@@ -28,6 +28,9 @@ using uint = std::uint32_t;
 #define BINDING_LIGHT_CDF 4
 #define BINDING_COUNTERS 5
 #define BINDING_TEST_OUTPUT 7      // test kernels only
+#define BINDING_ENV_MARGINAL 6     // float[H + 1]: CDF over the environment map's rows
+#define BINDING_ENV_CONDITIONAL 8  // float[H * (W + 1)]: per row, the CDF over its columns
+#define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
 
 // Words of the counter buffer.
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
@@ -58,6 +61,7 @@ using uint = std::uint32_t;
 #define ENV_NONE 0u
 #define ENV_CONSTANT 1u
 #define ENV_SKY 2u
+#define ENV_MAP 3u
 
 // Integrator strategies (GpuFrame::counts.w): MIS is the product; the other two exist so that
 // tests can show that all three estimate the same integral.
@@ -104,10 +108,11 @@ CAUSTIC_STRUCT(GpuFrame) {
     uvec4 image;       // x: width, y: height, z: index of the first sample of this dispatch, w: seed
     uvec4 counts;      // x: primitives, y: lights, z: max depth, w: STRATEGY_*
     uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: unused
-    uvec4 envInfo;     // x: ENV_*
+    uvec4 envInfo;     // x: ENV_*, y: map width, z: map height
     vec4 envRadiance;  // constant radiance (already times intensity)
     vec4 envHorizon;   // sky: radiance at the horizon (times intensity)
     vec4 envZenith;    // sky: radiance at the zenith (times intensity)
+    vec4 envMap;       // map: x = cos(rotation), y = sin(rotation), z = intensity
 };
 
 #ifdef __cplusplus

@@ -383,13 +383,37 @@ class TestCommandLine(CliTestCase):
         self.assertFailsWith(r, "--samples", code=2)
 
     def test_features_not_available_yet(self):
-        for args, flag in ((["--oidn"], "--oidn"), (["--aovs"], "--aovs"),
-                           (["--envmap", "x.hdr"], "--envmap")):
+        for args, flag in ((["--oidn"], "--oidn"), (["--aovs"], "--aovs")):
             with self.subTest(flag=flag):
                 out = os.path.join(self.tmp, flag.strip("-"))
                 r = run_caustic("--scene", CORNELL, *args, "--output", out)
                 self.assertFailsWith(r, flag)
                 self.assertFalse(os.path.exists(out) and os.listdir(out), "files written for " + flag)
+
+
+class TestEnvironmentMap(CliTestCase):
+    def test_envmap_lights_the_scene(self):
+        sky = os.path.join(SOURCE_DIR, "assets", "sky.hdr")
+        out = os.path.join(self.tmp, "env")
+        dark = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--samples", "2",
+                           "--output", out, "--hdr")
+        self.assertEqual(dark.returncode, 0, dark.stderr)
+        lit_out = os.path.join(self.tmp, "env-lit")
+        lit = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--samples", "2",
+                          "--output", lit_out, "--hdr", "--envmap", sky)
+        self.assertEqual(lit.returncode, 0, lit.stderr)
+        # The box is open at the front: the sky adds light, so the image gets brighter.
+        def mean(path):
+            _, _, rows = decode_hdr(open(path, "rb").read())
+            return sum(sum(p) for row in rows for p in row) / (16 * 16 * 3)
+        self.assertGreater(mean(lit.stdout.split()[0]), mean(dark.stdout.split()[0]))
+
+    def test_missing_envmap_names_the_file(self):
+        path = os.path.join(self.tmp, "no-such-sky.hdr")
+        r = run_caustic("--scene", CORNELL, "--width", "8", "--height", "8", "--samples", "1",
+                        "--output", os.path.join(self.tmp, "o"), "--envmap", path)
+        self.assertFailsWith(r, path, code=1)
+        self.assertIn("environment.file", r.stderr)
 
 
 class TestBadInput(CliTestCase):
