@@ -46,9 +46,11 @@ struct BuildPrim {
 };
 static_assert(sizeof(BuildPrim) == 32);
 
+// Plain (no default initialisers): a node only initialises the bins it uses, which matters for
+// the many small nodes near the leaves.
 struct Bin {
-    Aabb bounds;
-    std::uint32_t count = 0;
+    glm::vec3 min, max;
+    std::uint32_t count;
 };
 
 struct Split {
@@ -179,14 +181,16 @@ private:
         if (bn.scale.x == 0.0f && bn.scale.y == 0.0f && bn.scale.z == 0.0f) return best;
 
         Bin bins[3][kMaxBins];
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < m_bins; ++i) bins[a][i] = {glm::vec3(kInf), glm::vec3(-kInf), 0u};
         for (std::uint32_t i = begin; i < end; ++i) {
             const BuildPrim& p = m_prims[i];
             const glm::vec3 c2 = p.centroid2();
             for (int a = 0; a < 3; ++a) {
                 if (bn.scale[a] == 0.0f) continue;
                 Bin& b = bins[a][bn.binOf(c2, a)];
-                b.bounds.min = glm::min(b.bounds.min, p.min);
-                b.bounds.max = glm::max(b.bounds.max, p.max);
+                b.min = glm::min(b.min, p.min);
+                b.max = glm::max(b.max, p.max);
                 ++b.count;
             }
         }
@@ -200,7 +204,7 @@ private:
             Aabb acc;
             std::uint32_t n = 0;
             for (int i = m_bins - 1; i > 0; --i) {
-                acc.grow(bins[a][i].bounds);
+                acc.grow(Aabb{bins[a][i].min, bins[a][i].max});
                 n += bins[a][i].count;
                 rightCost[i] = n > 0 ? acc.halfArea() * static_cast<float>(n) : 0.0f;
             }
@@ -208,7 +212,7 @@ private:
             n = 0;
             std::uint32_t total = end - begin;
             for (int i = 1; i < m_bins; ++i) {
-                acc.grow(bins[a][i - 1].bounds);
+                acc.grow(Aabb{bins[a][i - 1].min, bins[a][i - 1].max});
                 n += bins[a][i - 1].count;
                 if (n == 0 || n == total) continue;
                 float cost;

@@ -467,7 +467,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"name as number", withLight(R"({"name": 7})"), "lights[0].name", "must be a string, got number 7"},
         // Environment.
         {"unknown environment type", scene(R"("environment": {"type": "hdri"})"), "environment.type",
-         "unknown value 'hdri' (allowed: none, constant, sky)"},
+         "unknown value 'hdri' (allowed: none, constant, sky, map)"},
         {"key of another environment type", scene(R"("environment": {"type": "sky", "radiance": [1, 1, 1]})"),
          "environment.radiance", "unknown key for a 'sky' environment (allowed: type, horizon, zenith, intensity)"},
         {"negative intensity", scene(R"("environment": {"type": "constant", "intensity": -1})"),
