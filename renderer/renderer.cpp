@@ -83,6 +83,27 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     return true;
 }
 
+bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* error) {
+    const bool sameSize = scene.render.width == m_width && scene.render.height == m_height;
+    if ((dirty & ~std::uint32_t(kDirtyCamera | kDirtySettings | kDirtyMaterials)) != 0 || !sameSize ||
+        scene.materials.size() != m_scene.materials.size() ||
+        scene.render.lightSelection != m_scene.render.lightSelection)
+        return setScene(scene, error);
+    if (dirty & kDirtyMaterials) {
+        // Material parameters only: the same table, rebuilt and re-uploaded; emission changes
+        // alter the light list, so they recompile.
+        for (size_t i = 0; i < scene.materials.size(); ++i)
+            if (scene.materials[i].emission != m_scene.materials[i].emission) return setScene(scene, error);
+        CompiledScene compiled;
+        if (!compileScene(scene, m_readImage, &compiled, error)) return false;
+        m_compiled.materials = std::move(compiled.materials);
+        uploadBuffer(m_materials, m_compiled.materials);
+    }
+    m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
+    resetAccumulation();
+    return true;
+}
+
 void Renderer::upload() {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);

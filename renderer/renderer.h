@@ -2,6 +2,7 @@
 // accumulation images. Needs a current OpenGL 4.5 context (headless EGL or the editor's window).
 #pragma once
 
+#include "renderer/dirty.h"
 #include "renderer/film.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/scene.h"
@@ -30,6 +31,13 @@ public:
     // Compiles and uploads the scene (resolution, seed, depth come from scene.render) and
     // restarts accumulation.
     bool setScene(const Scene& scene, std::string* error);
+
+    // Applies an edited scene, redoing only what `dirty` names (camera: nothing to upload;
+    // materials: re-upload them; anything else: recompile), and restarts accumulation.
+    bool update(const Scene& scene, std::uint32_t dirty, std::string* error);
+
+    // The accumulation image (RGBA32F: rgb = sum of samples, a = sample count) for display.
+    unsigned accumulationTexture() const { return m_accum; }
 
     // STRATEGY_MIS (default), STRATEGY_LIGHT_ONLY or STRATEGY_BSDF_ONLY; restarts accumulation.
     void setStrategy(std::uint32_t strategy);
