@@ -20,6 +20,7 @@ packages=(
   libglm-dev nlohmann-json3-dev catch2
   libopenimageio-dev openimageio-tools libopenexr-dev
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libglfw3-dev xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -39,6 +40,39 @@ if ! "$venv/bin/python" -c 'import glad, sys; sys.exit(0 if glad.__version__ == 
   rm -rf "$venv"
   python3 -m venv "$venv"
   "$venv/bin/pip" install -q --disable-pip-version-check glad2==2.0.8
+fi
+
+# 2b. Dear ImGui (docking) and ImGuizmo for the editor, from the imgui-bundle 1.93.0 sdist on PyPI
+# (shared/docs/dependencies.md): download once, check the sha256, extract only the needed files
+# into .deps/imgui (cmake/imgui.cmake builds them). The stamp file makes a repeat run skip this.
+imgui_sdist=imgui_bundle-1.93.0.tar.gz
+imgui_sha=10ad1dab8258a6787b4f07bb926b08d0efc648a7906242568c8dd778c5e719bf
+imgui_dir=.deps/imgui
+if [ "$(cat "$imgui_dir/.stamp" 2>/dev/null)" != "$imgui_sha" ]; then
+  mkdir -p .deps/downloads
+  if ! echo "$imgui_sha  .deps/downloads/$imgui_sdist" | sha256sum -c --status 2>/dev/null; then
+    log "downloading $imgui_sdist (PyPI sdist, 54 MB)"
+    rm -f ".deps/downloads/$imgui_sdist"
+    "$venv/bin/pip" download -q --disable-pip-version-check --no-deps -d .deps/downloads \
+      --no-binary imgui-bundle imgui-bundle==1.93.0
+    echo "$imgui_sha  .deps/downloads/$imgui_sdist" | sha256sum -c --status ||
+      { echo "setup.sh: $imgui_sdist: sha256 mismatch" >&2; exit 1; }
+  fi
+  log "extracting Dear ImGui and ImGuizmo into $imgui_dir"
+  rm -rf "$imgui_dir" && mkdir -p "$imgui_dir"
+  src=imgui_bundle-1.93.0/external
+  im=$src/hello_imgui/hello_imgui/external/imgui   # plain upstream docking (not the bundle's fork)
+  # Flattened to .deps/imgui/imgui/{*.cpp,backends/} and .deps/imgui/imguizmo/.
+  tar -xzf ".deps/downloads/$imgui_sdist" -C "$imgui_dir" \
+    --transform 's,^.*/external/imgui/,imgui/,;s,^.*/ImGuizmo/ImGuizmo/src/,imguizmo/,;s,^.*/ImGuizmo/ImGuizmo/LICENSE,imguizmo/LICENSE,' \
+    $im/LICENSE.txt $im/imconfig.h $im/imgui.h $im/imgui_internal.h $im/imgui.cpp $im/imgui_draw.cpp \
+    $im/imgui_tables.cpp $im/imgui_widgets.cpp $im/imgui_demo.cpp $im/imstb_rectpack.h \
+    $im/imstb_textedit.h $im/imstb_truetype.h \
+    $im/backends/imgui_impl_glfw.cpp $im/backends/imgui_impl_glfw.h \
+    $im/backends/imgui_impl_opengl3.cpp $im/backends/imgui_impl_opengl3.h \
+    $im/backends/imgui_impl_opengl3_loader.h \
+    $src/ImGuizmo/ImGuizmo/LICENSE $src/ImGuizmo/ImGuizmo/src/ImGuizmo.h $src/ImGuizmo/ImGuizmo/src/ImGuizmo.cpp
+  echo "$imgui_sha" > "$imgui_dir/.stamp"
 fi
 
 # 3. Configure and build (Release).

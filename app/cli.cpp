@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include <charconv>
+#include <optional>
 #include <functional>
 #include <map>
 
@@ -34,6 +35,13 @@ options:
   --png | --hdr | --exr output formats, any combination (default: --png); PNG is 8-bit sRGB
                         after tone mapping, HDR (Radiance) and EXR are linear float
   --reinhard            Reinhard tone mapping for PNG (default: ACES filmic)
+  --exposure <ev>       scale the image by 2^ev before tone mapping (PNG only; default 0)
+  --time <seconds>      render until the time is up instead of a sample count
+  --set <path>=<value>  override a value of the scene for this run, e.g. --set camera.fov=30,
+                        --set 'materials[white].albedo=[1,1,1]' (repeatable; JSON value, else text)
+  --sweep <path>=<v1>,<v2>,...
+                        render one image per value (repeatable: the sweeps form a grid) and a
+                        contact sheet <scene>-sheet.png with a labelled cell per variant
   --strategy <s>        mis (default), light or bsdf: direct lighting by multiple importance
                         sampling, or by one strategy alone (all three converge to the same image)
   --sky                 replace the scene's environment with the procedural sky
@@ -80,6 +88,36 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
         {"--strategy", [&](const std::string& v, std::string* why) {
              if (v != "mis" && v != "light" && v != "bsdf") { *why = "expected mis, light or bsdf, got '" + v + "'"; return false; }
              o.strategy = v;
+             return true;
+         }},
+        {"--exposure", [&](const std::string& v, std::string* why) {
+             float x = 0;
+             auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+             if (ec != std::errc() || ptr != v.data() + v.size() || !(x > -64.0f && x < 64.0f)) {
+                 *why = "expected a number of stops in (-64, 64), got '" + v + "'";
+                 return false;
+             }
+             o.exposure = x;
+             return true;
+         }},
+        {"--time", [&](const std::string& v, std::string* why) {
+             double x = 0;
+             auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+             if (ec != std::errc() || ptr != v.data() + v.size() || !(x > 0.0 && x <= 1e6)) {
+                 *why = "expected seconds in (0, 1e6], got '" + v + "'";
+                 return false;
+             }
+             o.timeBudget = x;
+             return true;
+         }},
+        {"--set", [&](const std::string& v, std::string* why) {
+             if (v.find('=') == std::string::npos || v.front() == '=') { *why = "expected <json.path>=<value>, got '" + v + "'"; return false; }
+             o.sets.push_back(v);
+             return true;
+         }},
+        {"--sweep", [&](const std::string& v, std::string* why) {
+             if (v.find('=') == std::string::npos || v.front() == '=') { *why = "expected <json.path>=<v1>,<v2>,..., got '" + v + "'"; return false; }
+             o.sweeps.push_back(v);
              return true;
          }},
         {"--envmap", [&](const std::string& v, std::string*) { o.envmap = v; return true; }},

@@ -16,6 +16,10 @@ struct CliOptions {
     std::string outputDir = "renders";
     bool png = false, hdr = false, exr = false;   // PNG when none is given
     bool reinhard = false;
+    float exposure = 0.0f;                   // EV: the image is scaled by 2^exposure before tone mapping
+    std::optional<double> timeBudget;        // seconds: render until then instead of a sample count
+    std::vector<std::string> sets;           // --set path=value, in order
+    std::vector<std::string> sweeps;         // --sweep path=v1,v2,..., in order
     std::string strategy = "mis";            // mis | light | bsdf (for checking MIS)
     bool oidn = false, aovs = false, sky = false;
     std::optional<std::string> envmap;

@@ -1,6 +1,8 @@
 // caustic: batch rendering from the command line (`caustic --scene file.json`) and, later, the
 // editor (`caustic [file.json]`). Thin: parsing is in cli.cpp, rendering in the renderer library.
 #include "app/cli.h"
+#include "editor/ui/editor_app.h"
+#include "app/contact_sheet.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/renderer.h"
@@ -10,6 +12,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -43,11 +46,73 @@ std::string formatSeconds(double s) {
     return buf;
 }
 
-int runBatch(const CliOptions& o) {
-    // 1. The scene, with the command line's overrides applied on top.
-    SceneLoadResult loaded = loadScene(*o.scene);
-    if (!loaded) return fail(loaded.error);
-    Scene scene = std::move(*loaded.scene);
+// Splits "a,b,[1,2,3]" at the top-level commas (not inside brackets, braces or quotes).
+std::vector<std::string> splitValues(const std::string& text) {
+    std::vector<std::string> out;
+    std::string current;
+    int depth = 0;
+    bool quoted = false;
+    for (char c : text) {
+        if (c == '"') quoted = !quoted;
+        if (!quoted && (c == '[' || c == '{')) ++depth;
+        if (!quoted && (c == ']' || c == '}')) --depth;
+        if (c == ',' && depth == 0 && !quoted) {
+            out.push_back(current);
+            current.clear();
+        } else {
+            current += c;
+        }
+    }
+    out.push_back(current);
+    return out;
+}
+
+// One image to render: the overrides that make it, and its label on a contact sheet.
+struct Variant {
+    std::vector<SceneOverride> overrides;
+    std::string label, fileSuffix;
+};
+
+// The grid of --sweep values (the first sweep varies fastest), each with the --set overrides.
+bool makeVariants(const CliOptions& o, std::vector<Variant>* out, std::string* error) {
+    Variant base;
+    for (const std::string& text : o.sets) {
+        SceneOverride ov;
+        if (!parseSceneOverride(text, &ov, error)) { *error = "--set: " + *error; return false; }
+        base.overrides.push_back(ov);
+    }
+    std::vector<Variant> variants = {base};
+    for (const std::string& text : o.sweeps) {
+        SceneOverride ov;
+        if (!parseSceneOverride(text, &ov, error)) { *error = "--sweep: " + *error; return false; }
+        const std::vector<std::string> values = splitValues(ov.value);
+        std::vector<Variant> grown;
+        for (const Variant& v : variants)
+            for (size_t i = 0; i < values.size(); ++i) {
+                if (values[i].empty()) { *error = "--sweep " + text + ": empty value"; return false; }
+                Variant n = v;
+                n.overrides.push_back({ov.path, values[i]});
+                n.label += (n.label.empty() ? "" : "\n") + ov.path + "=" + values[i];  // one line per sweep
+                n.fileSuffix += "-" + std::to_string(i);
+                grown.push_back(n);
+            }
+        variants = std::move(grown);
+    }
+    // The first sweep should vary along the sheet's rows: reorder so its index changes fastest.
+    if (o.sweeps.size() > 1) {
+        const size_t first = splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size();
+        const size_t rest = variants.size() / first;
+        std::vector<Variant> ordered;
+        for (size_t r = 0; r < rest; ++r)
+            for (size_t f = 0; f < first; ++f) ordered.push_back(variants[f * rest + r]);
+        variants = std::move(ordered);
+    }
+    *out = std::move(variants);
+    return true;
+}
+
+// The command line's own settings on top of the (overridden) scene file.
+void applyFlags(const CliOptions& o, Scene& scene) {
     if (o.samples) scene.render.samples = *o.samples;
     if (o.width) scene.render.width = *o.width;
     if (o.height) scene.render.height = *o.height;
@@ -61,16 +126,31 @@ int runBatch(const CliOptions& o) {
         scene.environment = Environment{};
         scene.environment.type = EnvironmentType::Sky;
     }
+}
 
-    // 2. The output folder, checked before any rendering so a typo costs nothing.
+int runBatch(const CliOptions& o) {
+    if (o.timeBudget && o.samples) return fail("use --samples or --time, not both", kExitUsage);
+    std::vector<Variant> variants;
+    std::string error;
+    if (!makeVariants(o, &variants, &error)) return fail(error, kExitUsage);
+
+    // Every variant's scene is loaded and validated before anything renders.
+    std::vector<Scene> scenes;
+    for (const Variant& v : variants) {
+        SceneLoadResult loaded = loadScene(*o.scene, v.overrides);
+        if (!loaded) return fail(loaded.error);
+        applyFlags(o, *loaded.scene);
+        scenes.push_back(std::move(*loaded.scene));
+    }
+
+    // The output folder, checked before any rendering so a typo costs nothing.
     std::error_code ec;
     fs::create_directories(o.outputDir, ec);
     if (ec || !fs::is_directory(o.outputDir)) return fail("--output " + o.outputDir + ": cannot create folder: " + ec.message());
     if (access(o.outputDir.c_str(), W_OK) != 0) return fail("--output " + o.outputDir + ": folder is not writable");
     const std::string stem = (fs::path(o.outputDir) / fs::path(*o.scene).stem()).string();
 
-    // 3. GL, shaders, upload.
-    std::string error;
+    // GL and shaders, once for all variants.
     const char* debugEnv = std::getenv("CAUSTIC_GL_DEBUG");
 #ifdef NDEBUG
     const bool debug = debugEnv && *debugEnv && *debugEnv != '0';
@@ -82,61 +162,98 @@ int runBatch(const CliOptions& o) {
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) return fail(error);
     renderer->setImageReader(readImage);
-    if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
     renderer->setStrategy(o.strategy == "light" ? STRATEGY_LIGHT_ONLY
                           : o.strategy == "bsdf" ? STRATEGY_BSDF_ONLY
                                                  : STRATEGY_MIS);
 
-    // 4. Render, with progress on a terminal.
-    const int total = scene.render.samples;
-    const bool tty = isatty(STDERR_FILENO);
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    double lastPrint = -1.0;
-    renderer->render(total, [&](int done) {
-        if (!tty) return;
-        double t = elapsed();
-        if (t - lastPrint < 0.1 && done < total) return;
-        lastPrint = t;
-        double rate = done / std::max(t, 1e-9);
-        std::fprintf(stderr, "\r  %d/%d spp  %.1f spp/s  %s left   ", done, total, rate,
-                     formatSeconds((total - done) / std::max(rate, 1e-9)).c_str());
-        std::fflush(stderr);
-    });
-    const double seconds = elapsed();
-    if (tty) std::fprintf(stderr, "\r%*s\r", 60, "");
-    const Film film = renderer->readFilm();
-    const std::uint64_t dropped = renderer->droppedSamples();
-
-    // 5. Files.
-    ImageMetadata meta = {
-        {"Software", std::string("caustic ") + CAUSTIC_VERSION},
-        {"caustic:scene", *o.scene},
-        {"caustic:samples", std::to_string(total)},
-        {"caustic:seed", std::to_string(scene.render.seed)},
-        {"caustic:render_seconds", std::to_string(seconds)},
-    };
     // Each path is printed as soon as its file is complete, so a later failure still reports
     // what exists.
     auto wrote = [](const std::string& path) { std::cout << path << std::endl; };
+    const ToneMap toneMap = o.reinhard ? ToneMap::Reinhard : ToneMap::Aces;
     const bool png = o.png || (!o.hdr && !o.exr);
-    if (png) {
-        if (!writeImage8(stem + ".png", film.width, film.height, toSrgb8(film, o.reinhard ? ToneMap::Reinhard : ToneMap::Aces), meta, &error))
-            return fail(error);
-        wrote(stem + ".png");
-    }
-    if (o.hdr || o.exr) {
-        std::vector<float> linear = toLinearRgb(film);
-        for (auto [wanted, ext] : {std::pair{o.hdr, ".hdr"}, std::pair{o.exr, ".exr"}}) {
-            if (!wanted) continue;
-            if (!writeImageFloat(stem + ext, film.width, film.height, linear, meta, &error)) return fail(error);
-            wrote(stem + ext);
+    const bool tty = isatty(STDERR_FILENO);
+    std::vector<SheetCell> cells;
+    for (size_t vi = 0; vi < variants.size(); ++vi) {
+        const Scene& scene = scenes[vi];
+        if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
+
+        // Render, with progress on a terminal; a time budget renders in steps until it is spent.
+        const int total = scene.render.samples;
+        const auto start = std::chrono::steady_clock::now();
+        auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+        double lastPrint = -1.0;
+        auto progress = [&](int done) {
+            if (!tty) return;
+            const double t = elapsed();
+            if (t - lastPrint < 0.1) return;
+            lastPrint = t;
+            const double rate = done / std::max(t, 1e-9);
+            if (o.timeBudget)
+                std::fprintf(stderr, "\r  %d spp  %.1f spp/s  %s left   ", done, rate,
+                             formatSeconds(std::max(0.0, *o.timeBudget - t)).c_str());
+            else
+                std::fprintf(stderr, "\r  %d/%d spp  %.1f spp/s  %s left   ", done, total, rate,
+                             formatSeconds((total - done) / std::max(rate, 1e-9)).c_str());
+            std::fflush(stderr);
+        };
+        if (o.timeBudget) {
+            // Steps sized from the measured rate, so the budget is overshot by at most a step.
+            int step = 1;
+            while (elapsed() < *o.timeBudget) {
+                const double before = elapsed();
+                renderer->render(step, progress);
+                const double perSample = (elapsed() - before) / step;
+                const double left = *o.timeBudget - elapsed();
+                step = static_cast<int>(std::clamp(std::min(left, 0.5) / std::max(perSample, 1e-9), 1.0, 4096.0));
+                if (left <= 0.0) break;
+            }
+        } else {
+            renderer->render(total, progress);
         }
+        const double seconds = elapsed();
+        if (tty) std::fprintf(stderr, "\r%*s\r", 60, "");
+        const Film film = renderer->readFilm();
+        const std::uint64_t dropped = renderer->droppedSamples();
+        const int done = renderer->samplesDone();
+
+        ImageMetadata meta = {
+            {"Software", std::string("caustic ") + CAUSTIC_VERSION},
+            {"caustic:scene", *o.scene},
+            {"caustic:samples", std::to_string(done)},
+            {"caustic:seed", std::to_string(scene.render.seed)},
+            {"caustic:render_seconds", std::to_string(seconds)},
+        };
+        if (!variants[vi].label.empty()) meta.push_back({"caustic:variant", variants[vi].label});
+        const std::string base = stem + variants[vi].fileSuffix;
+        std::vector<std::uint8_t> srgb = toSrgb8(film, toneMap, o.exposure);
+        if (png) {
+            if (!writeImage8(base + ".png", film.width, film.height, srgb, meta, &error)) return fail(error);
+            wrote(base + ".png");
+        }
+        if (o.hdr || o.exr) {
+            std::vector<float> linear = toLinearRgb(film);
+            for (auto [wanted, ext] : {std::pair{o.hdr, ".hdr"}, std::pair{o.exr, ".exr"}}) {
+                if (!wanted) continue;
+                if (!writeImageFloat(base + ext, film.width, film.height, linear, meta, &error)) return fail(error);
+                wrote(base + ext);
+            }
+        }
+        std::string oneLineLabel = variants[vi].label;
+        std::replace(oneLineLabel.begin(), oneLineLabel.end(), '\n', ' ');
+        std::fprintf(stderr, "caustic: %s%s%s: %dx%d, %d spp in %.2f s (%.1f spp/s, %.2f M samples/s) on %s; %llu NaN/Inf samples dropped\n",
+                     fs::path(*o.scene).filename().c_str(), oneLineLabel.empty() ? "" : " ",
+                     oneLineLabel.empty() ? "" : ("[" + oneLineLabel + "]").c_str(), film.width, film.height,
+                     done, seconds, done / seconds, double(done) * film.width * film.height / seconds * 1e-6,
+                     context->info().renderer.c_str(), static_cast<unsigned long long>(dropped));
+        if (!o.sweeps.empty()) cells.push_back({film.width, film.height, std::move(srgb), variants[vi].label});
     }
-    std::fprintf(stderr, "caustic: %s: %dx%d, %d spp in %.2f s (%.1f spp/s, %.2f M samples/s) on %s; %llu NaN/Inf samples dropped\n",
-                 fs::path(*o.scene).filename().c_str(), film.width, film.height, total, seconds, total / seconds,
-                 double(total) * film.width * film.height / seconds * 1e-6, context->info().renderer.c_str(),
-                 static_cast<unsigned long long>(dropped));
+    if (!o.sweeps.empty()) {
+        const int columns = static_cast<int>(splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size());
+        Sheet sheet = makeContactSheet(cells, columns);
+        ImageMetadata meta = {{"Software", std::string("caustic ") + CAUSTIC_VERSION}, {"caustic:scene", *o.scene}};
+        if (!writeImage8(stem + "-sheet.png", sheet.width, sheet.height, sheet.rgb, meta, &error)) return fail(error);
+        wrote(stem + "-sheet.png");
+    }
     return 0;
 }
 
@@ -149,10 +266,7 @@ int main(int argc, char** argv) {
         const CliOptions& o = *parsed.options;
         if (o.help) { std::cout << cliUsage(); return 0; }
         if (o.version) { std::cout << "caustic " << CAUSTIC_VERSION << "\n"; return 0; }
-        if (!o.scene) {
-            return fail("the editor is not built yet: render in batch mode with --scene <file.json> (see --help)",
-                        kExitUsage);
-        }
+        if (!o.scene) return editor::runEditor(o.editorScene);   // `caustic [scene.json]`: the editor
         if (o.editorScene) return fail("unexpected argument '" + *o.editorScene + "' in batch mode", kExitUsage);
         if (std::string why = notYet(o); !why.empty()) return fail(why, kExitUsage);
         return runBatch(o);

@@ -1,19 +1,24 @@
 #include "renderer/gpu_scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <numbers>
+#include <map>
+#include <utility>
 
 namespace caustic {
 namespace gpu {
 static_assert(sizeof(GpuPrimitive) == 64);
-static_assert(sizeof(GpuMaterial) == 64);
+static_assert(sizeof(GpuMaterial) == 112);
+static_assert(offsetof(GpuMaterial, textures) == 96);
+static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 80);
-static_assert(sizeof(GpuFrame) == 192);
+static_assert(sizeof(GpuFrame) == 224);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
 }  // namespace gpu
@@ -22,6 +27,72 @@ namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
 float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// Complex IOR (eta, k) of the conductor presets at R, G, B. Gold, copper and aluminium are the
+// values the materials issue specifies (spectral data integrated to RGB); silver, chromium and
+// platinum are from the LabPBR 1.3 material standard's table of hardcoded metals (whose gold and
+// copper agree with the values here to 3 digits). "perfect" is F = 1 (a flag, not an IOR).
+std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m) {
+    switch (m.metal) {
+    case Metal::Gold: return {{0.183f, 0.421f, 1.373f}, {3.424f, 2.346f, 1.770f}};
+    case Metal::Copper: return {{0.271f, 0.677f, 1.316f}, {3.609f, 2.625f, 2.292f}};
+    case Metal::Aluminium: return {{1.655f, 0.879f, 0.520f}, {9.224f, 6.270f, 4.837f}};
+    case Metal::Silver: return {{0.15943f, 0.14512f, 0.13547f}, {3.9291f, 3.1900f, 2.3808f}};
+    case Metal::Chromium: return {{3.1071f, 3.1812f, 2.3230f}, {3.3314f, 3.3291f, 3.1350f}};
+    case Metal::Platinum: return {{2.3757f, 2.0847f, 1.8453f}, {4.2655f, 3.7153f, 3.1365f}};
+    case Metal::Perfect: return {{1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+    case Metal::Custom: break;
+    }
+    return {m.eta, m.k};
+}
+
+// Below this GGX alpha the smooth (delta) model is used: the microfacet lobe is then narrower
+// than float precision resolves well (pbrt-v4's EffectivelySmooth uses the same threshold).
+constexpr float kSmoothAlpha = 1e-3f;
+
+// The GPU material for a scene material (textures are filled in by the caller).
+gpu::GpuMaterial convertMaterial(const Material& m) {
+    gpu::GpuMaterial g{};
+    g.emission = glm::vec4(m.emission, 0);
+    g.albedo = glm::vec4(m.tint, 0);
+    g.params = glm::vec4(m.roughness, m.ior, 0, 0);
+    std::uint32_t type = MAT_DIFFUSE, flags = 0;
+    switch (m.type) {
+    case MaterialType::Diffuse: g.albedo = glm::vec4(m.albedo, 0); break;
+    case MaterialType::OrenNayar:
+        type = MAT_OREN_NAYAR;
+        g.albedo = glm::vec4(m.albedo, 0);
+        g.params.x = m.sigma;
+        if (m.energyCompensation) flags |= MAT_FLAG_ENERGY_COMPENSATION;
+        break;
+    case MaterialType::Eon:
+        type = MAT_EON;
+        g.albedo = glm::vec4(m.albedo, 0);
+        break;
+    case MaterialType::Mirror: type = MAT_MIRROR; break;
+    case MaterialType::Transmission: type = MAT_TRANSMISSION; break;
+    case MaterialType::Dielectric:
+        // A roughness map can make any point rough, so a textured dielectric is always rough.
+        type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
+        break;
+    case MaterialType::Conductor: {
+        type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_CONDUCTOR : MAT_ROUGH_CONDUCTOR;
+        auto [eta, k] = conductorPreset(m);
+        g.eta = glm::vec4(eta, 0);
+        g.k = glm::vec4(k, 0);
+        if (m.metal == Metal::Perfect) flags |= MAT_FLAG_FRESNEL_ONE;
+        if (m.energyCompensation) flags |= MAT_FLAG_ENERGY_COMPENSATION;
+        break;
+    }
+    }
+    g.info = glm::uvec4(type, flags, 0, 0);
+    return g;
+}
+
+float srgbToLinear(float c) {
+    // IEC 61966-2-1 (the sRGB standard's decoding curve).
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 
 struct Builder {
     const Scene& scene;
@@ -120,11 +191,49 @@ struct Builder {
         out = CompiledScene{};
         out.boundsMin = glm::vec3(std::numeric_limits<float>::max());
         out.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
-        for (const Material& m : scene.materials) {
-            gpu::GpuMaterial g{};
-            g.albedo = glm::vec4(m.albedo, 0);
-            g.emission = glm::vec4(m.emission, 0);
-            g.info = glm::uvec4(MAT_DIFFUSE, 0, 0, 0);
+        std::map<std::pair<std::string, TextureEncoding>, std::uint32_t> textureIndex;
+        for (size_t i = 0; i < scene.materials.size(); ++i) {
+            const Material& m = scene.materials[i];
+            gpu::GpuMaterial g = convertMaterial(m);
+            const std::string where = "materials[" + std::to_string(i) + "]";
+            // Each texture file is loaded once per encoding, however many materials use it.
+            auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
+                if (name.empty()) return true;
+                std::filesystem::path file(name);
+                if (file.is_relative() && !scene.sourcePath.empty())
+                    file = std::filesystem::path(scene.sourcePath).parent_path() / file;
+                const auto cacheKey = std::make_pair(file.string(), enc);
+                if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
+                    *slot = found->second + 1;
+                    return true;
+                }
+                const std::string context = where + "." + key + " (material '" + m.name + "'): ";
+                ImageData image;
+                std::string why;
+                if (!readImage) {
+                    *error = context + file.string() + ": this build cannot read images";
+                    return false;
+                }
+                if (!readImage(file.string(), &image, &why)) {
+                    // The reader's message names the file; make sure it does even if it did not.
+                    *error = context + (why.find(file.string()) == std::string::npos ? file.string() + ": " : "") + why;
+                    return false;
+                }
+                if (!addTexture(image, enc, &out, &why)) {
+                    *error = context + file.string() + ": " + why;
+                    return false;
+                }
+                *slot = static_cast<std::uint32_t>(out.textures.size());
+                textureIndex.emplace(cacheKey, *slot - 1);
+                return true;
+            };
+            const std::string ext = std::filesystem::path(m.albedoTexture).extension().string();
+            const bool hdr = ext == ".hdr" || ext == ".exr" || ext == ".HDR" || ext == ".EXR" || ext == ".pfm";
+            if (!texture(m.albedoTexture, "albedo_texture", hdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
+                         &g.textures.x) ||
+                !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
+                !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
+                return false;
             out.materials.push_back(g);
         }
         for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -332,6 +441,98 @@ bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::strin
     return true;
 }
 
+bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error) {
+    const int w = image.width, h = image.height, ch = image.channels;
+    if (w <= 0 || h <= 0 || ch <= 0 || image.pixels.size() < size_t(w) * size_t(h) * size_t(ch)) {
+        *error = "empty or truncated image";
+        return false;
+    }
+    const size_t total = size_t(out->texels.size()) + size_t(w) * size_t(h) * 2;  // a mip chain is < 4/3 of level 0
+    if (total > size_t(1) << 31) {
+        *error = "too many texels in all (" + std::to_string(total) + "; at most 2^31)";
+        return false;
+    }
+    // Level 0 in linear floats; grey and grey+alpha images are expanded to RGBA.
+    std::vector<glm::vec4> level(size_t(w) * size_t(h));
+    for (size_t i = 0; i < level.size(); ++i) {
+        const float* px = &image.pixels[i * size_t(ch)];
+        glm::vec4 c = ch >= 3 ? glm::vec4(px[0], px[1], px[2], ch >= 4 ? px[3] : 1.0f)
+                              : glm::vec4(px[0], px[0], px[0], ch == 2 ? px[1] : 1.0f);
+        for (int k = 0; k < 4; ++k)
+            if (!std::isfinite(c[k])) {
+                *error = "non-finite pixel at (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) + ")";
+                return false;
+            }
+        if (encoding == TextureEncoding::Srgb) c = glm::vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a);
+        level[i] = c;
+    }
+    gpu::GpuTexture t{};
+    t.info = glm::uvec4(static_cast<std::uint32_t>(out->texels.size()), w, h, 0);
+    // The mip chain by 2x2 box filtering in linear space (odd sizes clamp the last row/column).
+    int lw = w, lh = h;
+    for (;;) {
+        for (const glm::vec4& c : level)
+            out->texels.emplace_back(glm::packHalf2x16(glm::vec2(c.r, c.g)), glm::packHalf2x16(glm::vec2(c.b, c.a)));
+        ++t.info.w;
+        if (lw == 1 && lh == 1) break;
+        const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
+        std::vector<glm::vec4> next(size_t(nw) * size_t(nh));
+        for (int y = 0; y < nh; ++y)
+            for (int x = 0; x < nw; ++x) {
+                const int x0 = std::min(2 * x, lw - 1), x1 = std::min(2 * x + 1, lw - 1);
+                const int y0 = std::min(2 * y, lh - 1), y1 = std::min(2 * y + 1, lh - 1);
+                next[size_t(y) * size_t(nw) + size_t(x)] =
+                    0.25f * (level[size_t(y0) * size_t(lw) + size_t(x0)] + level[size_t(y0) * size_t(lw) + size_t(x1)] +
+                             level[size_t(y1) * size_t(lw) + size_t(x0)] + level[size_t(y1) * size_t(lw) + size_t(x1)]);
+            }
+        level = std::move(next);
+        lw = nw;
+        lh = nh;
+    }
+    out->textures.push_back(t);
+    return true;
+}
+
+// E(mu, alpha) = integral of f cos over the hemisphere for the F = 1 GGX lobe with the height-
+// correlated Smith term (shaders/bsdf/microfacet.glsl), estimated as the mean of the visible-
+// normal sample weight G2 / G1(wo) over a stratified 64 x 64 grid of samples per entry.
+const std::vector<float>& ggxAlbedoTable() {
+    static const std::vector<float> table = [] {
+        constexpr int N = GGX_ALBEDO_TABLE_SIZE, S = 64;
+        std::vector<float> t(size_t(N) * N);
+        auto lambda = [](glm::dvec3 w, double a) {
+            const double c2 = w.z * w.z, s2 = std::max(0.0, w.x * w.x + w.y * w.y);
+            return 0.5 * (std::sqrt(c2 + a * a * s2) / std::abs(w.z) - 1.0);
+        };
+        for (int j = 0; j < N; ++j) {
+            const double alpha = std::max(double(j) / (N - 1), 1e-3);
+            for (int i = 0; i < N; ++i) {
+                const double mu = std::max(double(i) / (N - 1), 1e-3);
+                const glm::dvec3 wo(std::sqrt(1.0 - mu * mu), 0.0, mu);
+                const glm::dvec3 wh = glm::normalize(glm::dvec3(alpha * wo.x, alpha * wo.y, wo.z));
+                const double lo = lambda(wo, alpha);
+                double sum = 0.0;
+                for (int a = 0; a < S; ++a)
+                    for (int b = 0; b < S; ++b) {
+                        // Dupuy & Benyoub 2023, as in ggxSampleVisibleNormal.
+                        const double u1 = (a + 0.5) / S, u2 = (b + 0.5) / S;
+                        const double phi = 2.0 * std::numbers::pi * u1;
+                        const double z = (1.0 - u2) * (1.0 + wh.z) - wh.z;
+                        const double st = std::sqrt(std::max(0.0, 1.0 - z * z));
+                        const glm::dvec3 h = glm::dvec3(st * std::cos(phi), st * std::sin(phi), z) + wh;
+                        const glm::dvec3 wm = glm::normalize(glm::dvec3(alpha * h.x, alpha * h.y, std::max(h.z, 1e-12)));
+                        const glm::dvec3 wi = -wo + 2.0 * glm::dot(wo, wm) * wm;
+                        if (wi.z <= 0.0) continue;
+                        sum += (1.0 + lo) / (1.0 + lo + lambda(wi, alpha));  // G2 / G1(wo)
+                    }
+                t[size_t(j) * N + size_t(i)] = static_cast<float>(sum / (S * S));
+            }
+        }
+        return t;
+    }();
+    return table;
+}
+
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error) {
     Builder b{scene, readImage, *out, error};
     return b.run();
@@ -344,6 +545,12 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     glm::vec3 forward = glm::normalize(c.lookAt - c.position);
     glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
     glm::vec3 up = glm::cross(right, forward);
+    if (c.rollDegrees != 0.0f) {  // turn the image counter-clockwise by the roll angle
+        const float r = glm::radians(c.rollDegrees);
+        const glm::vec3 r2 = std::cos(r) * right + std::sin(r) * up;
+        up = std::cos(r) * up - std::sin(r) * right;
+        right = r2;
+    }
     float t = std::tan(glm::radians(c.fovDegrees) * 0.5f);
     float aspect = float(w) / float(h);
     bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
@@ -365,6 +572,13 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.envInfo = glm::uvec4(envType, compiled.envMap.width, compiled.envMap.height, 0);
     const float rot = glm::radians(env.rotation);
     f.envMap = glm::vec4(std::cos(rot), std::sin(rot), env.intensity, 0);
+    float focal = c.focalDistance > 0.0f ? c.focalDistance : glm::length(c.lookAt - c.position);
+    if (c.focusPoint) focal = glm::dot(*c.focusPoint - c.position, forward);
+    f.camLens = glm::vec4(c.apertureRadius, focal, c.squeeze, glm::radians(c.bladeRotationDegrees));
+    const std::uint32_t filter = scene.render.filter == PixelFilter::Tent       ? FILTER_TENT
+                                 : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
+                                                                                : FILTER_BOX;
+    f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, 0, 0);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

@@ -34,8 +34,22 @@ struct CompiledScene {
     std::vector<float> lightPower;      // the power each light was weighed by (W; see docs)
     int envLightIndex = -1;             // index into lights, -1 when there is no environment
     EnvironmentMap envMap;              // when the environment is a map
+    std::vector<glm::uvec2> texels;     // material textures' mip chains (RGBA halves), see GpuTexture
+    std::vector<gpu::GpuTexture> textures;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all finite geometry
 };
+
+// How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
+enum class TextureEncoding { Srgb, Linear };
+
+// Appends the image and its mip chain (linear RGBA, 2x2 box filtered) to out->texels and its
+// descriptor to out->textures; fails for an empty, truncated or non-finite image.
+bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error);
+
+// The directional albedo E(mu, alpha) of the F = 1 GGX lobe (height-correlated Smith), for the
+// multiple-scattering compensation of rough conductors: GGX_ALBEDO_TABLE_SIZE^2 floats, mu =
+// i / (N - 1) fastest, alpha = j / (N - 1). Computed once, on first use.
+const std::vector<float>& ggxAlbedoTable();
 
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names

@@ -50,6 +50,13 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(2, envBuffers);
     r->m_envMarginal = envBuffers[0];
     r->m_envConditional = envBuffers[1];
+    // Material textures and the BSDF tables (the GGX albedo table is the same for every scene).
+    unsigned materialBuffers[3];
+    glCreateBuffers(3, materialBuffers);
+    r->m_texels = materialBuffers[0];
+    r->m_textures = materialBuffers[1];
+    r->m_bsdfTables = materialBuffers[2];
+    uploadBuffer(r->m_bsdfTables, ggxAlbedoTable());
     return r;
 }
 
@@ -57,6 +64,8 @@ Renderer::~Renderer() {
     unsigned buffers[8] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters,
                            m_envMarginal, m_envConditional};
     glDeleteBuffers(8, buffers);
+    unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
+    glDeleteBuffers(3, materialBuffers);
     unsigned textures[3] = {m_accum, m_accumSq, m_envTexture};
     glDeleteTextures(3, textures);
     glDeleteProgram(m_program);
@@ -98,6 +107,10 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         if (!compileScene(scene, m_readImage, &compiled, error)) return false;
         m_compiled.materials = std::move(compiled.materials);
         uploadBuffer(m_materials, m_compiled.materials);
+        m_compiled.texels = std::move(compiled.texels);
+        m_compiled.textures = std::move(compiled.textures);
+        uploadBuffer(m_texels, m_compiled.texels);
+        uploadBuffer(m_textures, m_compiled.textures);
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
     resetAccumulation();
@@ -124,6 +137,8 @@ void Renderer::upload() {
     glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     uploadBuffer(m_envMarginal, env.marginalCdf);
     uploadBuffer(m_envConditional, env.conditionalCdf);
+    uploadBuffer(m_texels, m_compiled.texels);
+    uploadBuffer(m_textures, m_compiled.textures);
 }
 
 void Renderer::setStrategy(std::uint32_t strategy) {
@@ -156,6 +171,9 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_MARGINAL, m_envMarginal);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_CONDITIONAL, m_envConditional);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXELS, m_texels);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXTURES, m_textures);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BSDF_TABLES, m_bsdfTables);
     glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
 }
 

@@ -69,6 +69,7 @@ private:
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_lightCdf = 0, m_counters = 0;
     unsigned m_envMarginal = 0, m_envConditional = 0, m_envTexture = 0;
+    unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
     ImageReader m_readImage;
     int m_width = 0, m_height = 0;
     Scene m_scene;

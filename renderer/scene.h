@@ -36,10 +36,23 @@ struct Camera {
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fovDegrees = 40.0f;          // full angle along fovAxis, (0, 180)
     FovAxis fovAxis = FovAxis::Smaller;
+    float rollDegrees = 0.0f;          // turns the image about the view direction
+    // Thin lens (docs/scene-format.md): apertureRadius 0 is a pinhole.
+    float apertureRadius = 0.0f;       // lens radius in scene units, >= 0
+    float focalDistance = 0.0f;        // along the view direction; 0: the distance to lookAt
+    std::optional<glm::vec3> focusPoint;  // when set, focus on this point (overrides focalDistance)
+    float squeeze = 1.0f;              // anamorphic: the lens sample's x is divided by it, > 0
+    int blades = 0;                    // 0: a round aperture; >= 3: a regular polygon
+    float bladeRotationDegrees = 0.0f;
     bool operator==(const Camera&) const = default;
 };
 
 enum class LightSelection { Power, Uniform };
+
+// The pixel filter, importance-sampled (every sample has weight 1): box over the pixel (the
+// reference renderers' choice for comparisons), tent of radius 1 pixel, or a Gaussian with
+// sigma 0.5 pixel truncated at 1.5 pixels.
+enum class PixelFilter { Box, Tent, Gaussian };
 
 struct RenderSettings {
     int width = 800;
@@ -48,16 +61,37 @@ struct RenderSettings {
     int maxDepth = 10;                 // maximum number of scattering events on a path
     std::uint32_t seed = 0;
     LightSelection lightSelection = LightSelection::Power;
+    PixelFilter filter = PixelFilter::Box;
     bool operator==(const RenderSettings&) const = default;
 };
 
-enum class MaterialType { Diffuse };
+// The material models (docs/materials.md; shaders/bsdf/ has one file per model).
+enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor };
+
+// Conductor presets: complex IOR (eta, k) at R, G, B (see gpu_scene.cpp conductorPreset for the
+// values and their sources); Custom takes Material::eta and Material::k.
+enum class Metal { Aluminium, Gold, Copper, Silver, Chromium, Platinum, Perfect, Custom };
 
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    glm::vec3 albedo{0.8f};            // [0, 1] per channel
+    glm::vec3 albedo{0.8f};            // [0, 1] per channel (diffuse, oren_nayar, eon)
     glm::vec3 emission{0.0f};          // emitted radiance, >= 0; non-zero makes the object a light
+    glm::vec3 tint{1.0f};              // specular reflectance/transmittance scale (mirror, transmission, dielectric, conductor)
+    float sigma = 0.5f;                // oren_nayar: facet slope deviation, radians [0, pi/2]
+    float roughness = 0.0f;            // dielectric, conductor: GGX alpha [0, 1]; eon: r [0, 1] (default 0.5 set by type)
+    float ior = 1.5f;                  // dielectric (default 1.5), transmission (default 1): n_inside / n_outside
+    bool energyCompensation = false;   // oren_nayar: global factor; conductor: multiple scattering
+    Metal metal = Metal::Aluminium;    // conductor
+    glm::vec3 eta{1.0f};               // conductor, metal == Custom: real part of the IOR, > 0
+    glm::vec3 k{0.0f};                 // conductor, metal == Custom: extinction, >= 0
+    // Texture files (relative to the scene file), "" for none. albedoTexture replaces albedo
+    // (diffuse models) or tint (the others) and is decoded from sRGB unless the file is HDR;
+    // normalTexture is a tangent-space normal map; roughnessTexture's first channel replaces
+    // sigma or roughness.
+    std::string albedoTexture{};
+    std::string normalTexture{};
+    std::string roughnessTexture{};
     bool operator==(const Material&) const = default;
 };
 

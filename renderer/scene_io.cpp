@@ -166,6 +166,12 @@ struct EnumName {
     std::string_view name;
 };
 
+std::span<const EnumName<PixelFilter>> enumNames(PixelFilter) {
+    static constexpr EnumName<PixelFilter> kNames[] = {
+        {PixelFilter::Box, "box"}, {PixelFilter::Tent, "tent"}, {PixelFilter::Gaussian, "gaussian"}};
+    return kNames;
+}
+
 std::span<const EnumName<FovAxis>> enumNames(FovAxis) {
     static constexpr EnumName<FovAxis> kNames[] = {
         {FovAxis::Smaller, "smaller"}, {FovAxis::Larger, "larger"},
@@ -180,7 +186,19 @@ std::span<const EnumName<LightSelection>> enumNames(LightSelection) {
 }
 
 std::span<const EnumName<MaterialType>> enumNames(MaterialType) {
-    static constexpr EnumName<MaterialType> kNames[] = {{MaterialType::Diffuse, "diffuse"}};
+    static constexpr EnumName<MaterialType> kNames[] = {
+        {MaterialType::Diffuse, "diffuse"},       {MaterialType::OrenNayar, "oren_nayar"},
+        {MaterialType::Eon, "eon"},               {MaterialType::Mirror, "mirror"},
+        {MaterialType::Transmission, "transmission"}, {MaterialType::Dielectric, "dielectric"},
+        {MaterialType::Conductor, "conductor"}};
+    return kNames;
+}
+
+std::span<const EnumName<Metal>> enumNames(Metal) {
+    static constexpr EnumName<Metal> kNames[] = {
+        {Metal::Aluminium, "aluminium"}, {Metal::Gold, "gold"},         {Metal::Copper, "copper"},
+        {Metal::Silver, "silver"},       {Metal::Chromium, "chromium"}, {Metal::Platinum, "platinum"},
+        {Metal::Perfect, "perfect"},     {Metal::Custom, "custom"}};
     return kNames;
 }
 
@@ -405,6 +423,19 @@ Field<T> field(std::string_view key, V T::*memberPtr, Range range = kAnyValue) {
             {}};
 }
 
+// A value that may be absent: read when present, written only when set.
+template <class T, class V>
+Field<T> optionalField(std::string_view key, std::optional<V> T::*memberPtr, Range range = kAnyValue) {
+    return {key,
+            [memberPtr, range](const Json& value, const std::string& path, T& out) {
+                V v{};
+                readValue(value, path, v, range);
+                out.*memberPtr = v;
+            },
+            [memberPtr](const T& in) { return toJson(*(in.*memberPtr)); },
+            [memberPtr](const T& in) { return !(in.*memberPtr).has_value(); }};
+}
+
 // An optional name, saved only when non-empty.
 template <class T>
 Field<T> nameField(std::string T::*memberPtr) {
@@ -555,6 +586,17 @@ const Fields<Camera>& cameraFields() {
             return r;
         }()),
         field("fov_axis", &Camera::fovAxis),
+        field("roll", &Camera::rollDegrees),
+        field("aperture_radius", &Camera::apertureRadius, atLeast(0.0)),
+        field("focal_distance", &Camera::focalDistance, atLeast(0.0)),
+        optionalField("focus_point", &Camera::focusPoint),
+        field("squeeze", &Camera::squeeze, [] {
+            Range r = atLeast(0.0);
+            r.minExclusive = true;
+            return r;
+        }()),
+        field("blades", &Camera::blades, between(0, 64)),
+        field("blade_rotation", &Camera::bladeRotationDegrees),
     };
     return kFields;
 }
@@ -568,6 +610,9 @@ void readValue(const Json& value, const std::string& path, Camera& out, const Ra
                                           dumpCompact(toJson(out.position)) + ")");
     }
     if (up == glm::dvec3(0.0)) fail(member(path, "up"), "must be non-zero");
+    if (out.blades == 1 || out.blades == 2) fail(member(path, "blades"), "must be 0 (round) or at least 3, got " + std::to_string(out.blades));
+    if (out.focusPoint && glm::dot(glm::dvec3(*out.focusPoint) - glm::dvec3(out.position), view) <= 0.0)
+        fail(member(path, "focus_point"), "must lie in front of the camera");
     if (glm::length(glm::cross(glm::normalize(view), glm::normalize(up))) < 1e-6) {
         fail(member(path, "up"), "must not be parallel to the view direction (look_at - position)");
     }
@@ -583,6 +628,7 @@ const Fields<RenderSettings>& renderFields() {
         field("max_depth", &RenderSettings::maxDepth, between(0, 1024)),
         field("seed", &RenderSettings::seed),
         field("light_selection", &RenderSettings::lightSelection),
+        field("filter", &RenderSettings::filter),
     };
     return kFields;
 }
@@ -596,25 +642,96 @@ Json toJson(const RenderSettings& render) { return writeFields(render, renderFie
 // ---------------------------------------------------------------------------------------------
 // Materials
 
+// A string field written only when non-empty (texture file names).
+Field<Material> optionalFile(std::string_view key, std::string Material::*memberPtr) {
+    Field<Material> result = field(key, memberPtr);
+    result.omit = [memberPtr](const Material& in) { return (in.*memberPtr).empty(); };
+    return result;
+}
+
+// eta and k belong to custom conductors only.
+Field<Material> customMetalField(std::string_view key, glm::vec3 Material::*memberPtr, Range range) {
+    Field<Material> result = field(key, memberPtr, range);
+    result.omit = [](const Material& in) { return in.metal != Metal::Custom; };
+    return result;
+}
+
 const Fields<Material>& materialFields(MaterialType type) {
     static const Fields<Material> kCommon = {
         field("name", &Material::name),
         field("type", &Material::type),
     };
-    static const Fields<Material> kDiffuse = concat(kCommon, {
-        field("albedo", &Material::albedo, between(0.0, 1.0)),
+    // Every type may emit and carry textures.
+    static const Fields<Material> kTail = {
         field("emission", &Material::emission, atLeast(0.0)),
-    });
+        optionalFile("albedo_texture", &Material::albedoTexture),
+        optionalFile("normal_texture", &Material::normalTexture),
+        optionalFile("roughness_texture", &Material::roughnessTexture),
+    };
+    const Range unit = between(0.0, 1.0);
+    Range ior = greaterThan(0.0);
+    ior.max = 10.0;
+    static const Fields<Material> kDiffuse = concat(concat(kCommon, {
+        field("albedo", &Material::albedo, unit),
+    }), kTail);
+    static const Fields<Material> kOrenNayar = concat(concat(kCommon, {
+        field("albedo", &Material::albedo, unit),
+        field("sigma", &Material::sigma, between(0.0, 1.5708)),
+        field("energy_compensation", &Material::energyCompensation),
+    }), kTail);
+    static const Fields<Material> kEon = concat(concat(kCommon, {
+        field("albedo", &Material::albedo, unit),
+        field("roughness", &Material::roughness, unit),
+    }), kTail);
+    static const Fields<Material> kMirror = concat(concat(kCommon, {
+        field("tint", &Material::tint, unit),
+    }), kTail);
+    static const Fields<Material> kTransmission = concat(concat(kCommon, {
+        field("tint", &Material::tint, unit),
+        field("ior", &Material::ior, ior),
+    }), kTail);
+    static const Fields<Material> kDielectric = concat(concat(kCommon, {
+        field("tint", &Material::tint, unit),
+        field("ior", &Material::ior, ior),
+        field("roughness", &Material::roughness, unit),
+    }), kTail);
+    static const Fields<Material> kConductor = concat(concat(kCommon, {
+        field("metal", &Material::metal),
+        customMetalField("eta", &Material::eta, greaterThan(0.0)),
+        customMetalField("k", &Material::k, atLeast(0.0)),
+        field("tint", &Material::tint, unit),
+        field("roughness", &Material::roughness, unit),
+        field("energy_compensation", &Material::energyCompensation),
+    }), kTail);
     switch (type) {
     case MaterialType::Diffuse: return kDiffuse;
+    case MaterialType::OrenNayar: return kOrenNayar;
+    case MaterialType::Eon: return kEon;
+    case MaterialType::Mirror: return kMirror;
+    case MaterialType::Transmission: return kTransmission;
+    case MaterialType::Dielectric: return kDielectric;
+    case MaterialType::Conductor: return kConductor;
     }
     return kCommon;
 }
 
 void readValue(const Json& value, const std::string& path, Material& out, const Range&) {
+    // Defaults that differ by type (scene.h holds the dielectric/conductor ones).
+    if (const auto it = value.find("type"); it != value.end() && it->is_string()) {
+        if (*it == "eon") out.roughness = 0.5f;
+        if (*it == "transmission") out.ior = 1.0f;
+    }
     readTyped(value, path, out, &Material::type, materialFields, "material");
     if (!value.contains("name")) fail(path, "missing key 'name' (every material needs a unique name)");
     if (out.name.empty()) fail(member(path, "name"), "must not be empty");
+    if (out.type == MaterialType::Conductor && out.metal != Metal::Custom) {
+        for (const char* key : {"eta", "k"}) {
+            if (value.contains(key)) {
+                fail(member(path, key), "only a 'custom' metal takes eta and k (this one is '" +
+                                            enumName(out.metal) + "')");
+            }
+        }
+    }
 }
 
 Json toJson(const Material& material) {
@@ -931,6 +1048,90 @@ SceneLoadResult loadScene(const std::string& file) {
         const std::optional<std::string> text = readTextFile(file, &error);
         if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
         SceneLoadResult result = parseScene(*text, file);
+        if (result.scene) result.scene->sourcePath = file;
+        return result;
+    } catch (const std::bad_alloc&) {
+        return SceneLoadResult{std::nullopt, file + ": out of memory while reading the scene"};
+    } catch (...) {
+        return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
+    }
+}
+
+bool parseSceneOverride(const std::string& text, SceneOverride* out, std::string* error) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) {
+        *error = "expected <json.path>=<value>, got '" + text + "'";
+        return false;
+    }
+    out->path = text.substr(0, eq);
+    out->value = text.substr(eq + 1);
+    return true;
+}
+
+namespace {
+
+// Follows (creating objects on the way where keys are missing) a path like a.b[2].c[name].
+Json* resolveOverridePath(Json& root, const std::string& path, std::string* error) {
+    Json* node = &root;
+    std::size_t i = 0;
+    std::string walked;
+    while (i < path.size()) {
+        if (path[i] == '.') { ++i; continue; }
+        if (path[i] == '[') {
+            const std::size_t close = path.find(']', i);
+            if (close == std::string::npos) { *error = "unclosed '[' in '" + path + "'"; return nullptr; }
+            const std::string key = path.substr(i + 1, close - i - 1);
+            walked += "[" + key + "]";
+            if (!node->is_array()) { *error = walked + ": not an array"; return nullptr; }
+            const bool numeric = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) { return c >= '0' && c <= '9'; });
+            Json* found = nullptr;
+            if (numeric) {
+                const std::size_t index = std::stoul(key);
+                if (index < node->size()) found = &(*node)[index];
+            } else {
+                for (Json& item : *node)
+                    if (item.is_object() && item.contains("name") && item["name"] == key) found = &item;
+            }
+            if (!found) { *error = walked + ": no such element"; return nullptr; }
+            node = found;
+            i = close + 1;
+            continue;
+        }
+        const std::size_t end = path.find_first_of(".[", i);
+        const std::string key = path.substr(i, end == std::string::npos ? std::string::npos : end - i);
+        walked += (walked.empty() ? "" : ".") + key;
+        if (node->is_null()) *node = Json::object();
+        if (!node->is_object()) { *error = walked + ": the parent is not an object"; return nullptr; }
+        node = &(*node)[key];
+        i = end == std::string::npos ? path.size() : end;
+    }
+    return node;
+}
+
+}  // namespace
+
+SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverride>& overrides) {
+    if (overrides.empty()) return loadScene(file);
+    try {
+        std::string error;
+        const std::optional<std::string> text = readTextFile(file, &error);
+        if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
+        Json root;
+        try {
+            root = Json::parse(*text);
+        } catch (const std::exception&) {
+            return parseScene(*text, file);  // reports the syntax error with line and column
+        }
+        for (const SceneOverride& o : overrides) {
+            Json* target = resolveOverridePath(root, o.path, &error);
+            if (!target) return SceneLoadResult{std::nullopt, "--set " + o.path + "=" + o.value + ": " + error};
+            try {
+                *target = Json::parse(o.value);
+            } catch (const std::exception&) {
+                *target = o.value;  // not JSON: a string
+            }
+        }
+        SceneLoadResult result = parseScene(root.dump(2), file + " (with --set)");
         if (result.scene) result.scene->sourcePath = file;
         return result;
     } catch (const std::bad_alloc&) {

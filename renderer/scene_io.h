@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace caustic {
 
@@ -21,6 +22,19 @@ struct SceneLoadResult {
 
 // Reads, parses and validates a scene file; sets Scene::sourcePath to file.
 SceneLoadResult loadScene(const std::string& file);
+
+// One `--set path=value`: path in the messages' syntax ("camera.fov", "objects[2].transform.scale",
+// "materials[gold].albedo" picks the array element whose "name" is gold); value is JSON ("0.5",
+// "[1, 0, 0]", "\"tent\"") or, if it is not valid JSON, a string ("tent").
+struct SceneOverride {
+    std::string path;
+    std::string value;
+};
+// Parses "path=value"; false with a message if there is no '=' or the path is empty.
+bool parseSceneOverride(const std::string& text, SceneOverride* out, std::string* error);
+// loadScene with the overrides applied to the JSON before validation, so an override is checked
+// exactly like the file itself (messages name the JSON path).
+SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverride>& overrides);
 
 // Parses and validates scene JSON; fileForMessages only prefixes error messages (sourcePath stays
 // empty).

@@ -3,6 +3,7 @@
 // Local frame: +z is the shading normal, wo points to the viewer, wi to the light.
 #ifndef BSDF_LAMBERT_GLSL
 #define BSDF_LAMBERT_GLSL
+#include "common.glsl"
 #include "../lib/sampling.glsl"
 
 vec3 lambertEval(vec3 albedo, vec3 wo, vec3 wi) {

@@ -19,7 +19,8 @@ void main() {
     uint dropped = 0u;
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
         uint rng = rngInit(pixelIndex, frame.image.z + s, frame.image.w);
-        Ray ray = cameraRay(pixel, rngNext2(rng));
+        vec2 uFilter = rngNext2(rng);
+        Ray ray = cameraRay(pixel, uFilter, rngNext2(rng));
         vec3 L = pathRadiance(ray, rng);
         if (any(isnan(L)) || any(isinf(L))) { ++dropped; continue; }
         sum += vec4(L, 1.0);

@@ -16,6 +16,7 @@
 #include "../lib/rng.glsl"
 #include "../geometry/intersect.glsl"
 #include "../bsdf/bsdf.glsl"
+#include "../bsdf/material.glsl"
 #include "../lights/lights.glsl"
 
 vec3 pathRadiance(Ray ray, inout uint rng) {
@@ -28,6 +29,10 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
     bool countEmitted = true;  // camera ray or after a delta bounce or BSDF-only: weight 1
     float prevBsdfPdf = 0.0;
     vec3 prevP = ray.o;
+    // Texture level of detail: a ray cone of the camera's pixel angle, its width grown along the
+    // whole path length (bsdf/material.glsl).
+    float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
+    float pathLength = 0.0;
 
     for (uint bounces = 0u;; ++bounces) {
         Hit hit;
@@ -63,10 +68,23 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
         }
         if (bounces >= maxDepth) break;
 
-        // Shading frame: two-sided surfaces, the normal turned towards the viewer.
-        vec3 n = dot(hit.ng, wo) < 0.0 ? -hit.ng : hit.ng;
+        // Textures, then the shading frame. Reflection-only models are two-sided: the normal is
+        // turned towards the viewer. Transmissive models keep the front (unflipped) normal, so
+        // that wo.z < 0 tells them the viewer is inside. A shading normal (normal map) that puts
+        // the viewer below the surface falls back to the geometric normal.
+        pathLength += hit.t;
+        float cosHit = abs(dot(hit.ng, wo));
+        float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
+        SurfacePoint sp = primitiveSurface(prim, hit.p);
+        mat = materialAtSurface(mat, sp, coneWidth);
+        vec3 ns = shadingNormalAt(mat, sp, hit.ng, coneWidth);
+        bool keepFront = bsdfHasTransmission(mat);
+        float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
+        vec3 n = side * ns;
+        if (dot(n, wo) * dot(side * hit.ng, wo) <= 0.0) n = side * hit.ng;
         Frame f = frameFromNormal(n);
         vec3 woL = toLocal(f, wo);
+        float ngWo = dot(hit.ng, wo);
 
         // Next event estimation.
         if (useLights) {
@@ -78,6 +96,9 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
             if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
                 vec3 wiL = toLocal(f, ls.wi);
                 vec3 fv = bsdfEval(mat, woL, wiL);
+                // Reflection and transmission as the geometry sees them must agree with the
+                // shading frame's (a shading normal must not leak light through the surface).
+                if ((woL.z * wiL.z > 0.0) != (ngWo * dot(hit.ng, ls.wi) > 0.0)) fv = vec3(0.0);
                 if (maxComponent(fv) > 0.0) {
                     bool occluded;
                     if (ls.dist >= FLT_MAX) {
@@ -98,13 +119,15 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
         }
 
         // Continuation ray by BSDF sampling.
-        BsdfSample bs = bsdfSample(mat, woL, rngNext2(rng));
+        vec2 uDir = rngNext2(rng);
+        BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, rngNext(rng)));
         if (bs.pdf <= 0.0) break;
+        vec3 wiW = toWorld(f, bs.wi);
+        if ((woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0)) break;
         beta *= bs.f * abs(bs.wi.z) / bs.pdf;
         countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
         prevBsdfPdf = bs.pdf;
         prevP = hit.p;
-        vec3 wiW = toWorld(f, bs.wi);
         ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         ray.d = wiW;
 

@@ -14,6 +14,12 @@ layout(std430, binding = BINDING_LIGHT_CDF) readonly buffer LightCdfBuffer { flo
 layout(binding = TEXUNIT_ENV_MAP) uniform sampler2D envMapTexture;
 layout(std430, binding = BINDING_ENV_MARGINAL) readonly buffer EnvMarginalBuffer { float envMarginalCdf[]; };
 layout(std430, binding = BINDING_ENV_CONDITIONAL) readonly buffer EnvConditionalBuffer { float envConditionalCdf[]; };
+// Material textures: every texture's mip chain in one buffer (RGBA as two packHalf2x16 words),
+// found through its GpuTexture descriptor (shaders/bsdf/texture.glsl reads them).
+layout(std430, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
+layout(std430, binding = BINDING_TEXTURES) readonly buffer TextureBuffer { GpuTexture textures[]; };
+// The directional albedo of the F = 1 GGX lobe (renderer/gpu_scene.cpp ggxAlbedoTable).
+layout(std430, binding = BINDING_BSDF_TABLES) readonly buffer BsdfTableBuffer { float ggxAlbedoTable[]; };
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 

@@ -31,6 +31,9 @@ using uint = std::uint32_t;
 #define BINDING_ENV_MARGINAL 6     // float[H + 1]: CDF over the environment map's rows
 #define BINDING_ENV_CONDITIONAL 8  // float[H * (W + 1)]: per row, the CDF over its columns
 #define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
+#define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
+#define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
+#define BINDING_BSDF_TABLES 11     // float[]: the GGX directional albedo table (GGX_ALBEDO_TABLE_SIZE^2)
 
 // Words of the counter buffer.
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
@@ -44,8 +47,22 @@ using uint = std::uint32_t;
 // Primitive flags (GpuPrimitive::info.w).
 #define PRIM_FLAG_ONE_SIDED_EMITTER 1u  // emits from its front face only (one-sided rect lights)
 
-// Material types.
-#define MAT_DIFFUSE 0u
+// Material types (GpuMaterial::info.x); the models are in shaders/bsdf/, one per file.
+#define MAT_DIFFUSE 0u              // Lambert
+#define MAT_OREN_NAYAR 1u           // qualitative Oren-Nayar (optionally compensated)
+#define MAT_EON 2u                  // energy-preserving Oren-Nayar (Portsmouth et al. 2025)
+#define MAT_MIRROR 3u               // perfect mirror (delta)
+#define MAT_TRANSMISSION 4u         // perfect transmission (delta)
+#define MAT_DIELECTRIC 5u           // smooth glass (two delta lobes)
+#define MAT_ROUGH_DIELECTRIC 6u     // GGX microfacet glass
+#define MAT_CONDUCTOR 7u            // smooth conductor (delta, complex Fresnel)
+#define MAT_ROUGH_CONDUCTOR 8u      // GGX microfacet conductor
+
+// Material flags (GpuMaterial::info.y).
+#define MAT_FLAG_ENERGY_COMPENSATION 1u  // Oren-Nayar: the global factor; rough conductor: multiple scattering
+#define MAT_FLAG_FRESNEL_ONE 2u          // conductor with F = 1 (the "perfect" metal)
+
+#define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 
 // Light types.
 #define LIGHT_RECT 0u
@@ -63,6 +80,11 @@ using uint = std::uint32_t;
 #define ENV_SKY 2u
 #define ENV_MAP 3u
 
+// Pixel filters (GpuFrame::camInfo.y).
+#define FILTER_BOX 0u
+#define FILTER_TENT 1u
+#define FILTER_GAUSSIAN 2u
+
 // Integrator strategies (GpuFrame::counts.w): MIS is the product; the other two exist so that
 // tests can show that all three estimate the same integral.
 #define STRATEGY_MIS 0u
@@ -79,11 +101,21 @@ CAUSTIC_STRUCT(GpuPrimitive) {
     uvec4 info;  // x: PRIM_*, y: material index, z: light index + 1 (0: not a light), w: PRIM_FLAG_*
 };
 
+// Which member means what for each model: the header of its file in shaders/bsdf/.
 CAUSTIC_STRUCT(GpuMaterial) {
-    vec4 albedo;    // rgb reflectance
+    vec4 albedo;    // rgb: diffuse albedo (diffuse models) or specular tint (the others)
     vec4 emission;  // rgb emitted radiance (both faces)
-    vec4 params;    // reserved for the material models to come
-    uvec4 info;     // x: MAT_*
+    vec4 params;    // x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
+    uvec4 info;     // x: MAT_*, y: MAT_FLAG_*
+    vec4 eta;       // conductors: rgb real part of the complex IOR
+    vec4 k;         // conductors: rgb imaginary part (extinction)
+    uvec4 textures; // texture index + 1 (0: none): x albedo (linear RGB), y normal map, z roughness (R)
+};
+
+// A texture in the texel buffer: its mip levels follow each other from `offset`, level l being
+// max(1, width >> l) x max(1, height >> l) texels, rows top to bottom.
+CAUSTIC_STRUCT(GpuTexture) {
+    uvec4 info;     // x: offset of level 0 (in texels), y: width, z: height, w: number of levels
 };
 
 // rect:   p0 = corner, p1.xyz = edge u, p1.w = area, p2.xyz = edge v
@@ -113,6 +145,8 @@ CAUSTIC_STRUCT(GpuFrame) {
     vec4 envHorizon;   // sky: radiance at the horizon (times intensity)
     vec4 envZenith;    // sky: radiance at the zenith (times intensity)
     vec4 envMap;       // map: x = cos(rotation), y = sin(rotation), z = intensity
+    vec4 camLens;      // x: aperture radius, y: focal distance, z: squeeze, w: blade rotation (rad)
+    uvec4 camInfo;     // x: blades (0: round), y: FILTER_*
 };
 
 #ifdef __cplusplus

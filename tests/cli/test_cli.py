@@ -6,6 +6,7 @@ Renders are small (64x64 at a few samples per pixel) so the module stays fast on
 """
 
 import json
+from pathlib import Path
 import os
 import re
 import shutil
@@ -370,9 +371,13 @@ class TestCommandLine(CliTestCase):
         self.assertTrue(r.stdout.startswith("caustic "), r.stdout)
         self.assertGreater(len(r.stdout.strip()), len("caustic"))
 
-    def test_no_scene_points_to_editor(self):
-        r = run_caustic()
-        self.assertFailsWith(r, "editor", code=2)
+    def test_no_scene_without_display_explains(self):
+        # Without --scene caustic opens the editor; with no display it must say so and point to
+        # batch mode, not crash.
+        r = run_caustic(env={"DISPLAY": "", "WAYLAND_DISPLAY": ""})
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("--scene", r.stderr)
+        self.assertRegex(r.stderr.lower(), "display|window")
 
     def test_unknown_option(self):
         r = run_caustic("--scene", CORNELL, "--bogus-flag")
@@ -404,7 +409,7 @@ class TestEnvironmentMap(CliTestCase):
         self.assertEqual(lit.returncode, 0, lit.stderr)
         # The box is open at the front: the sky adds light, so the image gets brighter.
         def mean(path):
-            _, _, rows = decode_hdr(open(path, "rb").read())
+            _, _, rows = decode_hdr(Path(path).read_bytes())
             return sum(sum(p) for row in rows for p in row) / (16 * 16 * 3)
         self.assertGreater(mean(lit.stdout.split()[0]), mean(dark.stdout.split()[0]))
 
@@ -414,6 +419,102 @@ class TestEnvironmentMap(CliTestCase):
                         "--output", os.path.join(self.tmp, "o"), "--envmap", path)
         self.assertFailsWith(r, path, code=1)
         self.assertIn("environment.file", r.stderr)
+
+
+def write_png_rgb(path, width, height, pixel):
+    """A tiny 8-bit RGB PNG, every pixel = pixel (r, g, b), filter 0 on every row."""
+    raw = b"".join(b"\x00" + bytes(pixel) * width for _ in range(height))
+    def chunk(ctype, payload):
+        return (struct.pack(">I", len(payload)) + ctype + payload +
+                struct.pack(">I", zlib.crc32(ctype + payload) & 0xFFFFFFFF))
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    Path(path).write_bytes(PNG_SIGNATURE + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)) +
+                           chunk(b"IEND", b""))
+
+
+class TestMaterialTextures(CliTestCase):
+    def scene_with_texture(self, texture):
+        scene = {
+            "version": 1,
+            "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 60},
+            "materials": [{"name": "brick", "albedo_texture": texture}],
+            "objects": [{"shape": "quad", "material": "brick"}],
+            "environment": {"type": "constant", "radiance": [1, 1, 1]},
+        }
+        path = os.path.join(self.tmp, "textured.json")
+        Path(path).write_text(json.dumps(scene))
+        return path
+
+    def test_png_albedo_texture_loads_and_renders(self):
+        write_png_rgb(os.path.join(self.tmp, "red.png"), 3, 2, (255, 0, 0))
+        out = os.path.join(self.tmp, "tex")
+        r = run_caustic("--scene", self.scene_with_texture("red.png"), "--width", "16", "--height", "16",
+                        "--samples", "4", "--output", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        _, rows = decode_png(Path(r.stdout.split()[0]).read_bytes())
+        r_, g_, b_ = rows[8][8]  # the quad fills the centre: red under a white sky
+        self.assertGreater(r_, 100)
+        self.assertLess(g_, 20)
+        self.assertLess(b_, 20)
+
+    def test_missing_texture_names_the_file_and_the_material(self):
+        r = run_caustic("--scene", self.scene_with_texture("no-such-texture.png"), "--width", "8",
+                        "--height", "8", "--samples", "1", "--output", os.path.join(self.tmp, "o"))
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("no-such-texture.png", r.stderr)
+        self.assertIn("'brick'", r.stderr)
+        self.assertIn("materials[0].albedo_texture", r.stderr)
+
+
+class TestScriptedRenders(CliTestCase):
+    def test_set_overrides_a_value_and_is_validated(self):
+        out = os.path.join(self.tmp, "set")
+        base = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--samples", "2",
+                           "--output", out, "--hdr")
+        self.assertEqual(base.returncode, 0, base.stderr)
+        _, _, rows = decode_hdr(Path(base.stdout.split()[0]).read_bytes())
+        dark = sum(sum(p) for row in rows for p in row)
+        # A brighter light through --set gives a brighter image; the override is a JSON value.
+        r = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--samples", "2",
+                        "--output", out, "--hdr", "--set", "lights[0].color=[180, 140, 70]")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        _, _, rows = decode_hdr(Path(r.stdout.split()[0]).read_bytes())
+        self.assertAlmostEqual(sum(sum(p) for row in rows for p in row) / dark, 10.0, delta=0.3)
+        # A bad override is reported with its JSON path, like a bad file.
+        bad = run_caustic("--scene", CORNELL, "--output", out, "--set", "camera.fov=500")
+        self.assertFailsWith(bad, "camera.fov", code=1)
+        missing = run_caustic("--scene", CORNELL, "--output", out, "--set", "materials[gold].albedo=[1,1,1]")
+        self.assertFailsWith(missing, "materials[gold]", code=1)
+
+    def test_sweep_of_two_values_of_two_parameters(self):
+        out = os.path.join(self.tmp, "sweep")
+        r = run_caustic("--scene", CORNELL, "--width", "16", "--height", "12", "--samples", "1",
+                        "--output", out, "--sweep", "camera.fov=30,50",
+                        "--sweep", "materials[red].albedo=[0.9,0.1,0.1],[0.1,0.1,0.9]")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        files = r.stdout.split()
+        self.assertEqual(len(files), 5, files)  # four variants and the sheet
+        for f in files[:4]:
+            ihdr, _ = decode_png(Path(f).read_bytes())
+            self.assertEqual((ihdr["width"], ihdr["height"]), (16, 12))
+        sheet = files[4]
+        self.assertTrue(sheet.endswith("cornell-box-sheet.png"))
+        ihdr, _ = decode_png(Path(sheet).read_bytes())
+        w, h = ihdr["width"], ihdr["height"]
+        # 2 x 2 cells of 16 x 12 with padding and label lines: wider than two, taller than two.
+        self.assertGreater(w, 32)
+        self.assertGreater(h, 24)
+        self.assertLess(w, 3 * 16)
+        self.assertEqual(len(set(files)), 5)
+
+    def test_time_budget(self):
+        out = os.path.join(self.tmp, "time")
+        r = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--time", "1",
+                        "--output", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stderr, r"\b([2-9]|[1-9][0-9]+)\d* spp in 1\.[0-9]+ s")
+        both = run_caustic("--scene", CORNELL, "--time", "1", "--samples", "4", "--output", out)
+        self.assertFailsWith(both, "--time", code=2)
 
 
 class TestBadInput(CliTestCase):

@@ -69,5 +69,8 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_FRAME(envRadiance);
     CHECK_FRAME(envHorizon);
     CHECK_FRAME(envZenith);
+    CHECK_FRAME(envMap);
+    CHECK_FRAME(camLens);
+    CHECK_FRAME(camInfo);
 #undef CHECK_FRAME
 }

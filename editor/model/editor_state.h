@@ -1,0 +1,125 @@
+// The editor's model: the scene being edited, the selection, the undo history, the file it
+// belongs to, and the dirty flags the renderer has not consumed yet. No ImGui, no GL: everything
+// here is unit-tested without a window (tests/editor/).
+#pragma once
+
+#include "editor/model/commands.h"
+#include "renderer/scene.h"
+#include "renderer/tonemap.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace caustic::editor {
+
+// How the viewport shows the render (not part of the scene file: a view preference).
+struct ViewSettings {
+    ToneMap toneMap = ToneMap::Aces;
+    float exposure = 0.0f;       // EV
+    bool fitToWindow = true;     // else 1:1 pixels
+};
+
+class EditorState {
+public:
+    EditorState();
+
+    Scene scene;
+    EntityRef selection;
+    ViewSettings view;
+    CommandStack history;
+    std::string path;            // the file the scene belongs to; empty while untitled
+
+    // Edits. apply() is a discrete edit (one undo step); applyContinuous() is one step of a drag
+    // or slider that merges with the previous step until seal() (call it on release).
+    void apply(std::unique_ptr<Command> command);
+    void applyContinuous(std::unique_ptr<Command> command);
+    void seal() { history.seal(); }
+    bool undo();
+    bool redo();
+
+    // Dirty flags accumulated by commands (and by opening a scene) until the renderer takes them.
+    void markDirty(std::uint32_t flags) { m_dirty |= flags; }
+    std::uint32_t takeDirty() { std::uint32_t d = m_dirty; m_dirty = kDirtyNone; return d; }
+    std::uint32_t pendingDirty() const { return m_dirty; }
+
+    bool modified() const { return !history.isClean(); }
+    std::string displayName() const;   // file name or "untitled", for the title bar
+
+    // Files. A failed open leaves everything as it was and returns the loader's message
+    // (file and JSON path). Saves are atomic (saveScene).
+    void newScene();                   // an empty scene with a camera and defaults
+    bool open(const std::string& file, std::string* error);
+    bool save(std::string* error);     // to `path`; fails when untitled
+    bool saveAs(const std::string& file, std::string* error);
+    // Adopts a scene (e.g. a recovered autosave) as modified and unsaved, belonging to `file`.
+    void adoptRecovered(Scene recovered, const std::string& file);
+
+    // The selected entity still exists (indices change under deletes); clears it when it does not.
+    void validateSelection();
+
+private:
+    std::uint32_t m_dirty = kDirtyAll;
+};
+
+// ---- Edits built from the current scene (the usual way to make a command) ---------------------
+
+std::unique_ptr<Command> makeSetObject(const EditorState& s, int index, Object after);
+std::unique_ptr<Command> makeSetLight(const EditorState& s, int index, Light after);
+std::unique_ptr<Command> makeSetMaterial(const EditorState& s, int index, Material after);
+std::unique_ptr<Command> makeSetCamera(const EditorState& s, Camera after);
+std::unique_ptr<Command> makeSetRender(const EditorState& s, RenderSettings after);
+std::unique_ptr<Command> makeSetEnvironment(const EditorState& s, Environment after);
+
+// Adds a primitive, light or material with a unique name in front of the camera's look-at point.
+std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape);
+std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type);
+std::unique_ptr<Command> makeAddMaterial(const EditorState& s);
+// Duplicates / deletes the entity `ref` (objects, lights, materials). Returns null with *why set
+// when it cannot (e.g. deleting a material that objects use).
+std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why);
+std::unique_ptr<Command> makeDelete(const EditorState& s, EntityRef ref, std::string* why);
+// Renames (names must stay unique among their kind; a material rename follows its users).
+std::unique_ptr<Command> makeRename(const EditorState& s, EntityRef ref, const std::string& name, std::string* why);
+
+// "box" -> "box", or "box 2", "box 3" ... whichever is free among `taken`.
+std::string uniqueName(const std::string& base, const std::vector<std::string>& taken);
+std::string entityName(const Scene& scene, EntityRef ref);
+// Finds an entity by kind and name (the singletons ignore the name).
+EntityRef findEntity(const Scene& scene, EntityKind kind, const std::string& name);
+
+// ---- Recent files and autosave (in the config folder) ------------------------------------------
+
+// $CAUSTIC_EDITOR_HOME, else $XDG_CONFIG_HOME/caustic, else $HOME/.config/caustic.
+std::string editorConfigDir();
+
+class RecentFiles {
+public:
+    static constexpr std::size_t kMax = 10;
+    void add(const std::string& file);             // most recent first, no duplicates
+    void remove(const std::string& file);
+    const std::vector<std::string>& files() const { return m_files; }
+    bool load(const std::string& listFile);        // one path per line; missing file = empty
+    bool save(const std::string& listFile, std::string* error) const;
+
+private:
+    std::vector<std::string> m_files;
+};
+
+// The autosave: the scene as JSON plus the path of the file it belongs to, written atomically.
+// A clean exit removes it; one found at start-up is offered back (the editor crashed or was killed).
+struct Autosave {
+    std::string scenePath;   // <dir>/autosave.json
+    std::string ownerPath;   // <dir>/autosave.owner: the original file ("" when untitled)
+
+    static Autosave in(const std::string& dir);
+    bool write(const Scene& scene, const std::string& owner, std::string* error) const;
+    bool exists() const;
+    // The recovered scene and its owner; nullopt with *error when it cannot be read.
+    std::optional<std::pair<Scene, std::string>> read(std::string* error) const;
+    void remove() const;
+};
+
+}  // namespace caustic::editor

@@ -1,0 +1,118 @@
+#include "editor/model/script.h"
+
+#include <charconv>
+#include <cstdlib>
+#include <map>
+
+namespace caustic::editor {
+namespace {
+
+struct Signature { int minArgs, maxArgs; const char* numeric; };  // numeric: 'n' per numeric arg position
+
+// The command table; docs/editor.md describes each command.
+const std::map<std::string, Signature>& commands() {
+    static const std::map<std::string, Signature> table = {
+        {"wait_samples", {1, 1, "n"}},        // render until N samples per pixel (and stop there)
+        {"frames", {1, 1, "n"}},              // let N frames pass
+        {"select", {1, 2, ""}},               // select <kind> [name]
+        {"translate", {3, 3, "nnn"}},         // move the selection by (x y z): one command
+        {"drag", {4, 4, "nnnn"}},             // drag the selection by (x y z) over N frames: one undo step
+        {"orbit", {2, 2, "nn"}},              // orbit the camera (yaw pitch degrees)
+        {"set_samples", {1, 1, "n"}},         // the render's target samples per pixel
+        {"undo", {0, 0, ""}},
+        {"redo", {0, 0, ""}},
+        {"open", {1, 1, ""}},
+        {"save", {0, 1, ""}},                 // save [as file]
+        {"write_image", {1, 1, ""}},          // the film, tone mapped as in batch mode (PNG)
+        {"screenshot", {1, 1, ""}},           // the whole window (PNG)
+        {"snapshot", {0, 0, ""}},             // lookdev snapshot
+        {"compare", {1, 1, ""}},              // on | off: split view snapshot | live
+        {"render_to_file", {1, 1, ""}},       // render the scene's samples and write the PNG
+        {"expect_error", {1, 1, ""}},         // the last error message contains the text
+        {"expect_undo_steps", {1, 1, "n"}},
+        {"report", {1, 1, ""}},               // frame-time and edit-latency figures as JSON
+        {"quit", {0, 0, ""}},
+    };
+    return table;
+}
+
+}  // namespace
+
+bool parseFloat(const std::string& s, float* out) {
+    if (s.empty()) return false;
+    char* end = nullptr;
+    const float v = std::strtof(s.c_str(), &end);
+    if (end != s.c_str() + s.size()) return false;
+    *out = v;
+    return true;
+}
+
+bool parseInt(const std::string& s, int* out) {
+    int v = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || ptr != s.data() + s.size()) return false;
+    *out = v;
+    return true;
+}
+
+ScriptParseResult parseScript(const std::string& text, const std::string& fileForMessages) {
+    ScriptParseResult result;
+    int lineNo = 0;
+    size_t pos = 0;
+    while (pos <= text.size()) {
+        size_t eol = text.find('\n', pos);
+        if (eol == std::string::npos) eol = text.size();
+        std::string line = text.substr(pos, eol - pos);
+        pos = eol + 1;
+        ++lineNo;
+        std::vector<std::string> words;
+        std::string word;
+        bool inQuotes = false, hasWord = false;
+        for (size_t i = 0; i < line.size(); ++i) {
+            const char c = line[i];
+            if (inQuotes) {
+                if (c == '"') inQuotes = false;
+                else word += c;
+            } else if (c == '"') {
+                inQuotes = true;
+                hasWord = true;
+            } else if (c == '#') {
+                break;
+            } else if (c == ' ' || c == '\t' || c == '\r') {
+                if (hasWord) words.push_back(word);
+                word.clear();
+                hasWord = false;
+            } else {
+                word += c;
+                hasWord = true;
+            }
+        }
+        auto fail = [&](const std::string& why) {
+            result.error = fileForMessages + ":" + std::to_string(lineNo) + ": " + why;
+            result.lines.clear();
+            return result;
+        };
+        if (inQuotes) return fail("unterminated quote");
+        if (hasWord) words.push_back(word);
+        if (words.empty()) continue;
+        ScriptLine sl{lineNo, words[0], std::vector<std::string>(words.begin() + 1, words.end())};
+        auto it = commands().find(sl.op);
+        if (it == commands().end()) return fail("unknown command '" + sl.op + "'");
+        const Signature& sig = it->second;
+        const int n = static_cast<int>(sl.args.size());
+        if (n < sig.minArgs || n > sig.maxArgs)
+            return fail(sl.op + ": expected " + std::to_string(sig.minArgs) +
+                        (sig.maxArgs != sig.minArgs ? " to " + std::to_string(sig.maxArgs) : std::string()) +
+                        " arguments, got " + std::to_string(n));
+        for (int i = 0; sig.numeric[i] && i < n; ++i) {
+            float f = 0.0f;
+            if (!parseFloat(sl.args[static_cast<size_t>(i)], &f))
+                return fail(sl.op + ": argument " + std::to_string(i + 1) + ": expected a number, got '" +
+                            sl.args[static_cast<size_t>(i)] + "'");
+        }
+        result.lines.push_back(std::move(sl));
+    }
+    return result;
+}
+
+}  // namespace caustic::editor

@@ -1,0 +1,248 @@
+#include "editor/model/viewport_math.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace caustic::editor {
+namespace {
+
+// Half extents of the image plane at distance 1, exactly as makeFrame computes them.
+glm::vec2 tanHalfExtents(const Camera& c, int w, int h) {
+    const float t = std::tan(glm::radians(c.fovDegrees) * 0.5f);
+    const float aspect = float(w) / float(h);
+    const bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
+                        (c.fovAxis == FovAxis::Larger && w > h);
+    return alongX ? glm::vec2(t, t / aspect) : glm::vec2(t * aspect, t);
+}
+
+struct Basis { glm::vec3 forward, right, up; };
+Basis basisOf(const Camera& c) {
+    glm::vec3 f = glm::normalize(c.lookAt - c.position);
+    glm::vec3 r = glm::normalize(glm::cross(f, c.up));
+    return {f, r, glm::cross(r, f)};
+}
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Ray parameters are in world units because the object-space direction is not renormalised.
+float hitUnitSphere(glm::vec3 o, glm::vec3 d) {
+    const float a = glm::dot(d, d), b = glm::dot(o, d), c = glm::dot(o, o) - 1.0f;
+    const float disc = b * b - a * c;
+    if (disc < 0.0f || a == 0.0f) return kInf;
+    const float s = std::sqrt(disc);
+    float t = (-b - s) / a;
+    if (t <= 1e-5f) t = (-b + s) / a;
+    return t > 1e-5f ? t : kInf;
+}
+
+float hitUnitQuad(glm::vec3 o, glm::vec3 d) {
+    if (std::abs(d.z) < 1e-12f) return kInf;
+    const float t = -o.z / d.z;
+    if (t <= 1e-5f) return kInf;
+    const glm::vec3 p = o + t * d;
+    return std::abs(p.x) <= 1.0f && std::abs(p.y) <= 1.0f ? t : kInf;
+}
+
+float hitUnitBox(glm::vec3 o, glm::vec3 d) {
+    float t0 = -kInf, t1 = kInf;
+    for (int i = 0; i < 3; ++i) {
+        if (std::abs(d[i]) < 1e-12f) {
+            if (std::abs(o[i]) > 1.0f) return kInf;
+            continue;
+        }
+        float a = (-1.0f - o[i]) / d[i], b = (1.0f - o[i]) / d[i];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+    }
+    if (t0 > t1) return kInf;
+    if (t0 > 1e-5f) return t0;
+    return t1 > 1e-5f ? t1 : kInf;
+}
+
+float hitTransformed(const glm::mat4& m, const Ray& ray, float (*hit)(glm::vec3, glm::vec3)) {
+    const float det = glm::determinant(m);
+    if (!std::isfinite(det) || std::abs(det) < 1e-20f) return kInf;
+    const glm::mat4 inv = glm::inverse(m);
+    return hit(glm::vec3(inv * glm::vec4(ray.origin, 1.0f)), glm::vec3(inv * glm::vec4(ray.direction, 0.0f)));
+}
+
+float hitSphere(glm::vec3 centre, float radius, const Ray& ray) {
+    return hitUnitSphere((ray.origin - centre) / radius, ray.direction / radius);
+}
+
+constexpr float kPointLightPickRadius = 0.05f;   // world units: a point light's clickable size
+
+std::pair<glm::vec3, glm::vec3> boundsOfUnitCube(const glm::mat4& m, bool flatZ) {
+    glm::vec3 lo(kInf), hi(-kInf);
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 c((i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? 1.0f : -1.0f);
+        if (flatZ) c.z = 0.0f;
+        const glm::vec3 p = glm::vec3(m * glm::vec4(c, 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return {lo, hi};
+}
+
+}  // namespace
+
+Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel) {
+    const Basis b = basisOf(camera);
+    const glm::vec2 t = tanHalfExtents(camera, width, height);
+    const float ndcX = 2.0f * pixel.x / float(width) - 1.0f;
+    const float ndcY = 1.0f - 2.0f * pixel.y / float(height);
+    return {camera.position, glm::normalize(b.forward + ndcX * t.x * b.right + ndcY * t.y * b.up)};
+}
+
+std::optional<PickHit> pick(const Scene& scene, const Ray& ray) {
+    std::optional<PickHit> best;
+    auto consider = [&](EntityRef ref, float t) {
+        if (t < kInf && (!best || t < best->distance)) best = PickHit{ref, t};
+    };
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        auto hit = o.shape == Shape::Sphere ? hitUnitSphere : o.shape == Shape::Quad ? hitUnitQuad : hitUnitBox;
+        consider({EntityKind::Object, static_cast<int>(i)}, hitTransformed(o.transform.toMatrix(), ray, hit));
+    }
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        const EntityRef ref{EntityKind::Light, static_cast<int>(i)};
+        switch (l.type) {
+            case LightType::Rect: consider(ref, hitTransformed(l.transform.toMatrix(), ray, hitUnitQuad)); break;
+            case LightType::Sphere: consider(ref, hitSphere(l.position, l.radius, ray)); break;
+            case LightType::Point:
+            case LightType::Spot: consider(ref, hitSphere(l.position, kPointLightPickRadius, ray)); break;
+        }
+    }
+    return best;
+}
+
+std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref) {
+    const size_t i = static_cast<size_t>(ref.index);
+    if (ref.kind == EntityKind::Object && ref.index >= 0 && i < scene.objects.size()) {
+        const Object& o = scene.objects[i];
+        return boundsOfUnitCube(o.transform.toMatrix(), o.shape == Shape::Quad);
+    }
+    if (ref.kind == EntityKind::Light && ref.index >= 0 && i < scene.lights.size()) {
+        const Light& l = scene.lights[i];
+        if (l.type == LightType::Rect) return boundsOfUnitCube(l.transform.toMatrix(), true);
+        const float r = l.type == LightType::Sphere ? l.radius : 0.25f;
+        return std::make_pair(l.position - glm::vec3(r), l.position + glm::vec3(r));
+    }
+    return std::nullopt;
+}
+
+std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene) {
+    std::optional<std::pair<glm::vec3, glm::vec3>> all;
+    auto add = [&](EntityRef ref) {
+        auto b = entityBounds(scene, ref);
+        if (!b || !std::isfinite(b->first.x) || !std::isfinite(b->second.x)) return;
+        if (!all) all = b;
+        else all = std::make_pair(glm::min(all->first, b->first), glm::max(all->second, b->second));
+    };
+    for (size_t i = 0; i < scene.objects.size(); ++i) add({EntityKind::Object, static_cast<int>(i)});
+    for (size_t i = 0; i < scene.lights.size(); ++i) add({EntityKind::Light, static_cast<int>(i)});
+    return all;
+}
+
+Camera orbit(const Camera& c, float yawDegrees, float pitchDegrees) {
+    Camera out = c;
+    const glm::vec3 up = glm::normalize(c.up);
+    glm::vec3 offset = c.position - c.lookAt;
+    // Yaw about the camera's up axis, then pitch about its right axis, never over the pole.
+    offset = glm::vec3(glm::rotate(glm::mat4(1.0f), glm::radians(yawDegrees), up) * glm::vec4(offset, 0.0f));
+    const glm::vec3 right = glm::normalize(glm::cross(-offset, up));
+    const float current = glm::degrees(std::asin(std::clamp(glm::dot(glm::normalize(offset), up), -1.0f, 1.0f)));
+    const float target = std::clamp(current + pitchDegrees, -89.0f, 89.0f);
+    offset = glm::vec3(glm::rotate(glm::mat4(1.0f), glm::radians(-(target - current)), right) * glm::vec4(offset, 0.0f));
+    out.position = c.lookAt + offset;
+    return out;
+}
+
+Camera pan(const Camera& c, float dx, float dy) {
+    const Basis b = basisOf(c);
+    const float distance = glm::length(c.lookAt - c.position);
+    const float scale = 2.0f * distance * std::tan(glm::radians(c.fovDegrees) * 0.5f);
+    const glm::vec3 move = (-dx * b.right + dy * b.up) * scale;
+    Camera out = c;
+    out.position += move;
+    out.lookAt += move;
+    return out;
+}
+
+Camera dolly(const Camera& c, float factor) {
+    Camera out = c;
+    const glm::vec3 offset = c.position - c.lookAt;
+    const float d = glm::length(offset);
+    const float nd = std::max(d * factor, 1e-3f);
+    out.position = c.lookAt + offset * (nd / d);
+    return out;
+}
+
+Camera fly(const Camera& c, glm::vec3 localMove) {
+    const Basis b = basisOf(c);
+    const glm::vec3 move = localMove.x * b.right + localMove.y * b.up + localMove.z * b.forward;
+    Camera out = c;
+    out.position += move;
+    out.lookAt += move;
+    return out;
+}
+
+Camera frameBounds(const Camera& c, glm::vec3 lo, glm::vec3 hi, float aspect) {
+    const glm::vec3 centre = 0.5f * (lo + hi);
+    const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+    // The smaller half-angle of the view must hold the bounding sphere.
+    float halfFov = glm::radians(c.fovDegrees) * 0.5f;
+    if (aspect < 1.0f && (c.fovAxis == FovAxis::Y || c.fovAxis == FovAxis::Larger))
+        halfFov = std::atan(std::tan(halfFov) * aspect);
+    if (aspect > 1.0f && (c.fovAxis == FovAxis::X || c.fovAxis == FovAxis::Larger))
+        halfFov = std::atan(std::tan(halfFov) / aspect);
+    const float distance = radius / std::sin(halfFov) * 1.1f;
+    Camera out = c;
+    const glm::vec3 dir = glm::normalize(c.position - c.lookAt);
+    out.lookAt = centre;
+    out.position = centre + dir * distance;
+    return out;
+}
+
+glm::mat4 viewMatrix(const Camera& c) { return glm::lookAt(c.position, c.lookAt, c.up); }
+
+glm::mat4 projectionMatrix(const Camera& c, int width, int height, float zNear, float zFar) {
+    const glm::vec2 t = tanHalfExtents(c, width, height);
+    return glm::perspective(2.0f * std::atan(t.y), t.x / t.y, zNear, zFar);
+}
+
+Transform transformFromMatrix(const glm::mat4& m) {
+    Transform t;
+    t.translate = glm::vec3(m[3]);
+    glm::vec3 cols[3] = {glm::vec3(m[0]), glm::vec3(m[1]), glm::vec3(m[2])};
+    glm::vec3 s(glm::length(cols[0]), glm::length(cols[1]), glm::length(cols[2]));
+    if (glm::determinant(glm::mat3(m)) < 0.0f) s.x = -s.x;
+    for (int i = 0; i < 3; ++i) cols[i] = s[i] != 0.0f ? cols[i] / s[i] : glm::vec3(0.0f);
+    t.scale = s;
+    // R = Rz(c) Ry(b) Rx(a); cols[col][row]. R[2][0] (row 2, column 0) = -sin b.
+    const float sb = std::clamp(-cols[0][2], -1.0f, 1.0f);
+    const float b = std::asin(sb);
+    float a = 0.0f, c = 0.0f;
+    if (std::abs(sb) < 0.99999f) {
+        a = std::atan2(cols[1][2], cols[2][2]);   // R[2][1], R[2][2]
+        c = std::atan2(cols[0][1], cols[0][0]);   // R[1][0], R[0][0]
+    } else {
+        // Gimbal lock: only a - c (b = +90) or a + c (b = -90) is defined; put it all in a.
+        a = sb > 0.0f ? std::atan2(cols[1][0], cols[1][1]) : std::atan2(-cols[1][0], cols[1][1]);
+    }
+    t.rotate = glm::degrees(glm::vec3(a, b, c));
+    return t;
+}
+
+glm::vec3 snapTo(glm::vec3 v, float step) {
+    if (step <= 0.0f) return v;
+    return glm::round(v / step) * step;
+}
+
+}  // namespace caustic::editor

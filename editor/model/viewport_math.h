@@ -1,0 +1,58 @@
+// The viewport's geometry on the CPU: camera rays that match the GPU camera exactly
+// (renderer/gpu_scene.cpp makeFrame, shaders/integrator/camera.glsl), picking against the
+// scene's canonical shapes and lights, bounds for "frame selected", camera navigation (orbit,
+// pan, dolly, fly, frame), the view/projection matrices for the gizmo, and the inverse of
+// Transform::toMatrix. Pure functions, unit-tested.
+#pragma once
+
+#include "editor/model/commands.h"
+#include "renderer/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <utility>
+
+namespace caustic::editor {
+
+struct Ray {
+    glm::vec3 origin{0.0f};
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};   // normalised
+};
+
+// The ray through image position `pixel` (continuous, (0,0) = top-left corner of the image,
+// (width, height) = bottom-right) of a width x height render.
+Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel);
+
+struct PickHit {
+    EntityRef ref;
+    float distance = 0.0f;
+};
+// The nearest object or light the ray hits (point and spot lights count as small spheres).
+std::optional<PickHit> pick(const Scene& scene, const Ray& ray);
+
+// World-space bounds of an entity (objects and lights); nullopt for the singletons.
+std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref);
+// Bounds of everything in the scene (for framing when nothing is selected).
+std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene);
+
+// Camera navigation. Angles in degrees; pan offsets in fractions of the view height.
+Camera orbit(const Camera& c, float yawDegrees, float pitchDegrees);
+Camera pan(const Camera& c, float dx, float dy);
+Camera dolly(const Camera& c, float factor);          // distance to the look-at point *= factor
+Camera fly(const Camera& c, glm::vec3 localMove);     // x right, y up, z forward, world units
+Camera frameBounds(const Camera& c, glm::vec3 lo, glm::vec3 hi, float aspect);
+
+// The camera as matrices for ImGuizmo (OpenGL conventions, column-major).
+glm::mat4 viewMatrix(const Camera& c);
+glm::mat4 projectionMatrix(const Camera& c, int width, int height, float zNear, float zFar);
+
+// M = T * Rz * Ry * Rx * S back to translate / rotate (degrees) / scale. Shear is dropped; a
+// negative determinant becomes a negative x scale. toMatrix(fromMatrix(M)) == M for any M that
+// toMatrix can make (up to rounding).
+Transform transformFromMatrix(const glm::mat4& m);
+
+// Snaps every component to a multiple of step (no-op for step <= 0).
+glm::vec3 snapTo(glm::vec3 v, float step);
+
+}  // namespace caustic::editor

@@ -1,0 +1,515 @@
+#include "editor/ui/editor_app.h"
+
+#include "editor/model/viewport_math.h"
+#include "editor/ui/editor_ui.h"
+#include "editor/ui/script_runner.h"
+#include "renderer/gl_context.h"
+#include "renderer/image_io.h"
+#include "renderer/shader_loader.h"
+
+#include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <imgui.h>
+#include <imgui_internal.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+#include <ImGuizmo.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+namespace fs = std::filesystem;
+
+namespace caustic::editor {
+namespace {
+
+constexpr double kFrameTarget = 1.0 / 30.0;    // the UI must keep >= 30 fps
+constexpr double kAutosaveSeconds = 30.0;
+constexpr double kInteractionHold = 0.25;      // preview resolution lasts this long after a drag
+
+double now() { return glfwGetTime(); }
+
+void glfwError(int code, const char* what) { std::fprintf(stderr, "caustic: GLFW error %d: %s\n", code, what); }
+
+void* glfwLoader(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+
+void updateTitle(EditorUi& ui) {
+    std::string title = (ui.state.modified() ? "* " : "") + ui.state.displayName() + " - caustic";
+    glfwSetWindowTitle(ui.window, title.c_str());
+}
+
+// The default layout: outliner left, inspector right, viewport in the middle.
+void buildDefaultLayout(ImGuiID dockspace, ImVec2 size) {
+    ImGui::DockBuilderRemoveNode(dockspace);
+    ImGui::DockBuilderAddNode(dockspace, ImGuiDockNodeFlags_DockSpace);
+    ImGui::DockBuilderSetNodeSize(dockspace, size);
+    ImGuiID centre = dockspace;
+    ImGuiID left = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Left, 0.20f, nullptr, &centre);
+    ImGuiID right = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Right, 0.27f, nullptr, &centre);
+    ImGui::DockBuilderDockWindow("Outliner", left);
+    ImGui::DockBuilderDockWindow("Inspector", right);
+    ImGui::DockBuilderDockWindow("Viewport", centre);
+    ImGui::DockBuilderFinish(dockspace);
+}
+
+void drawDockSpace(EditorUi& ui) {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    // Leave room for the status bar at the bottom.
+    const float statusHeight = ImGui::GetFrameHeight();
+    ImGui::SetNextWindowPos(vp->WorkPos);
+    ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x, vp->WorkSize.y - statusHeight));
+    ImGui::SetNextWindowViewport(vp->ID);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoResize |
+                                   ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoBringToFrontOnFocus |
+                                   ImGuiWindowFlags_NoNavFocus | ImGuiWindowFlags_NoDocking | ImGuiWindowFlags_NoBackground;
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0.0f, 0.0f));
+    ImGui::Begin("##dockspace-host", nullptr, flags);
+    ImGui::PopStyleVar(3);
+    const ImGuiID id = ImGui::GetID("caustic-dockspace");
+    if (ui.resetLayout || !ImGui::DockBuilderGetNode(id) || ImGui::DockBuilderGetNode(id)->IsLeafNode()) {
+        buildDefaultLayout(id, ImVec2(vp->WorkSize.x, vp->WorkSize.y - statusHeight));
+        ui.resetLayout = false;
+    }
+    ImGui::DockSpace(id, ImVec2(0.0f, 0.0f), ImGuiDockNodeFlags_None);
+    ImGui::End();
+}
+
+void drawModals(EditorUi& ui) {
+    if (ui.unsavedPromptRequested) {
+        ImGui::OpenPopup("Unsaved changes");
+        ui.unsavedPromptRequested = false;
+    }
+    if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("'%s' has unsaved changes.", ui.state.displayName().c_str());
+        if (ImGui::Button("Save")) {
+            ImGui::CloseCurrentPopup();
+            if (ui.state.path.empty()) {
+                openFileBrowser(ui, FileBrowserState::Mode::SaveAs);   // the action runs after it saves
+            } else if (saveFile(ui, ui.state.path) && ui.afterUnsavedPrompt) {
+                auto action = std::move(ui.afterUnsavedPrompt);
+                ui.afterUnsavedPrompt = nullptr;
+                action();
+            }
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Discard")) {
+            ImGui::CloseCurrentPopup();
+            if (ui.afterUnsavedPrompt) {
+                auto action = std::move(ui.afterUnsavedPrompt);
+                ui.afterUnsavedPrompt = nullptr;
+                action();
+            }
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGuiKey_Escape)) {
+            ui.afterUnsavedPrompt = nullptr;
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
+    }
+    if (ui.recoveryPromptRequested) {
+        ImGui::OpenPopup("Recover unsaved work?");
+        ui.recoveryPromptRequested = false;
+    }
+    if (ImGui::BeginPopupModal("Recover unsaved work?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::TextUnformatted("The editor did not close cleanly last time. An autosave exists");
+        if (ui.recovered) ImGui::Text("of '%s'.", ui.recovered->second.empty() ? "an untitled scene" : ui.recovered->second.c_str());
+        if (ImGui::Button("Recover")) {
+            if (ui.recovered) ui.state.adoptRecovered(std::move(ui.recovered->first), ui.recovered->second);
+            ui.recovered.reset();
+            notify(ui, "recovered the autosave; save it to keep it");
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Discard it")) {
+            ui.recovered.reset();
+            ui.autosave.remove();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
+    }
+    if (ui.errorPopupRequested) {
+        ImGui::OpenPopup("Error");
+        ui.errorPopupRequested = false;
+    }
+    if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+        ImGui::TextUnformatted(ui.errorPopup.c_str());
+        ImGui::PopTextWrapPos();
+        if (ImGui::Button("OK") || ImGui::IsKeyPressed(ImGuiKey_Enter) || ImGui::IsKeyPressed(ImGuiKey_Escape))
+            ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+}
+
+// Global shortcuts; ImGui text fields keep their keys.
+void handleShortcuts(EditorUi& ui) {
+    ImGuiIO& io = ImGui::GetIO();
+    if (io.WantTextInput) return;
+    const bool ctrl = io.KeyCtrl, shift = io.KeyShift;
+    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_Z, false)) {
+        if (shift) ui.state.redo();
+        else ui.state.undo();
+    }
+    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_Y, false)) ui.state.redo();
+    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_S, false)) {
+        if (shift) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
+        else saveOrSaveAs(ui);
+    }
+    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_O, false))
+        guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); });
+    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_D, false) && ui.state.selection) {
+        std::string why;
+        if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+    }
+    if (ImGui::IsKeyPressed(ImGuiKey_Delete, false) && ui.state.selection && !io.WantCaptureKeyboard) {
+        std::string why;
+        if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+        else if (!why.empty()) notify(ui, why, true);
+    }
+    if (ImGui::IsKeyPressed(ImGuiKey_F5, false)) reloadShaders(ui);
+}
+
+// Applies pending edits to the renderer, renders this frame's samples and tone maps them.
+void renderFrame(EditorUi& ui) {
+    if (!ui.renderer) return;
+    const double t = now();
+    const RenderSettings& rs = ui.state.scene.render;
+    const long long fullPixels = static_cast<long long>(rs.width) * rs.height;
+    // While something is dragged, shrink the image if one full sample would not fit the budget.
+    const double budget = std::clamp(kFrameTarget - ui.uiSeconds - 0.002, 0.004, kFrameTarget);
+    const bool recentlyInteracting = ui.interacting || (t - ui.lastInteraction) < kInteractionHold;
+    const int divisor = recentlyInteracting ? std::max(ui.previewDivisor, ui.pacer.previewDivisor(fullPixels, budget)) : 1;
+    std::uint32_t dirty = ui.state.takeDirty();
+    if (divisor != ui.previewDivisor) dirty |= kDirtySettings;
+    if (dirty != kDirtyNone || !ui.sceneUploaded) {
+        Scene scene = ui.state.scene;
+        scene.render.width = std::max(1, rs.width / divisor);
+        scene.render.height = std::max(1, rs.height / divisor);
+        std::string error;
+        const bool ok = ui.sceneUploaded ? ui.renderer->update(scene, dirty, &error) : ui.renderer->setScene(scene, &error);
+        if (ok) {
+            ui.sceneUploaded = true;
+            ui.previewDivisor = divisor;
+            if (!ui.renderError.empty()) ui.renderError.clear();
+        } else {
+            // The renderer keeps the last scene it could compile; the message stays on screen.
+            ui.renderError = error;
+            notify(ui, error, true);
+        }
+    }
+    if (!ui.sceneUploaded) return;
+    const int width = std::max(1, rs.width / ui.previewDivisor), height = std::max(1, rs.height / ui.previewDivisor);
+    int target = rs.samples;
+    if (ui.sampleCap) target = std::min(target, *ui.sampleCap);
+    const int done = ui.renderer->samplesDone();
+    ui.samplesThisFrame = 0;
+    if (done < target) {
+        const long long pixels = static_cast<long long>(width) * height;
+        const int n = std::min(ui.pacer.samplesForFrame(pixels, budget), target - done);
+        const double r0 = now();
+        ui.renderer->render(n);
+        const double seconds = now() - r0;
+        ui.pacer.record(n, pixels, seconds);
+        ui.renderSeconds = seconds;
+        ui.samplesThisFrame = n;
+        const double rate = n / std::max(seconds, 1e-6);
+        ui.samplesPerSecond = ui.samplesPerSecond == 0.0 ? rate : 0.8 * ui.samplesPerSecond + 0.2 * rate;
+    } else {
+        ui.renderSeconds = 0.0;
+    }
+    if (t - ui.lastCounterRead > 0.5 || ui.samplesThisFrame == 0) {
+        ui.droppedSamples = ui.renderer->droppedSamples();
+        ui.lastCounterRead = t;
+    }
+    if (ui.display) ui.display->update(ui.renderer->accumulationTexture(), width, height, ui.state.view.toneMap, ui.state.view.exposure);
+
+    // "Render to file": written once the full-resolution image has all its samples.
+    if (ui.renderToFile && ui.previewDivisor == 1 && ui.renderer->samplesDone() >= rs.samples) {
+        std::string error;
+        const std::string file = *ui.renderToFile;
+        ui.renderToFile.reset();
+        if (writeFilmImage(ui, file, &error)) notify(ui, "wrote " + file);
+        else showError(ui, error);
+    }
+}
+
+void autosaveTick(EditorUi& ui) {
+    const double t = now();
+    if (t - ui.lastAutosave < kAutosaveSeconds) return;
+    ui.lastAutosave = t;
+    if (!ui.state.modified() || ui.recovered) return;
+    std::string error;
+    if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) notify(ui, "autosave failed: " + error, true);
+}
+
+void applyStyle() {
+    ImGui::StyleColorsDark();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 2.0f;
+    style.FrameRounding = 2.0f;
+    style.GrabRounding = 2.0f;
+    style.WindowPadding = ImVec2(6.0f, 6.0f);
+    style.ItemSpacing = ImVec2(6.0f, 4.0f);
+}
+
+}  // namespace
+
+int runEditor(const std::optional<std::string>& sceneFile) {
+    glfwSetErrorCallback(glfwError);
+    if (!glfwInit()) {
+        std::fprintf(stderr, "caustic: error: cannot open a window (no display? set DISPLAY or use xvfb-run); "
+                             "render in batch mode with --scene <file.json>\n");
+        return 1;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    int winW = 1400, winH = 860;
+    if (const char* size = std::getenv("CAUSTIC_EDITOR_WINDOW")) std::sscanf(size, "%dx%d", &winW, &winH);
+    GLFWwindow* window = glfwCreateWindow(winW, winH, "caustic", nullptr, nullptr);
+    if (!window) {
+        std::fprintf(stderr, "caustic: error: cannot create an OpenGL 4.5 core window\n");
+        glfwTerminate();
+        return 1;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(0);   // the frame loop paces itself; vsync would only add latency
+    std::string error;
+    const char* debugEnv = std::getenv("CAUSTIC_GL_DEBUG");
+    if (!loadGlFunctions(glfwLoader, debugEnv && *debugEnv && *debugEnv != '0', &error)) {
+        std::fprintf(stderr, "caustic: error: %s\n", error.c_str());
+        glfwDestroyWindow(window);
+        glfwTerminate();
+        return 1;
+    }
+
+    int exitCode = 0;
+    {
+        auto ui = std::make_unique<EditorUi>();
+        ui->window = window;
+        const std::string configDir = editorConfigDir();
+        std::error_code ec;
+        fs::create_directories(configDir, ec);
+        ui->recentListPath = (fs::path(configDir) / "recent.txt").string();
+        ui->recent.load(ui->recentListPath);
+        ui->autosave = Autosave::in(configDir);
+        static std::string iniPath;   // ImGui keeps the pointer
+        iniPath = (fs::path(configDir) / "layout.ini").string();
+
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGuiIO& io = ImGui::GetIO();
+        io.ConfigFlags |= ImGuiConfigFlags_DockingEnable | ImGuiConfigFlags_NavEnableKeyboard;
+        io.IniFilename = iniPath.c_str();
+        applyStyle();
+        ImGui_ImplGlfw_InitForOpenGL(window, true);
+        ImGui_ImplOpenGL3_Init("#version 450 core");
+
+        ui->shaderDir = defaultShaderDir();
+        ui->renderer = Renderer::create(ui->shaderDir, &error);
+        if (ui->renderer) ui->renderer->setImageReader(readImage);
+        else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
+        ui->display = Display::create(ui->shaderDir, &error);
+        if (!ui->display) showError(*ui, error);
+
+        if (const char* scriptFile = std::getenv("CAUSTIC_EDITOR_SCRIPT"); scriptFile && *scriptFile) {
+            ui->script = std::make_unique<ScriptRunner>();
+            if (!ui->script->load(scriptFile, &error)) {
+                std::fprintf(stderr, "caustic: error: %s\n", error.c_str());
+                exitCode = 1;
+                ui->quit = true;
+            }
+        }
+        if (ui->autosave.exists() && !ui->script) {
+            ui->recovered = ui->autosave.read(&error);
+            if (ui->recovered) ui->recoveryPromptRequested = true;
+        }
+        if (sceneFile) openFile(*ui, *sceneFile);
+
+        ui->lastAutosave = now();
+        double frameStart = now();
+        while (!ui->quit) {
+            // Converged and idle: sleep until input instead of spinning.
+            const bool busy = ui->renderer && ui->sceneUploaded &&
+                              ui->renderer->samplesDone() < std::min(ui->state.scene.render.samples, ui->sampleCap.value_or(1 << 30));
+            if (!busy && !ui->script && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
+            else glfwPollEvents();
+            if (glfwWindowShouldClose(window)) {
+                glfwSetWindowShouldClose(window, GLFW_FALSE);
+                guardUnsaved(*ui, [u = ui.get()] { u->quit = true; });
+            }
+            const double uiStart = now();
+            try {
+                ImGui_ImplOpenGL3_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+                ImGuizmo::BeginFrame();
+                drawMenuBar(*ui);
+                drawDockSpace(*ui);
+                drawOutlinerPanel(*ui);
+                drawInspectorPanel(*ui);
+                drawViewportPanel(*ui);
+                drawStatusBar(*ui);
+                drawFileBrowser(*ui);
+                drawModals(*ui);
+                handleShortcuts(*ui);
+                if (ui->lastWheel >= 0.0 && now() - ui->lastWheel > 0.5) {
+                    ui->state.seal();   // a pause ends one zoom gesture
+                    ui->lastWheel = -1.0;
+                }
+                if (ui->script) ui->script->step(*ui);
+                ImGui::Render();
+            } catch (const std::exception& e) {
+                // No exception crosses the frame loop: report it and carry on with the next frame.
+                showError(*ui, std::string("unexpected failure: ") + e.what());
+                ImGui::EndFrame();
+            }
+            ui->uiSeconds = 0.8 * ui->uiSeconds + 0.2 * (now() - uiStart);
+            try {
+                renderFrame(*ui);
+            } catch (const std::exception& e) {
+                showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
+            }
+            int fbw = 0, fbh = 0;
+            glfwGetFramebufferSize(window, &fbw, &fbh);
+            glViewport(0, 0, fbw, fbh);
+            glClearColor(0.1f, 0.1f, 0.11f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            if (ImDrawData* dd = ImGui::GetDrawData(); dd && dd->Valid) ImGui_ImplOpenGL3_RenderDrawData(dd);
+            if (ui->script) ui->script->afterDraw(*ui, fbw, fbh);
+            glfwSwapBuffers(window);
+            const double t = now();
+            ui->frameSeconds = t - frameStart;
+            frameStart = t;
+            if (ui->script) ui->script->afterSwap(*ui, ui->frameSeconds);
+            updateTitle(*ui);
+            if (!ui->script) autosaveTick(*ui);
+        }
+        if (ui->script && ui->script->failed()) exitCode = 1;
+        // A clean exit: nothing to recover next time (unless the offer was never answered, or a
+        // script ran, which never touches the user's autosave).
+        if (!ui->recovered && !ui->script) ui->autosave.remove();
+        std::string recentError;
+        ui->recent.save(ui->recentListPath, &recentError);
+        ui->display.reset();
+        ui->renderer.reset();
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return exitCode;
+}
+
+// ---- Actions shared by the panels ---------------------------------------------------------------
+
+void notify(EditorUi& ui, const std::string& message, bool isError) {
+    ui.lastMessage = message;
+    ui.lastMessageIsError = isError;
+    if (isError) std::fprintf(stderr, "caustic: %s\n", message.c_str());
+}
+
+void showError(EditorUi& ui, const std::string& message) {
+    notify(ui, message, true);
+    ui.errorPopup = message;
+    ui.errorPopupRequested = true;
+}
+
+bool openFile(EditorUi& ui, const std::string& file) {
+    std::string error;
+    if (!ui.state.open(file, &error)) {
+        showError(ui, "could not open the scene; the current one is kept.\n" + error);
+        ui.recent.remove(file);
+        return false;
+    }
+    ui.recent.add(fs::absolute(file).lexically_normal().string());
+    std::string ignored;
+    ui.recent.save(ui.recentListPath, &ignored);
+    ui.renderToFile.reset();
+    notify(ui, "opened " + file);
+    return true;
+}
+
+bool saveFile(EditorUi& ui, const std::string& file) {
+    std::string error;
+    if (!ui.state.saveAs(file, &error)) {
+        showError(ui, "could not save; nothing was overwritten.\n" + error);
+        return false;
+    }
+    ui.recent.add(fs::absolute(file).lexically_normal().string());
+    std::string ignored;
+    ui.recent.save(ui.recentListPath, &ignored);
+    ui.autosave.remove();
+    notify(ui, "saved " + file);
+    return true;
+}
+
+void saveOrSaveAs(EditorUi& ui) {
+    if (ui.state.path.empty()) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
+    else saveFile(ui, ui.state.path);
+}
+
+void guardUnsaved(EditorUi& ui, std::function<void()> action) {
+    if (!ui.state.modified()) {
+        action();
+        return;
+    }
+    ui.afterUnsavedPrompt = std::move(action);
+    ui.unsavedPromptRequested = true;
+}
+
+void frameSelection(EditorUi& ui) {
+    auto b = entityBounds(ui.state.scene, ui.state.selection);
+    if (!b) b = sceneBounds(ui.state.scene);
+    if (!b) return;
+    const RenderSettings& rs = ui.state.scene.render;
+    ui.state.apply(makeSetCamera(ui.state, frameBounds(ui.state.scene.camera, b->first, b->second,
+                                                       float(rs.width) / float(rs.height))));
+}
+
+void reloadShaders(EditorUi& ui) {
+    std::string error;
+    auto fresh = Renderer::create(ui.shaderDir, &error);
+    if (!fresh) {
+        showError(ui, "shader reload failed; the last working shaders stay in use.\n" + error);
+        return;
+    }
+    fresh->setImageReader(readImage);
+    ui.renderer = std::move(fresh);
+    ui.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
+    notify(ui, "shaders reloaded");
+}
+
+void startRenderToFile(EditorUi& ui, const std::string& file) {
+    ui.renderToFile = file;
+    ui.sampleCap.reset();
+    notify(ui, "rendering " + std::to_string(ui.state.scene.render.samples) + " spp to " + file);
+}
+
+bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error) {
+    if (!ui.renderer || !ui.sceneUploaded) {
+        *error = "nothing rendered yet";
+        return false;
+    }
+    const Film film = ui.renderer->readFilm();
+    ImageMetadata meta = {
+        {"Software", "caustic editor"},
+        {"caustic:scene", ui.state.path},
+        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
+        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
+    };
+    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
+}
+
+}  // namespace caustic::editor

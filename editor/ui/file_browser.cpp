@@ -1,0 +1,115 @@
+// The in-app file browser (a modal): folders and .json scenes (or .png images when choosing a
+// render's output), a path field, Up, and OK/Cancel. Used for Open, Save As and Render to file.
+#include "editor/ui/editor_ui.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace caustic::editor {
+
+void openFileBrowser(EditorUi& ui, FileBrowserState::Mode mode) {
+    FileBrowserState& b = ui.browser;
+    b.open = true;
+    b.justOpened = true;
+    b.mode = mode;
+    std::error_code ec;
+    const fs::path current = ui.state.path.empty() ? fs::current_path(ec) : fs::absolute(ui.state.path, ec).parent_path();
+    if (b.directory.empty() || mode != FileBrowserState::Mode::RenderTo) b.directory = current.string();
+    if (mode == FileBrowserState::Mode::SaveAs) b.fileName = ui.state.path.empty() ? "scene.json" : fs::path(ui.state.path).filename().string();
+    else if (mode == FileBrowserState::Mode::RenderTo) b.fileName = (ui.state.path.empty() ? std::string("render") : fs::path(ui.state.path).stem().string()) + ".png";
+    else b.fileName.clear();
+}
+
+void drawFileBrowser(EditorUi& ui) {
+    FileBrowserState& b = ui.browser;
+    const char* title = b.mode == FileBrowserState::Mode::Open ? "Open scene###files"
+                        : b.mode == FileBrowserState::Mode::SaveAs ? "Save scene as###files"
+                                                                     : "Render to file###files";
+    if (b.justOpened) {
+        ImGui::OpenPopup("###files");
+        b.justOpened = false;
+    }
+    ImGui::SetNextWindowSize(ImVec2(640.0f, 440.0f), ImGuiCond_Appearing);
+    if (!ImGui::BeginPopupModal(title, &b.open)) return;
+    const std::string wanted = b.mode == FileBrowserState::Mode::RenderTo ? ".png" : ".json";
+
+    char dir[1024];
+    std::strncpy(dir, b.directory.c_str(), sizeof dir - 1);
+    dir[sizeof dir - 1] = '\0';
+    if (ImGui::Button("Up")) b.directory = fs::path(b.directory).parent_path().string();
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1.0f);
+    if (ImGui::InputText("##dir", dir, sizeof dir, ImGuiInputTextFlags_EnterReturnsTrue)) b.directory = dir;
+
+    // The listing (folders first); an unreadable folder says so instead of throwing.
+    std::vector<fs::directory_entry> dirs, files;
+    std::error_code ec;
+    for (fs::directory_iterator it(b.directory, fs::directory_options::skip_permission_denied, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.empty() || name[0] == '.') continue;
+        std::error_code e2;
+        if (it->is_directory(e2)) dirs.push_back(*it);
+        else if (it->path().extension() == wanted) files.push_back(*it);
+    }
+    auto byName = [](const fs::directory_entry& a, const fs::directory_entry& c) { return a.path().filename() < c.path().filename(); };
+    std::sort(dirs.begin(), dirs.end(), byName);
+    std::sort(files.begin(), files.end(), byName);
+    bool accept = false;
+    ImGui::BeginChild("listing", ImVec2(0.0f, -ImGui::GetFrameHeightWithSpacing() * 2.2f), ImGuiChildFlags_Borders);
+    if (ec) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "cannot list this folder: %s", ec.message().c_str());
+    else if (dirs.empty() && files.empty()) ImGui::TextDisabled("no folders or %s files here", wanted.c_str());
+    for (const auto& d : dirs) {
+        if (ImGui::Selectable(("[dir] " + d.path().filename().string()).c_str(), false, ImGuiSelectableFlags_AllowDoubleClick) &&
+            ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
+            b.directory = d.path().string();
+    }
+    for (const auto& f : files) {
+        const std::string name = f.path().filename().string();
+        if (ImGui::Selectable(name.c_str(), name == b.fileName, ImGuiSelectableFlags_AllowDoubleClick)) {
+            b.fileName = name;
+            if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) accept = true;
+        }
+    }
+    ImGui::EndChild();
+    char nameBuf[512];
+    std::strncpy(nameBuf, b.fileName.c_str(), sizeof nameBuf - 1);
+    nameBuf[sizeof nameBuf - 1] = '\0';
+    ImGui::SetNextItemWidth(-180.0f);
+    if (ImGui::InputText("##name", nameBuf, sizeof nameBuf, ImGuiInputTextFlags_EnterReturnsTrue)) accept = true;
+    b.fileName = nameBuf;
+    ImGui::SameLine();
+    const char* okLabel = b.mode == FileBrowserState::Mode::Open ? "Open" : b.mode == FileBrowserState::Mode::SaveAs ? "Save" : "Render";
+    if (ImGui::Button(okLabel)) accept = true;
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) {
+        b.open = false;
+        ui.afterUnsavedPrompt = nullptr;
+    }
+    if (accept && !b.fileName.empty()) {
+        std::string path = (fs::path(b.directory) / b.fileName).string();
+        if (b.mode != FileBrowserState::Mode::Open && fs::path(path).extension() != wanted) path += wanted;
+        bool ok = true;
+        switch (b.mode) {
+            case FileBrowserState::Mode::Open: ok = openFile(ui, path); break;
+            case FileBrowserState::Mode::SaveAs:
+                ok = saveFile(ui, path);
+                if (ok && ui.afterUnsavedPrompt) {   // "Save" in the unsaved-changes prompt of an untitled scene
+                    auto action = std::move(ui.afterUnsavedPrompt);
+                    ui.afterUnsavedPrompt = nullptr;
+                    action();
+                }
+                break;
+            case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;
+        }
+        if (ok) b.open = false;
+    }
+    if (!b.open) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+}
+
+}  // namespace caustic::editor

@@ -1,0 +1,73 @@
+// The main menu: File (new, open, recent, save, save as, render to file, quit), Edit (undo,
+// redo, duplicate, delete), View (fit, snapshot, compare, layout), Render (restart, reload
+// shaders).
+#include "editor/ui/editor_ui.h"
+
+#include <imgui.h>
+
+#include <filesystem>
+
+namespace caustic::editor {
+
+void drawMenuBar(EditorUi& ui) {
+    if (!ImGui::BeginMainMenuBar()) return;
+    EditorState& s = ui.state;
+    if (ImGui::BeginMenu("File")) {
+        if (ImGui::MenuItem("New")) guardUnsaved(ui, [&ui] { ui.state.newScene(); ui.renderToFile.reset(); });
+        if (ImGui::MenuItem("Open...", "Ctrl+O")) guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); });
+        if (ImGui::BeginMenu("Open recent", !ui.recent.files().empty())) {
+            std::string chosen;
+            for (const std::string& f : ui.recent.files())
+                if (ImGui::MenuItem(f.c_str())) chosen = f;
+            ImGui::EndMenu();
+            if (!chosen.empty()) guardUnsaved(ui, [&ui, chosen] { openFile(ui, chosen); });
+        }
+        ImGui::Separator();
+        if (ImGui::MenuItem("Save", "Ctrl+S")) saveOrSaveAs(ui);
+        if (ImGui::MenuItem("Save as...", "Ctrl+Shift+S")) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Render to file...")) openFileBrowser(ui, FileBrowserState::Mode::RenderTo);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Quit")) guardUnsaved(ui, [&ui] { ui.quit = true; });
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Edit")) {
+        const std::string undo = s.history.canUndo() ? "Undo " + s.history.undoName() : std::string("Undo");
+        const std::string redo = s.history.canRedo() ? "Redo " + s.history.redoName() : std::string("Redo");
+        if (ImGui::MenuItem(undo.c_str(), "Ctrl+Z", false, s.history.canUndo())) s.undo();
+        if (ImGui::MenuItem(redo.c_str(), "Ctrl+Shift+Z", false, s.history.canRedo())) s.redo();
+        ImGui::Separator();
+        const bool listEntry = s.selection && s.selection.index >= 0;
+        if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, listEntry)) {
+            std::string why;
+            if (auto c = makeDuplicate(s, s.selection, &why)) s.apply(std::move(c));
+        }
+        if (ImGui::MenuItem("Delete", "Del", false, listEntry)) {
+            std::string why;
+            if (auto c = makeDelete(s, s.selection, &why)) s.apply(std::move(c));
+            else notify(ui, why, true);
+        }
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("View")) {
+        ImGui::MenuItem("Fit image to panel", nullptr, &s.view.fitToWindow);
+        if (ImGui::MenuItem("Frame selection", "F")) frameSelection(ui);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Take snapshot", nullptr, false, ui.display != nullptr)) {
+            ui.display->takeSnapshot();
+            ui.compare = true;
+        }
+        ImGui::MenuItem("Compare with snapshot", nullptr, &ui.compare, ui.display && ui.display->hasSnapshot());
+        ImGui::Separator();
+        if (ImGui::MenuItem("Reset layout")) ui.resetLayout = true;
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Render")) {
+        if (ImGui::MenuItem("Restart")) s.markDirty(kDirtySettings);
+        if (ImGui::MenuItem("Reload shaders", "F5")) reloadShaders(ui);
+        ImGui::EndMenu();
+    }
+    ImGui::EndMainMenuBar();
+}
+
+}  // namespace caustic::editor

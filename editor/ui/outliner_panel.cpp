@@ -1,0 +1,136 @@
+// The outliner: the camera, render settings, environment, objects, lights and materials. Click
+// to select; right-click to rename, duplicate or delete; "Add" makes primitives, lights and
+// materials.
+#include "editor/ui/editor_ui.h"
+
+#include <imgui.h>
+
+#include <cstring>
+
+namespace caustic::editor {
+namespace {
+
+// Inline rename state: which entity is being renamed, and the text being typed.
+struct RenameState {
+    EntityRef ref;
+    char buffer[256] = {};
+    bool focus = false;
+};
+RenameState g_rename;
+
+void beginRename(const EditorUi& ui, EntityRef ref) {
+    g_rename.ref = ref;
+    std::strncpy(g_rename.buffer, entityName(ui.state.scene, ref).c_str(), sizeof g_rename.buffer - 1);
+    g_rename.buffer[sizeof g_rename.buffer - 1] = '\0';
+    g_rename.focus = true;
+}
+
+void contextMenu(EditorUi& ui, EntityRef ref) {
+    if (!ImGui::BeginPopupContextItem()) return;
+    ui.state.selection = ref;
+    if (ImGui::MenuItem("Rename")) beginRename(ui, ref);
+    if (ImGui::MenuItem("Duplicate", "Ctrl+D")) {
+        std::string why;
+        if (auto c = makeDuplicate(ui.state, ref, &why)) ui.state.apply(std::move(c));
+        else notify(ui, why, true);
+    }
+    if (ImGui::MenuItem("Delete", "Del")) {
+        std::string why;
+        if (auto c = makeDelete(ui.state, ref, &why)) ui.state.apply(std::move(c));
+        else notify(ui, why, true);
+    }
+    if (ref.kind != EntityKind::Material && ImGui::MenuItem("Frame", "F")) frameSelection(ui);
+    ImGui::EndPopup();
+}
+
+void entityRow(EditorUi& ui, EntityRef ref, const char* icon) {
+    ImGui::PushID(static_cast<int>(ref.kind) * 100000 + ref.index);
+    std::string name = entityName(ui.state.scene, ref);
+    if (g_rename.ref == ref && ref) {
+        if (g_rename.focus) {
+            ImGui::SetKeyboardFocusHere();
+            g_rename.focus = false;
+        }
+        ImGui::SetNextItemWidth(-1.0f);
+        const bool done = ImGui::InputText("##rename", g_rename.buffer, sizeof g_rename.buffer,
+                                           ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+        if (done || ImGui::IsItemDeactivated()) {
+            std::string why;
+            if (auto c = makeRename(ui.state, ref, g_rename.buffer, &why)) ui.state.apply(std::move(c));
+            else if (!why.empty()) notify(ui, why, true);
+            g_rename.ref = {};
+        }
+    } else {
+        const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name);
+        if (ImGui::Selectable(label.c_str(), ui.state.selection == ref, ImGuiSelectableFlags_AllowDoubleClick)) {
+            ui.state.selection = ref;
+            if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left) && ref.index >= 0) beginRename(ui, ref);
+        }
+        if (ref.index >= 0) contextMenu(ui, ref);
+    }
+    ImGui::PopID();
+}
+
+void addMenu(EditorUi& ui) {
+    if (ImGui::Button("Add")) ImGui::OpenPopup("add-menu");
+    if (ImGui::BeginPopup("add-menu")) {
+        if (ImGui::MenuItem("Sphere")) ui.state.apply(makeAddObject(ui.state, Shape::Sphere));
+        if (ImGui::MenuItem("Box")) ui.state.apply(makeAddObject(ui.state, Shape::Box));
+        if (ImGui::MenuItem("Quad")) ui.state.apply(makeAddObject(ui.state, Shape::Quad));
+        ImGui::Separator();
+        if (ImGui::MenuItem("Point light")) ui.state.apply(makeAddLight(ui.state, LightType::Point));
+        if (ImGui::MenuItem("Spot light")) ui.state.apply(makeAddLight(ui.state, LightType::Spot));
+        if (ImGui::MenuItem("Rect light")) ui.state.apply(makeAddLight(ui.state, LightType::Rect));
+        if (ImGui::MenuItem("Sphere light")) ui.state.apply(makeAddLight(ui.state, LightType::Sphere));
+        ImGui::Separator();
+        if (ImGui::MenuItem("Material")) ui.state.apply(makeAddMaterial(ui.state));
+        ImGui::Separator();
+        // The scene model has no mesh objects yet (the geometry work adds them); say so.
+        ImGui::MenuItem("Import mesh...", nullptr, false, false);
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("Meshes are not in the scene format yet");
+        ImGui::EndPopup();
+    }
+}
+
+template <class List>
+void section(EditorUi& ui, const char* title, const List& list, EntityKind kind, const char* icon) {
+    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    const std::string header = std::string(title) + " (" + std::to_string(list.size()) + ")";
+    if (!ImGui::CollapsingHeader(header.c_str())) return;
+    if (list.empty()) ImGui::TextDisabled("  none: use Add");
+    for (size_t i = 0; i < list.size(); ++i) entityRow(ui, {kind, static_cast<int>(i)}, icon);
+}
+
+}  // namespace
+
+void drawOutlinerPanel(EditorUi& ui) {
+    if (!ImGui::Begin("Outliner")) {
+        ImGui::End();
+        return;
+    }
+    addMenu(ui);
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!ui.state.selection || ui.state.selection.index < 0);
+    if (ImGui::Button("Duplicate")) {
+        std::string why;
+        if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Delete")) {
+        std::string why;
+        if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+        else notify(ui, why, true);
+    }
+    ImGui::EndDisabled();
+    ImGui::Separator();
+    entityRow(ui, {EntityKind::Camera, -1}, "[C]");
+    entityRow(ui, {EntityKind::Render, -1}, "[R]");
+    entityRow(ui, {EntityKind::Environment, -1}, "[E]");
+    section(ui, "Objects", ui.state.scene.objects, EntityKind::Object, "[O]");
+    section(ui, "Lights", ui.state.scene.lights, EntityKind::Light, "[L]");
+    section(ui, "Materials", ui.state.scene.materials, EntityKind::Material, "[M]");
+    ImGui::End();
+}
+
+}  // namespace caustic::editor

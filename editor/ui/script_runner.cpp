@@ -1,0 +1,295 @@
+#include "editor/ui/script_runner.h"
+
+#include "editor/model/viewport_math.h"
+#include "editor/ui/editor_ui.h"
+#include "renderer/file_util.h"
+#include "renderer/image_io.h"
+
+#include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace caustic::editor {
+namespace {
+
+EntityKind kindFromWord(const std::string& w) {
+    if (w == "object") return EntityKind::Object;
+    if (w == "light") return EntityKind::Light;
+    if (w == "material") return EntityKind::Material;
+    if (w == "camera") return EntityKind::Camera;
+    if (w == "render") return EntityKind::Render;
+    if (w == "environment") return EntityKind::Environment;
+    return EntityKind::None;
+}
+
+float num(const std::string& s) {
+    float f = 0.0f;
+    parseFloat(s, &f);
+    return f;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t i = std::min(v.size() - 1, static_cast<size_t>(p * double(v.size() - 1) + 0.5));
+    return v[i];
+}
+
+// Moves the selected object or light by d: one step of an edit.
+bool moveSelection(EditorUi& ui, glm::vec3 d, bool continuous, std::string* why) {
+    EditorState& s = ui.state;
+    std::unique_ptr<Command> c;
+    if (s.selection.kind == EntityKind::Object) {
+        Object o = s.scene.objects.at(static_cast<size_t>(s.selection.index));
+        o.transform.translate += d;
+        c = makeSetObject(s, s.selection.index, o);
+    } else if (s.selection.kind == EntityKind::Light) {
+        Light l = s.scene.lights.at(static_cast<size_t>(s.selection.index));
+        l.transform.translate += d;
+        l.position += d;
+        c = makeSetLight(s, s.selection.index, l);
+    } else {
+        *why = "nothing movable is selected";
+        return false;
+    }
+    if (continuous) s.applyContinuous(std::move(c));
+    else s.apply(std::move(c));
+    return true;
+}
+
+}  // namespace
+
+bool ScriptRunner::load(const std::string& file, std::string* error) {
+    std::optional<std::string> text = readTextFile(file, error);
+    if (!text) return false;
+    ScriptParseResult parsed = parseScript(*text, file);
+    if (!parsed.error.empty()) {
+        *error = parsed.error;
+        return false;
+    }
+    m_file = file;
+    m_dir = fs::path(file).parent_path().string();
+    m_lines = std::move(parsed.lines);
+    return true;
+}
+
+std::string ScriptRunner::resolve(const std::string& path) const {
+    if (fs::path(path).is_absolute() || m_dir.empty()) return path;
+    return (fs::path(m_dir) / path).string();
+}
+
+void ScriptRunner::fail(EditorUi& ui, const ScriptLine& line, const std::string& why) {
+    std::fprintf(stderr, "caustic: script %s:%d: %s: %s\n", m_file.c_str(), line.line, line.op.c_str(), why.c_str());
+    m_failed = true;
+    ui.quit = true;
+}
+
+void ScriptRunner::step(EditorUi& ui) {
+    if (m_failed) return;
+    if (!m_screenshotPending.empty()) return;   // finishes after this frame is drawn
+    if (m_waitFrames > 0) {
+        --m_waitFrames;
+        return;
+    }
+    // Run lines until one has to wait for frames to pass.
+    while (m_next < m_lines.size() && !ui.quit) {
+        if (!run(ui, m_lines[m_next])) return;
+        ++m_next;
+        if (m_failed) return;
+    }
+    if (m_next >= m_lines.size()) ui.quit = true;   // a script always ends the session
+}
+
+bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
+    const auto& a = line.args;
+    const std::string& op = line.op;
+    EditorState& s = ui.state;
+    auto markEdit = [&] {
+        if (s.pendingDirty() != kDirtyNone) {
+            m_editTime = glfwGetTime();
+            m_editPending = true;
+        }
+    };
+    if (op == "wait_samples") {
+        const int n = static_cast<int>(num(a[0]));
+        ui.sampleCap = n;
+        const bool settled = ui.sceneUploaded && ui.previewDivisor == 1 && s.pendingDirty() == kDirtyNone &&
+                             !ui.interacting && ui.renderer;
+        if (!ui.renderer) { fail(ui, line, "no renderer (the shaders did not compile)"); return true; }
+        if (settled && !ui.renderError.empty() && ui.renderer->samplesDone() == 0) { fail(ui, line, ui.renderError); return true; }
+        return settled && ui.renderer->samplesDone() >= std::min(n, s.scene.render.samples);
+    }
+    if (op == "frames") {
+        m_waitFrames = static_cast<int>(num(a[0])) - 1;
+        ++m_next;
+        return false;
+    }
+    if (op == "select") {
+        const EntityKind kind = kindFromWord(a[0]);
+        if (kind == EntityKind::None) { fail(ui, line, "unknown kind '" + a[0] + "'"); return true; }
+        const EntityRef ref = findEntity(s.scene, kind, a.size() > 1 ? a[1] : "");
+        if (!ref) { fail(ui, line, "no " + a[0] + " called '" + (a.size() > 1 ? a[1] : "") + "'"); return true; }
+        s.selection = ref;
+        return true;
+    }
+    if (op == "translate") {
+        std::string why;
+        if (!moveSelection(ui, {num(a[0]), num(a[1]), num(a[2])}, false, &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "drag") {
+        // One step per frame, like a gizmo drag; sealed after the last step, as on release.
+        if (m_dragStepsLeft == 0) {
+            m_dragStepsLeft = std::max(1, static_cast<int>(num(a[3])));
+            for (int i = 0; i < 3; ++i) m_drag[i] = num(a[static_cast<size_t>(i)]) / float(m_dragStepsLeft);
+        }
+        std::string why;
+        if (!moveSelection(ui, {m_drag[0], m_drag[1], m_drag[2]}, true, &why)) { fail(ui, line, why); return true; }
+        markEdit();
+        ui.interacting = true;
+        ui.lastInteraction = glfwGetTime();
+        if (--m_dragStepsLeft > 0) return false;
+        ui.interacting = false;
+        s.seal();
+        return true;
+    }
+    if (op == "orbit") {
+        s.apply(makeSetCamera(s, orbit(s.scene.camera, num(a[0]), num(a[1]))));
+        markEdit();
+        return true;
+    }
+    if (op == "set_samples") {
+        RenderSettings r = s.scene.render;
+        r.samples = static_cast<int>(num(a[0]));
+        s.apply(makeSetRender(s, r));
+        markEdit();
+        return true;
+    }
+    if (op == "undo" || op == "redo") {
+        if (!(op == "undo" ? s.undo() : s.redo())) fail(ui, line, "nothing to " + op);
+        markEdit();
+        return true;
+    }
+    if (op == "open") {
+        openFile(ui, resolve(a[0]));   // a failure shows the error and keeps the scene
+        markEdit();
+        return true;
+    }
+    if (op == "save") {
+        const std::string file = a.empty() ? s.path : resolve(a[0]);
+        if (!saveFile(ui, file)) fail(ui, line, ui.lastMessage);
+        return true;
+    }
+    if (op == "write_image") {
+        std::string error;
+        if (!writeFilmImage(ui, resolve(a[0]), &error)) fail(ui, line, error);
+        return true;
+    }
+    if (op == "screenshot") {
+        m_screenshotPending = resolve(a[0]);
+        ++m_next;
+        return false;
+    }
+    if (op == "snapshot") {
+        if (ui.display) ui.display->takeSnapshot();
+        return true;
+    }
+    if (op == "compare") {
+        ui.compare = a[0] == "on";
+        return true;
+    }
+    if (op == "render_to_file") {
+        if (!m_renderStarted) {
+            startRenderToFile(ui, resolve(a[0]));
+            m_renderStarted = true;
+            return false;
+        }
+        if (ui.renderToFile) return false;   // still rendering
+        m_renderStarted = false;
+        return true;
+    }
+    if (op == "expect_error") {
+        if (!ui.lastMessageIsError || ui.lastMessage.find(a[0]) == std::string::npos)
+            fail(ui, line, "expected an error containing '" + a[0] + "', the last message is '" + ui.lastMessage + "'");
+        return true;
+    }
+    if (op == "expect_undo_steps") {
+        const int n = static_cast<int>(num(a[0]));
+        if (static_cast<int>(s.history.undoCount()) != n)
+            fail(ui, line, "expected " + std::to_string(n) + " undo steps, have " + std::to_string(s.history.undoCount()));
+        return true;
+    }
+    if (op == "report") {
+        std::ostringstream j;
+        auto list = [&](const std::vector<double>& v) {
+            std::ostringstream o;
+            o << "[";
+            for (size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
+            o << "]";
+            return o.str();
+        };
+        double sppMean = 0.0;
+        for (int n : m_samplesPerFrame) sppMean += n;
+        if (!m_samplesPerFrame.empty()) sppMean /= double(m_samplesPerFrame.size());
+        j << "{\n  \"rendering_frames\": " << m_frameMs.size()
+          << ",\n  \"frame_ms_median\": " << percentile(m_frameMs, 0.5)
+          << ",\n  \"frame_ms_p95\": " << percentile(m_frameMs, 0.95)
+          << ",\n  \"frame_ms_max\": " << percentile(m_frameMs, 1.0)
+          << ",\n  \"all_frames_ms_median\": " << percentile(m_allFrameMs, 0.5)
+          << ",\n  \"samples_per_frame_mean\": " << sppMean
+          << ",\n  \"edit_to_frame_ms\": " << list(m_editLatencyMs)
+          << ",\n  \"edit_to_frame_ms_median\": " << percentile(m_editLatencyMs, 0.5)
+          << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
+        std::string error;
+        if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
+        return true;
+    }
+    if (op == "quit") {
+        ui.quit = true;
+        return true;
+    }
+    fail(ui, line, "not implemented");
+    return true;
+}
+
+void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
+    if (m_screenshotPending.empty() || fbWidth <= 0 || fbHeight <= 0) return;
+    std::vector<std::uint8_t> rgba(static_cast<size_t>(fbWidth) * fbHeight * 4), rgb(static_cast<size_t>(fbWidth) * fbHeight * 3);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, fbWidth, fbHeight, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    for (int y = 0; y < fbHeight; ++y)          // GL rows go bottom-up, images top-down
+        for (int x = 0; x < fbWidth; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(static_cast<size_t>(y) * fbWidth + x) * 3 + c] =
+                    rgba[(static_cast<size_t>(fbHeight - 1 - y) * fbWidth + x) * 4 + c];
+    std::string error;
+    if (!writeImage8(m_screenshotPending, fbWidth, fbHeight, rgb, {{"Software", "caustic editor"}}, &error)) {
+        std::fprintf(stderr, "caustic: screenshot: %s\n", error.c_str());
+        m_failed = true;
+        ui.quit = true;
+    }
+    m_screenshotPending.clear();
+}
+
+void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
+    m_allFrameMs.push_back(frameSeconds * 1e3);
+    if (ui.samplesThisFrame > 0) {
+        m_frameMs.push_back(frameSeconds * 1e3);
+        m_samplesPerFrame.push_back(ui.samplesThisFrame);
+        if (m_editPending && ui.state.pendingDirty() == kDirtyNone) {
+            m_editLatencyMs.push_back((glfwGetTime() - m_editTime) * 1e3);
+            m_editPending = false;
+        }
+    }
+}
+
+}  // namespace caustic::editor

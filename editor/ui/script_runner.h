@@ -1,0 +1,47 @@
+// Replays an editor script (editor/model/script.h) inside the running editor, one step per
+// frame, through the same actions as the mouse and keyboard; records frame times and the time
+// from each edit to the first frame that shows it (the `report` command writes them as JSON).
+#pragma once
+
+#include "editor/model/script.h"
+
+#include <string>
+#include <vector>
+
+namespace caustic::editor {
+
+struct EditorUi;
+
+class ScriptRunner {
+public:
+    bool load(const std::string& file, std::string* error);
+    void step(EditorUi& ui);                       // during the UI frame, before ImGui::Render
+    void afterDraw(EditorUi& ui, int fbWidth, int fbHeight);   // the frame is drawn, not swapped
+    void afterSwap(EditorUi& ui, double frameSeconds);
+    bool failed() const { return m_failed; }
+
+private:
+    bool run(EditorUi& ui, const ScriptLine& line);   // false: wait, call again next frame
+    void fail(EditorUi& ui, const ScriptLine& line, const std::string& why);
+    std::string resolve(const std::string& path) const;   // relative to the script's folder
+
+    std::string m_file, m_dir;
+    std::vector<ScriptLine> m_lines;
+    size_t m_next = 0;
+    bool m_failed = false;
+    int m_waitFrames = 0;
+    int m_dragStepsLeft = 0;
+    bool m_renderStarted = false;
+    float m_drag[3] = {0, 0, 0};
+    std::string m_screenshotPending;
+
+    // Measurements.
+    std::vector<double> m_frameMs;            // frames that rendered samples
+    std::vector<double> m_allFrameMs;
+    std::vector<double> m_editLatencyMs;      // edit -> end of the first frame showing it
+    std::vector<int> m_samplesPerFrame;
+    double m_editTime = -1.0;
+    bool m_editPending = false;
+};
+
+}  // namespace caustic::editor

@@ -1,0 +1,57 @@
+// The status bar along the bottom: samples so far / target, samples per second, resolution
+// (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the latest
+// message.
+#include "editor/ui/editor_ui.h"
+
+#include <imgui.h>
+
+namespace caustic::editor {
+
+void drawStatusBar(EditorUi& ui) {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    const float h = ImGui::GetFrameHeight();
+    ImGui::SetNextWindowPos(ImVec2(vp->WorkPos.x, vp->WorkPos.y + vp->WorkSize.y - h));
+    ImGui::SetNextWindowSize(ImVec2(vp->WorkSize.x, h));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoDocking |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(8.0f, 3.0f));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f);
+    const bool open = ImGui::Begin("##status", nullptr, flags);
+    ImGui::PopStyleVar(2);
+    if (!open) {
+        ImGui::End();
+        return;
+    }
+    const RenderSettings& rs = ui.state.scene.render;
+    if (!ui.renderer) {
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "no renderer (shader error: see the message, fix, F5)");
+    } else {
+        const int done = ui.renderer->samplesDone();
+        ImGui::Text("%d / %d spp", done, rs.samples);
+        ImGui::SameLine(0.0f, 16.0f);
+        ImGui::Text("%.1f spp/s", done >= rs.samples ? 0.0 : ui.samplesPerSecond);
+        ImGui::SameLine(0.0f, 16.0f);
+        if (ui.previewDivisor > 1) ImGui::Text("%d x %d (preview 1/%d)", rs.width, rs.height, ui.previewDivisor);
+        else ImGui::Text("%d x %d", rs.width, rs.height);
+        ImGui::SameLine(0.0f, 16.0f);
+        if (ui.droppedSamples > 0) ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.2f, 1.0f), "%llu NaN samples dropped", static_cast<unsigned long long>(ui.droppedSamples));
+        else ImGui::TextDisabled("0 NaN");
+        ImGui::SameLine(0.0f, 16.0f);
+        ImGui::TextDisabled("%.1f ms/frame", ui.frameSeconds * 1e3);
+        if (ui.renderToFile) {
+            ImGui::SameLine(0.0f, 16.0f);
+            ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "rendering to %s", ui.renderToFile->c_str());
+        }
+    }
+    if (!ui.lastMessage.empty()) {
+        ImGui::SameLine(0.0f, 24.0f);
+        // First line only; the whole message is in the tooltip (and in the error dialog).
+        const std::string first = ui.lastMessage.substr(0, ui.lastMessage.find('\n'));
+        if (ui.lastMessageIsError) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", first.c_str());
+        else ImGui::TextDisabled("%s", first.c_str());
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", ui.lastMessage.c_str());
+    }
+    ImGui::End();
+}
+
+}  // namespace caustic::editor

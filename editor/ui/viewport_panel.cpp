@@ -1,0 +1,258 @@
+// The viewport: the progressive render (fit or 1:1), the lookdev split view, the transform gizmo
+// (ImGuizmo, local/world, snapping), click-to-select, and camera navigation (orbit: middle drag
+// or Alt+left drag; pan: Shift+middle drag; zoom: wheel; fly: hold the right button and use
+// WASD/QE; frame the selection: F). Mouse and keys reach the viewport only when it is hovered
+// and ImGui has no text field active.
+#include "editor/model/viewport_math.h"
+#include "editor/ui/editor_ui.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>   // IsMouseDragPastThreshold
+#include <ImGuizmo.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace caustic::editor {
+namespace {
+
+ImTextureRef textureRef(unsigned id) { return ImTextureRef(static_cast<ImTextureID>(id)); }
+
+void drawToolbar(EditorUi& ui) {
+    auto opButton = [&](const char* label, GizmoOp op, const char* tip) {
+        const bool active = ui.gizmoOp == op;
+        if (active) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
+        if (ImGui::Button(label)) ui.gizmoOp = op;
+        if (active) ImGui::PopStyleColor();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip);
+        ImGui::SameLine();
+    };
+    opButton("Move", GizmoOp::Translate, "Translate (W)");
+    opButton("Rotate", GizmoOp::Rotate, "Rotate (E)");
+    opButton("Scale", GizmoOp::Scale, "Scale (R)");
+    if (ImGui::Button(ui.gizmoLocal ? "Local" : "World")) ui.gizmoLocal = !ui.gizmoLocal;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Gizmo axes: local or world (T)");
+    ImGui::SameLine();
+    ImGui::Checkbox("Snap", &ui.snap);
+    if (ui.snap) {
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(60.0f);
+        float* step = ui.gizmoOp == GizmoOp::Translate ? &ui.snapTranslate : ui.gizmoOp == GizmoOp::Rotate ? &ui.snapRotate : &ui.snapScale;
+        ImGui::DragFloat("##snap", step, 0.01f, 0.001f, 90.0f, "%.3g");
+    }
+    ImGui::SameLine();
+    ImGui::TextDisabled("|");
+    ImGui::SameLine();
+    if (ImGui::Button(ui.state.view.fitToWindow ? "Fit" : "1:1")) ui.state.view.fitToWindow = !ui.state.view.fitToWindow;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Scale the image to the panel, or show it 1:1");
+    ImGui::SameLine();
+    if (ImGui::Button("Snapshot") && ui.display) {
+        ui.display->takeSnapshot();
+        ui.compare = true;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keep the current image to compare with the live render");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!ui.display || !ui.display->hasSnapshot());
+    ImGui::Checkbox("Compare", &ui.compare);
+    ImGui::EndDisabled();
+}
+
+// The gizmo's matrix for the selection, and how to write an edited matrix back.
+bool selectionMatrix(const EditorUi& ui, glm::mat4* m) {
+    const EditorState& s = ui.state;
+    if (s.selection.kind == EntityKind::Object) {
+        *m = s.scene.objects[static_cast<size_t>(s.selection.index)].transform.toMatrix();
+        return true;
+    }
+    if (s.selection.kind == EntityKind::Light) {
+        const Light& l = s.scene.lights[static_cast<size_t>(s.selection.index)];
+        *m = l.type == LightType::Rect ? l.transform.toMatrix() : glm::translate(glm::mat4(1.0f), l.position);
+        return true;
+    }
+    return false;
+}
+
+void applyMatrix(EditorUi& ui, const glm::mat4& m) {
+    EditorState& s = ui.state;
+    if (s.selection.kind == EntityKind::Object) {
+        Object o = s.scene.objects[static_cast<size_t>(s.selection.index)];
+        o.transform = transformFromMatrix(m);
+        s.applyContinuous(makeSetObject(s, s.selection.index, o));
+    } else if (s.selection.kind == EntityKind::Light) {
+        Light l = s.scene.lights[static_cast<size_t>(s.selection.index)];
+        if (l.type == LightType::Rect) l.transform = transformFromMatrix(m);
+        else l.position = glm::vec3(m[3]);
+        s.applyContinuous(makeSetLight(s, s.selection.index, l));
+    }
+}
+
+void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    glm::mat4 m;
+    const bool usingBefore = ui.gizmoWasUsing;
+    if (!selectionMatrix(ui, &m)) {
+        if (usingBefore) ui.state.seal();
+        ui.gizmoWasUsing = false;
+        return;
+    }
+    const Camera& cam = ui.state.scene.camera;
+    const RenderSettings& rs = ui.state.scene.render;
+    const glm::mat4 view = viewMatrix(cam);
+    const glm::mat4 proj = projectionMatrix(cam, rs.width, rs.height, 0.01f, 1000.0f);
+    ImGuizmo::SetOrthographic(false);
+    ImGuizmo::SetDrawlist();
+    ImGuizmo::SetRect(pos.x, pos.y, size.x, size.y);
+    const ImGuizmo::OPERATION op = ui.gizmoOp == GizmoOp::Translate ? ImGuizmo::TRANSLATE
+                                   : ui.gizmoOp == GizmoOp::Rotate  ? ImGuizmo::ROTATE
+                                                                    : ImGuizmo::SCALE;
+    // ImGuizmo scales in local axes only.
+    const ImGuizmo::MODE mode = ui.gizmoLocal || ui.gizmoOp == GizmoOp::Scale ? ImGuizmo::LOCAL : ImGuizmo::WORLD;
+    const float step = ui.gizmoOp == GizmoOp::Translate ? ui.snapTranslate : ui.gizmoOp == GizmoOp::Rotate ? ui.snapRotate : ui.snapScale;
+    const float snap[3] = {step, step, step};
+    if (ImGuizmo::Manipulate(glm::value_ptr(view), glm::value_ptr(proj), op, mode, glm::value_ptr(m), nullptr,
+                             ui.snap ? snap : nullptr))
+        applyMatrix(ui, m);
+    const bool usingNow = ImGuizmo::IsUsing();
+    if (usingNow) {
+        ui.interacting = true;
+        ui.lastInteraction = ImGui::GetTime();
+    }
+    if (usingBefore && !usingNow) ui.state.seal();   // released: the drag is one undo step
+    ui.gizmoWasUsing = usingNow;
+}
+
+void navigate(EditorUi& ui, ImVec2 imageSize) {
+    ImGuiIO& io = ImGui::GetIO();
+    EditorState& s = ui.state;
+    const bool orbitDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && !io.KeyShift;
+    const bool altOrbit = io.KeyAlt && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0.0f);
+    const bool panDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && io.KeyShift;
+    const bool flying = ImGui::IsMouseDown(ImGuiMouseButton_Right);
+    const ImVec2 d = io.MouseDelta;
+    if ((orbitDrag || altOrbit) && (d.x != 0.0f || d.y != 0.0f)) {
+        s.applyContinuous(makeSetCamera(s, orbit(s.scene.camera, -d.x * 0.3f, d.y * 0.3f)));
+        ui.navigating = true;
+    } else if (panDrag && (d.x != 0.0f || d.y != 0.0f)) {
+        s.applyContinuous(makeSetCamera(s, pan(s.scene.camera, d.x / imageSize.y, d.y / imageSize.y)));
+        ui.navigating = true;
+    } else if (flying) {
+        // Fly speed: a tenth of the scene's size per second, faster with Shift.
+        auto b = sceneBounds(s.scene);
+        const float size = b ? std::max(glm::length(b->second - b->first), 0.1f) : 1.0f;
+        const float speed = size * 0.25f * io.DeltaTime * (io.KeyShift ? 4.0f : 1.0f);
+        glm::vec3 move(0.0f);
+        if (ImGui::IsKeyDown(ImGuiKey_W)) move.z += speed;
+        if (ImGui::IsKeyDown(ImGuiKey_S)) move.z -= speed;
+        if (ImGui::IsKeyDown(ImGuiKey_D)) move.x += speed;
+        if (ImGui::IsKeyDown(ImGuiKey_A)) move.x -= speed;
+        if (ImGui::IsKeyDown(ImGuiKey_E)) move.y += speed;
+        if (ImGui::IsKeyDown(ImGuiKey_Q)) move.y -= speed;
+        Camera c = s.scene.camera;
+        if (move != glm::vec3(0.0f)) c = fly(c, move);
+        if (d.x != 0.0f || d.y != 0.0f) {
+            // Mouse look: orbit the look-at point about the eye (swap the two, orbit, swap back).
+            Camera turned = c;
+            turned.position = c.lookAt;
+            turned.lookAt = c.position;
+            turned = orbit(turned, -d.x * 0.2f, -d.y * 0.2f);
+            c.lookAt = turned.position;
+        }
+        if (!(c == s.scene.camera)) {
+            s.applyContinuous(makeSetCamera(s, c));
+            ui.navigating = true;
+        }
+    }
+    if (io.MouseWheel != 0.0f) {
+        s.applyContinuous(makeSetCamera(s, dolly(s.scene.camera, std::pow(0.85f, io.MouseWheel))));
+        ui.lastWheel = ImGui::GetTime();
+        ui.interacting = true;
+        ui.lastInteraction = ImGui::GetTime();
+    }
+    if (ui.navigating) {
+        ui.interacting = true;
+        ui.lastInteraction = ImGui::GetTime();
+    }
+}
+
+}  // namespace
+
+void drawViewportPanel(EditorUi& ui) {
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(4.0f, 4.0f));
+    const bool open = ImGui::Begin("Viewport");
+    ImGui::PopStyleVar();
+    ui.interacting = false;
+    if (!open) {
+        ImGui::End();
+        return;
+    }
+    drawToolbar(ui);
+    const RenderSettings& rs = ui.state.scene.render;
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    if (!ui.renderer || !ui.display || !ui.sceneUploaded || ui.display->texture() == 0) {
+        // The empty state says why and what to do.
+        ImGui::Spacing();
+        if (!ui.renderer) ImGui::TextWrapped("The path tracer is not available: its shaders did not compile. Fix them and press F5 (Render > Reload shaders).");
+        else if (!ui.renderError.empty()) ImGui::TextWrapped("The scene cannot be rendered:\n%s", ui.renderError.c_str());
+        else ImGui::TextDisabled("Preparing the render...");
+        ImGui::End();
+        return;
+    }
+    float scale = 1.0f;
+    if (ui.state.view.fitToWindow) scale = std::max(0.05f, std::min(avail.x / float(rs.width), avail.y / float(rs.height)));
+    const ImVec2 size(float(rs.width) * scale, float(rs.height) * scale);
+    ImVec2 cursor = ImGui::GetCursorPos();
+    cursor.x += std::max(0.0f, (avail.x - size.x) * 0.5f);
+    cursor.y += std::max(0.0f, (avail.y - size.y) * 0.5f);
+    ImGui::SetCursorPos(cursor);
+    const ImVec2 pos = ImGui::GetCursorScreenPos();
+    ImGui::Image(textureRef(ui.display->texture()), size);
+    const bool hovered = ImGui::IsItemHovered();
+    ui.viewportHovered = hovered;
+
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    if (ui.compare && ui.display->hasSnapshot()) {
+        // Split view: the snapshot left of the divider, the live render right of it.
+        const float split = std::clamp(ui.compareSplit, 0.0f, 1.0f);
+        dl->AddImage(textureRef(ui.display->snapshotTexture()), pos, ImVec2(pos.x + size.x * split, pos.y + size.y),
+                     ImVec2(0.0f, 0.0f), ImVec2(split, 1.0f));
+        const float x = pos.x + size.x * split;
+        dl->AddLine(ImVec2(x, pos.y), ImVec2(x, pos.y + size.y), IM_COL32(255, 200, 40, 255), 2.0f);
+        dl->AddText(ImVec2(pos.x + 6.0f, pos.y + 4.0f), IM_COL32(255, 200, 40, 255), "snapshot");
+        dl->AddText(ImVec2(x + 6.0f, pos.y + 4.0f), IM_COL32(255, 200, 40, 255), "live");
+        // Ctrl+drag moves the divider.
+        if (hovered && ImGui::GetIO().KeyCtrl && ImGui::IsMouseDown(ImGuiMouseButton_Left))
+            ui.compareSplit = std::clamp((ImGui::GetIO().MousePos.x - pos.x) / size.x, 0.0f, 1.0f);
+    }
+    if (ui.previewDivisor > 1)
+        dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
+
+    drawGizmo(ui, pos, size);
+
+    ImGuiIO& io = ImGui::GetIO();
+    const bool gizmoBusy = ImGuizmo::IsOver() || ImGuizmo::IsUsing();
+    // Clicks (not drags) select what is under the cursor.
+    if (hovered && !gizmoBusy && !io.KeyAlt && !io.KeyCtrl && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+        !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
+        const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
+        auto hit = pick(ui.state.scene, cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel));
+        ui.state.selection = hit ? hit->ref : EntityRef{};
+    }
+    if (hovered && !gizmoBusy) navigate(ui, size);
+    if (ui.navigating && !ImGui::IsMouseDown(ImGuiMouseButton_Middle) && !ImGui::IsMouseDown(ImGuiMouseButton_Left) &&
+        !ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
+        ui.state.seal();
+        ui.navigating = false;
+    }
+    if ((hovered || ImGui::IsWindowFocused()) && !io.WantTextInput && !ImGui::IsMouseDown(ImGuiMouseButton_Right) && !io.KeyCtrl) {
+        if (ImGui::IsKeyPressed(ImGuiKey_F, false)) frameSelection(ui);
+        if (ImGui::IsKeyPressed(ImGuiKey_W, false)) ui.gizmoOp = GizmoOp::Translate;
+        if (ImGui::IsKeyPressed(ImGuiKey_E, false)) ui.gizmoOp = GizmoOp::Rotate;
+        if (ImGui::IsKeyPressed(ImGuiKey_R, false)) ui.gizmoOp = GizmoOp::Scale;
+        if (ImGui::IsKeyPressed(ImGuiKey_T, false)) ui.gizmoLocal = !ui.gizmoLocal;
+    }
+    ImGui::End();
+}
+
+}  // namespace caustic::editor

@@ -1,0 +1,75 @@
+// Triangle meshes as the renderer keeps them (indexed, one material each) and the materials an
+// imported file describes, plus the validation every mesh goes through before a BVH is built
+// over it. No GL, no Assimp: renderer/mesh_import.h fills these from files.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+// What a file says about a material, in glTF 2.0 metallic-roughness terms (other formats are
+// mapped onto it by Assimp; what cannot be mapped is reported as an import warning). Texture
+// paths are as the file gives them, resolved against the model file's folder when relative;
+// empty when absent. A path that starts with '*' names a texture embedded in the file (not
+// extracted: reported as a warning).
+struct ImportedMaterial {
+    std::string name;
+    glm::vec3 baseColor{0.8f};            // linear RGB factor
+    float opacity = 1.0f;                 // base colour alpha factor
+    std::string baseColorTexture;
+    float roughness = 1.0f;               // glTF defaults: roughness 1, metallic 1 when the file
+    float metallic = 0.0f;                // has PBR data; 0 metallic when it has none
+    std::string metallicRoughnessTexture; // glTF: G = roughness, B = metallic
+    std::string normalTexture;
+    float normalScale = 1.0f;
+    glm::vec3 emission{0.0f};             // emissive factor x KHR_materials_emissive_strength
+    std::string emissionTexture;
+    float transmission = 0.0f;            // KHR_materials_transmission factor
+    float ior = 1.5f;                     // KHR_materials_ior
+    bool doubleSided = false;
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;       // per vertex, unit length; empty or positions.size()
+    std::vector<glm::vec2> uvs;           // first UV channel; empty or positions.size()
+    std::vector<glm::vec4> tangents;      // xyz unit tangent, w = +-1 handedness (bitangent =
+                                          // w * cross(normal, tangent)); empty or positions.size()
+    std::vector<glm::uvec3> triangles;    // counter-clockwise = front
+    int material = -1;                    // index into the importer's materials, -1: none
+};
+
+struct MeshValidation {
+    std::size_t droppedOutOfRange = 0;    // triangles with an index >= positions.size()
+    std::size_t droppedNonFinite = 0;     // triangles with a NaN / infinite vertex position
+    std::size_t droppedDegenerate = 0;    // repeated index or exactly zero area
+    std::size_t fixedNormals = 0;         // non-finite or zero normals replaced
+    std::size_t fixedUvs = 0;             // non-finite UVs set to 0
+    bool droppedTangents = false;         // tangents cleared (wrong count or non-finite)
+    bool droppedNormals = false;          // normals cleared (wrong count)
+    bool droppedUvs = false;              // UVs cleared (wrong count)
+
+    std::size_t droppedTriangles() const { return droppedOutOfRange + droppedNonFinite + droppedDegenerate; }
+    // One line describing what was changed ("" when nothing): for import warnings.
+    std::string summary() const;
+};
+
+// Makes a mesh safe to build a BVH over and to shade: drops triangles with out-of-range indices,
+// non-finite vertices or no area (a degenerate triangle can never be hit, and its normal is
+// undefined); clears attribute arrays whose size does not match the positions; replaces
+// non-finite or zero normals by the area-weighted normal of the triangles around the vertex (or
+// +z when none); sets non-finite UVs to 0; clears tangents when any is non-finite. Vertices are
+// kept (indices stay valid). Returns what it did.
+MeshValidation validateMesh(Mesh& mesh);
+
+// Area-weighted smooth vertex normals from the triangles (+z for vertices no triangle uses).
+std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::vec3>& positions,
+                                            const std::vector<glm::uvec3>& triangles);
+
+}  // namespace caustic

@@ -1,0 +1,466 @@
+#include "renderer/mesh_import.h"
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <new>
+#include <system_error>
+
+namespace caustic {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Node hierarchies deeper than this are treated as broken (a cycle, or a hostile file).
+constexpr int kMaxNodeDepth = 256;
+// Flattening duplicates meshes used by several nodes; beyond this many triangles in total the
+// file is refused rather than exhausting memory.
+constexpr std::size_t kMaxTotalTriangles = std::size_t(1) << 28;
+
+glm::mat4 toGlm(const aiMatrix4x4& m) {
+    // Assimp matrices are row-major (a1..a4 is the first row); glm is column-major.
+    return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4,
+                     m.b4, m.c4, m.d4);
+}
+
+bool finiteMat(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+std::string texturePath(const aiMaterial* mat, aiTextureType type, const fs::path& dir,
+                        bool* embedded) {
+    aiString s;
+    if (mat->GetTextureCount(type) == 0 || mat->GetTexture(type, 0, &s) != AI_SUCCESS) return {};
+    std::string p = s.C_Str();
+    if (p.empty()) return {};
+    if (p[0] == '*') {
+        *embedded = true;
+        return p;
+    }
+    fs::path tp(p);
+    if (tp.is_relative()) tp = dir / tp;
+    return tp.lexically_normal().string();
+}
+
+bool finitePositive(float v) { return std::isfinite(v) && v >= 0.0f; }
+
+ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, bool* embedded,
+                                 bool* approximated, bool* otherTextures) {
+    ImportedMaterial m;
+    aiString name;
+    if (mat->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+
+    aiColor4D c4;
+    aiColor3D c3;
+    if (mat->Get(AI_MATKEY_BASE_COLOR, c4) == AI_SUCCESS) {
+        m.baseColor = {c4.r, c4.g, c4.b};
+        m.opacity = c4.a;
+    } else if (mat->Get(AI_MATKEY_COLOR_DIFFUSE, c3) == AI_SUCCESS) {
+        m.baseColor = {c3.r, c3.g, c3.b};
+    }
+    float f = 0.0f;
+    if (mat->Get(AI_MATKEY_OPACITY, f) == AI_SUCCESS) m.opacity = f;
+
+    const bool hasMetallic = mat->Get(AI_MATKEY_METALLIC_FACTOR, f) == AI_SUCCESS;
+    if (hasMetallic) m.metallic = f;
+    if (mat->Get(AI_MATKEY_ROUGHNESS_FACTOR, f) == AI_SUCCESS) {
+        m.roughness = f;
+    } else if (mat->Get(AI_MATKEY_GLOSSINESS_FACTOR, f) == AI_SUCCESS) {
+        m.roughness = 1.0f - f;  // specular-glossiness: glossiness is 1 - roughness
+        *approximated = true;
+    } else if (!hasMetallic && mat->Get(AI_MATKEY_SHININESS, f) == AI_SUCCESS && f > 0.0f) {
+        // Phong exponent n to a microfacet roughness: alpha = sqrt(2 / (n + 2)) (Walter et al.
+        // 2007, eq. 33 relates Phong and Beckmann), and roughness = sqrt(alpha).
+        m.roughness = std::sqrt(std::sqrt(2.0f / (f + 2.0f)));
+        *approximated = true;
+    }
+    if (mat->Get(AI_MATKEY_COLOR_EMISSIVE, c3) == AI_SUCCESS) m.emission = {c3.r, c3.g, c3.b};
+    if (mat->Get(AI_MATKEY_EMISSIVE_INTENSITY, f) == AI_SUCCESS) m.emission *= f;
+    if (mat->Get(AI_MATKEY_TRANSMISSION_FACTOR, f) == AI_SUCCESS) m.transmission = f;
+    if (mat->Get(AI_MATKEY_REFRACTI, f) == AI_SUCCESS && f >= 1.0f) m.ior = f;
+    int twoSided = 0;
+    if (mat->Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) m.doubleSided = twoSided != 0;
+
+    m.baseColorTexture = texturePath(mat, aiTextureType_BASE_COLOR, dir, embedded);
+    if (m.baseColorTexture.empty()) m.baseColorTexture = texturePath(mat, aiTextureType_DIFFUSE, dir, embedded);
+    // glTF's packed metallic-roughness texture: Assimp 5.2 files it under UNKNOWN (the
+    // AI_MATKEY_GLTF_PBRMETALLICROUGHNESS_METALLICROUGHNESS_TEXTURE key) and, for some files,
+    // under METALNESS / DIFFUSE_ROUGHNESS.
+    m.metallicRoughnessTexture = texturePath(mat, aiTextureType_UNKNOWN, dir, embedded);
+    if (m.metallicRoughnessTexture.empty())
+        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_METALNESS, dir, embedded);
+    if (m.metallicRoughnessTexture.empty())
+        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_DIFFUSE_ROUGHNESS, dir, embedded);
+    m.normalTexture = texturePath(mat, aiTextureType_NORMALS, dir, embedded);
+    if (m.normalTexture.empty()) {
+        // OBJ files often put the normal map under "bump"; Assimp calls that HEIGHT.
+        m.normalTexture = texturePath(mat, aiTextureType_HEIGHT, dir, embedded);
+    }
+    if (mat->Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), f) == AI_SUCCESS) m.normalScale = f;
+    m.emissionTexture = texturePath(mat, aiTextureType_EMISSIVE, dir, embedded);
+    if (!m.emissionTexture.empty() && m.emission == glm::vec3(0.0f)) m.emission = glm::vec3(1.0f);
+
+    for (aiTextureType t : {aiTextureType_SPECULAR, aiTextureType_AMBIENT, aiTextureType_SHININESS,
+                            aiTextureType_OPACITY, aiTextureType_DISPLACEMENT, aiTextureType_LIGHTMAP,
+                            aiTextureType_REFLECTION, aiTextureType_AMBIENT_OCCLUSION,
+                            aiTextureType_SHEEN, aiTextureType_CLEARCOAT, aiTextureType_TRANSMISSION})
+        if (mat->GetTextureCount(t) > 0) *otherTextures = true;
+
+    // Sanitise: factors from broken files must not put NaN into the renderer.
+    for (int i = 0; i < 3; ++i) {
+        if (!finitePositive(m.baseColor[i])) m.baseColor[i] = 0.8f;
+        if (!finitePositive(m.emission[i])) m.emission[i] = 0.0f;
+    }
+    m.baseColor = glm::min(m.baseColor, glm::vec3(1.0f));
+    auto unit = [](float v, float fallback) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : fallback; };
+    m.opacity = unit(m.opacity, 1.0f);
+    m.roughness = unit(m.roughness, 1.0f);
+    m.metallic = unit(m.metallic, 0.0f);
+    m.transmission = unit(m.transmission, 0.0f);
+    if (!std::isfinite(m.ior)) m.ior = 1.5f;
+    if (!std::isfinite(m.normalScale)) m.normalScale = 1.0f;
+    return m;
+}
+
+struct Converter {
+    const aiScene* scene = nullptr;
+    std::string path;
+    MeshImportResult* out = nullptr;
+    std::size_t totalTriangles = 0;
+    std::vector<bool> meshUsed;
+    std::size_t pointLineMeshes = 0, pointLinePrims = 0;
+    std::size_t emptyMeshes = 0;
+    bool badTransform = false, tooDeep = false, tooBig = false, extraChannels = false, bones = false;
+
+    void warn(const std::string& msg) { out->warnings.push_back(path + ": " + msg); }
+
+    // Converts mesh mi under transform m; false when the total size limit is exceeded.
+    bool addMesh(unsigned mi, const glm::mat4& m, const std::string& nodeName) {
+        const aiMesh* am = scene->mMeshes[mi];
+        if (!am) return true;
+        if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || am->mNumFaces == 0 || am->mNumVertices == 0) {
+            if (am->mPrimitiveTypes & (aiPrimitiveType_POINT | aiPrimitiveType_LINE)) {
+                ++pointLineMeshes;
+                pointLinePrims += am->mNumFaces;
+            } else {
+                ++emptyMeshes;
+            }
+            return true;
+        }
+        if (am->GetNumUVChannels() > 1 || am->GetNumColorChannels() > 0) extraChannels = true;
+        if (am->HasBones()) bones = true;
+        if (totalTriangles + am->mNumFaces > kMaxTotalTriangles) {
+            tooBig = true;
+            return false;
+        }
+
+        Mesh mesh;
+        mesh.name = am->mName.length > 0 ? am->mName.C_Str() : nodeName;
+        if (mesh.name.empty()) mesh.name = "mesh" + std::to_string(mi);
+        mesh.material = am->mMaterialIndex < scene->mNumMaterials ? static_cast<int>(am->mMaterialIndex) : -1;
+
+        const glm::mat3 linear(m);
+        const glm::mat3 normalMatrix = glm::inverseTranspose(linear);
+        const bool mirror = glm::determinant(linear) < 0.0f;
+
+        const unsigned nv = am->mNumVertices;
+        if (!am->mVertices) return true;
+        mesh.positions.resize(nv);
+        for (unsigned i = 0; i < nv; ++i) {
+            const aiVector3D& p = am->mVertices[i];
+            mesh.positions[i] = glm::vec3(m * glm::vec4(p.x, p.y, p.z, 1.0f));
+        }
+        if (am->mNormals) {
+            mesh.normals.resize(nv);
+            for (unsigned i = 0; i < nv; ++i) {
+                const aiVector3D& n = am->mNormals[i];
+                mesh.normals[i] = normalMatrix * glm::vec3(n.x, n.y, n.z);  // validate normalises
+            }
+        }
+        if (am->HasTextureCoords(0)) {
+            mesh.uvs.resize(nv);
+            for (unsigned i = 0; i < nv; ++i) mesh.uvs[i] = {am->mTextureCoords[0][i].x, am->mTextureCoords[0][i].y};
+        }
+        if (am->mTangents && am->mBitangents && am->mNormals) {
+            mesh.tangents.resize(nv);
+            for (unsigned i = 0; i < nv; ++i) {
+                const aiVector3D &t = am->mTangents[i], &b = am->mBitangents[i], &n = am->mNormals[i];
+                // Handedness: whether (t, b, n) is right-handed in the file's object space.
+                const float w = glm::dot(glm::cross(glm::vec3(n.x, n.y, n.z), glm::vec3(t.x, t.y, t.z)),
+                                         glm::vec3(b.x, b.y, b.z)) < 0.0f ? -1.0f : 1.0f;
+                glm::vec3 tw = linear * glm::vec3(t.x, t.y, t.z);
+                const float len = glm::length(tw);
+                tw = len > 0.0f ? tw / len : glm::vec3(std::nanf(""));  // validate drops NaN sets
+                mesh.tangents[i] = glm::vec4(tw, mirror ? -w : w);
+            }
+        }
+        mesh.triangles.reserve(am->mNumFaces);
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const aiFace& face = am->mFaces[f];
+            if (face.mNumIndices != 3 || !face.mIndices) continue;  // sorted by type: rare
+            glm::uvec3 t{face.mIndices[0], face.mIndices[1], face.mIndices[2]};
+            if (mirror) std::swap(t.y, t.z);
+            mesh.triangles.push_back(t);
+        }
+
+        const MeshValidation v = validateMesh(mesh);
+        if (!v.summary().empty()) warn("mesh '" + mesh.name + "': " + v.summary());
+        if (mesh.triangles.empty()) {
+            ++emptyMeshes;
+            return true;
+        }
+        // Generated normals for meshes that lost theirs in validation (or never had any, which
+        // Assimp's GenSmoothNormals should have prevented).
+        if (mesh.normals.empty()) mesh.normals = computeVertexNormals(mesh.positions, mesh.triangles);
+        totalTriangles += mesh.triangles.size();
+        out->meshes.push_back(std::move(mesh));
+        return true;
+    }
+
+    bool walk(const aiNode* node, const glm::mat4& parent, int depth) {
+        if (!node) return true;
+        if (depth > kMaxNodeDepth) {
+            tooDeep = true;
+            return true;
+        }
+        const glm::mat4 m = parent * toGlm(node->mTransformation);
+        if (!finiteMat(m)) {
+            badTransform = true;
+            return true;
+        }
+        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+            const unsigned mi = node->mMeshes[i];
+            if (mi >= scene->mNumMeshes) continue;  // ValidateDataStructure rejects these
+            meshUsed[mi] = true;
+            if (!addMesh(mi, m, node->mName.C_Str())) return false;
+        }
+        for (unsigned i = 0; i < node->mNumChildren; ++i)
+            if (!walk(node->mChildren[i], m, depth + 1)) return false;
+        return true;
+    }
+};
+
+std::string fsError(const std::error_code& ec) { return ec.message(); }
+
+// Headers that declare element counts the file cannot possibly hold. Assimp allocates what the
+// header declares before reading the data, so such a file (assimp-testmodels'
+// invalid/OutOfMemory.off declares 3.5 billion vertices in 309 bytes) takes a minute of page
+// faults or exhausts memory. Checked for the formats with a plain-text count header: OFF (every
+// vertex takes at least 6 bytes, "0 0 0\n") and PLY (every element at least 1 byte). Returns an
+// error message, or "" when the header is plausible or not recognised (Assimp decides then).
+std::string implausibleHeader(const std::string& path, std::uintmax_t size) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".off" && ext != ".ply") return {};
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return {};
+    char buf[4096];
+    const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+    std::fclose(f);
+    buf[n] = 0;
+    const std::string head(buf, n);
+    if (ext == ".off") {
+        // "[ST][C][N][4][n]OFF" then (after comments) "nv nf ne".
+        std::size_t pos = head.find("OFF");
+        if (pos == std::string::npos || pos > 8) return {};
+        pos += 3;
+        unsigned long long counts[2] = {0, 0};
+        int got = 0;
+        while (got < 2 && pos < head.size()) {
+            const char c = head[pos];
+            if (c == '#') {
+                pos = head.find('\n', pos);
+                if (pos == std::string::npos) return {};
+            } else if (std::isdigit(static_cast<unsigned char>(c))) {
+                counts[got++] = std::strtoull(head.c_str() + pos, nullptr, 10);
+                while (pos < head.size() && std::isdigit(static_cast<unsigned char>(head[pos]))) ++pos;
+                continue;
+            } else if (!std::isspace(static_cast<unsigned char>(c))) {
+                return {};
+            }
+            ++pos;
+        }
+        if (got == 2 && (counts[0] > size / 6 || counts[1] > size / 4))
+            return path + ": the OFF header declares " + std::to_string(counts[0]) + " vertices and " +
+                   std::to_string(counts[1]) + " faces, more than a file of " + std::to_string(size) +
+                   " bytes can hold";
+        return {};
+    }
+    // PLY: "element <name> <count>" lines up to "end_header".
+    std::size_t pos = 0;
+    const std::size_t endHeader = head.find("end_header");
+    while ((pos = head.find("element ", pos)) != std::string::npos && pos < endHeader) {
+        pos += 8;
+        const std::size_t sp = head.find(' ', pos);
+        if (sp == std::string::npos) break;
+        const unsigned long long count = std::strtoull(head.c_str() + sp + 1, nullptr, 10);
+        if (count > size)
+            return path + ": the PLY header declares " + std::to_string(count) + " '" +
+                   head.substr(pos, sp - pos) + "' elements, more than a file of " +
+                   std::to_string(size) + " bytes can hold";
+    }
+    return {};
+}
+
+MeshImportResult importImpl(const std::string& path) {
+    MeshImportResult r;
+    if (path.empty()) {
+        r.error = "(empty path): no mesh file given";
+        return r;
+    }
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (ec || !fs::exists(st)) {
+        r.error = path + ": cannot open: " + (ec ? fsError(ec) : std::string("no such file"));
+        return r;
+    }
+    if (fs::is_directory(st)) {
+        r.error = path + ": is a directory, not a mesh file";
+        return r;
+    }
+    const auto size = fs::file_size(path, ec);
+    if (ec) {
+        r.error = path + ": cannot read: " + fsError(ec);
+        return r;
+    }
+    if (size == 0) {
+        r.error = path + ": the file is empty";
+        return r;
+    }
+    if (!isMeshFileExtensionSupported(path)) {
+        r.error = path + ": unsupported mesh file type '" + fs::path(path).extension().string() + "'";
+        return r;
+    }
+    if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+        std::fclose(f);
+    } else {
+        r.error = path + ": cannot open: permission denied or unreadable";
+        return r;
+    }
+    if (std::string why = implausibleHeader(path, size); !why.empty()) {
+        r.error = why;
+        return r;
+    }
+
+    Assimp::Importer importer;
+    // Points and lines are kept by SortByPType (so they can be counted and reported) and skipped
+    // in the conversion.
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, 0);
+    const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
+                           aiProcess_CalcTangentSpace | aiProcess_JoinIdenticalVertices |
+                           aiProcess_ValidateDataStructure | aiProcess_SortByPType |
+                           aiProcess_FindInvalidData;
+    const aiScene* scene = importer.ReadFile(path, flags);
+    if (!scene) {
+        std::string why = importer.GetErrorString();
+        r.error = path + ": cannot import: " + (why.empty() ? std::string("unknown Assimp error") : why);
+        return r;
+    }
+    if (scene->mNumMeshes == 0 || !scene->mMeshes) {
+        r.error = path + ": the file has no meshes";
+        return r;
+    }
+
+    const fs::path dir = fs::path(path).parent_path();
+    bool embedded = false, approximated = false, otherTextures = false;
+    for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
+        if (scene->mMaterials && scene->mMaterials[i])
+            r.materials.push_back(convertMaterial(scene->mMaterials[i], dir, &embedded, &approximated, &otherTextures));
+        else
+            r.materials.push_back(ImportedMaterial{});
+    }
+
+    Converter conv;
+    conv.scene = scene;
+    conv.path = path;
+    conv.out = &r;
+    conv.meshUsed.assign(scene->mNumMeshes, false);
+    bool ok = conv.walk(scene->mRootNode, glm::mat4(1.0f), 0);
+    // Meshes no node references (some importers leave them) are taken untransformed.
+    for (unsigned i = 0; ok && i < scene->mNumMeshes; ++i)
+        if (!conv.meshUsed[i]) ok = conv.addMesh(i, glm::mat4(1.0f), "");
+    if (conv.tooBig) {
+        r.meshes.clear();
+        r.error = path + ": more than " + std::to_string(kMaxTotalTriangles) +
+                  " triangles after flattening the node hierarchy";
+        return r;
+    }
+
+    if (conv.pointLineMeshes)
+        conv.warn(std::to_string(conv.pointLinePrims) + " point/line primitives in " +
+                  std::to_string(conv.pointLineMeshes) + " meshes dropped (only triangles are rendered)");
+    if (conv.emptyMeshes) conv.warn(std::to_string(conv.emptyMeshes) + " meshes without triangles dropped");
+    if (conv.badTransform) conv.warn("nodes with non-finite transforms skipped (with their children)");
+    if (conv.tooDeep) conv.warn("node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " cut");
+    if (conv.extraChannels) conv.warn("extra UV channels and vertex colours ignored");
+    if (conv.bones) conv.warn("skinning (bones) ignored: meshes imported in bind pose");
+    if (scene->mNumAnimations) conv.warn(std::to_string(scene->mNumAnimations) + " animations ignored");
+    if (scene->mNumCameras) conv.warn(std::to_string(scene->mNumCameras) + " cameras ignored");
+    if (scene->mNumLights) conv.warn(std::to_string(scene->mNumLights) + " lights ignored");
+    if (embedded) conv.warn("embedded textures are not extracted ('*N' texture paths)");
+    if (approximated) conv.warn("non-PBR materials (Phong shininess / specular-glossiness) mapped approximately to roughness");
+    if (otherTextures) conv.warn("texture types other than base colour, metallic-roughness, normal and emission ignored");
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) conv.warn("Assimp marked the scene incomplete");
+
+    if (r.meshes.empty()) r.error = path + ": no triangles to render (all meshes empty, degenerate or points/lines)";
+    return r;
+}
+
+}  // namespace
+
+bool isMeshFileExtensionSupported(const std::string& path) {
+    try {
+        std::string ext = fs::path(path).extension().string();
+        if (ext.size() < 2) return false;
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        Assimp::Importer importer;
+        return importer.IsExtensionSupported(ext.c_str());
+    } catch (...) {
+        return false;
+    }
+}
+
+MeshImportResult importMeshFile(const std::string& path) {
+    const auto t0 = std::chrono::steady_clock::now();
+    MeshImportResult r;
+    try {
+        r = importImpl(path);
+    } catch (const std::bad_alloc&) {
+        r = MeshImportResult{};
+        r.error = path + ": out of memory while importing";
+    } catch (const std::exception& e) {
+        r = MeshImportResult{};
+        r.error = path + ": cannot import: " + e.what();
+    } catch (...) {
+        r = MeshImportResult{};
+        r.error = path + ": cannot import: unknown error";
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r.seconds > kSlowImportSeconds) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.1f", r.seconds);
+        r.warnings.push_back(path + ": import took " + buf + " s");
+    }
+    return r;
+}
+
+}  // namespace caustic

@@ -1,0 +1,140 @@
+// Materials on the CPU side: every type reads, writes and reads back the same; per-type defaults;
+// the conversion to GPU materials (presets, smooth vs rough, flags); texture loading errors name
+// the file and the material; the GGX albedo table's known values.
+#include "renderer/gpu_scene.h"
+#include "renderer/scene_io.h"
+
+#include <catch2/catch.hpp>
+
+using namespace caustic;
+
+namespace {
+
+Scene mustParse(const std::string& text) {
+    SceneLoadResult r = parseScene(text, "scenes/x.json");
+    INFO(r.error);
+    REQUIRE(r.scene);
+    return *r.scene;
+}
+
+const char* kAllTypes = R"({"version": 1, "materials": [
+  {"name": "d", "type": "diffuse", "albedo": [0.5, 0.5, 0.5], "albedo_texture": "a.png"},
+  {"name": "on", "type": "oren_nayar", "sigma": 0.3, "energy_compensation": true},
+  {"name": "eon", "type": "eon", "albedo": [0.9, 0.8, 0.7]},
+  {"name": "m", "type": "mirror", "tint": [0.9, 0.9, 0.9]},
+  {"name": "t", "type": "transmission"},
+  {"name": "g", "type": "dielectric", "ior": 1.33, "roughness": 0.2, "normal_texture": "n.png"},
+  {"name": "au", "type": "conductor", "metal": "gold", "roughness": 0.3, "energy_compensation": true},
+  {"name": "c", "type": "conductor", "metal": "custom", "eta": [0.2, 0.3, 0.4], "k": [3, 2, 1],
+   "roughness_texture": "r.png", "emission": [1, 0, 0]}
+]})";
+
+}  // namespace
+
+TEST_CASE("materials: every type round-trips, with per-type defaults", "[scene_io][materials]") {
+    const Scene s = mustParse(kAllTypes);
+    REQUIRE(s.materials.size() == 8);
+    CHECK(s.materials[1].type == MaterialType::OrenNayar);
+    CHECK(s.materials[1].sigma == 0.3f);
+    CHECK(s.materials[2].roughness == 0.5f);  // eon's default roughness
+    CHECK(s.materials[4].ior == 1.0f);        // transmission's default ior
+    CHECK(s.materials[5].ior == 1.33f);
+    CHECK(s.materials[6].metal == Metal::Gold);
+    CHECK(s.materials[7].k == glm::vec3(3, 2, 1));
+    CHECK(s.materials[0].albedoTexture == "a.png");
+    const Scene again = mustParse(sceneToJson(s));
+    CHECK(again.materials == s.materials);
+    // eta and k are written for custom metals only.
+    const std::string json = sceneToJson(s);
+    CHECK(json.find("\"eta\": [0.2, 0.3, 0.4]") != std::string::npos);
+    CHECK(json.find("\"eta\"") == json.rfind("\"eta\""));
+}
+
+TEST_CASE("materials: conversion to the GPU", "[materials]") {
+    Scene s = mustParse(kAllTypes);
+    for (Material& m : s.materials) m.albedoTexture = m.normalTexture = m.roughnessTexture = "";
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, &c, &error));
+    REQUIRE(c.materials.size() == 8);
+    CHECK(c.materials[0].info.x == MAT_DIFFUSE);
+    CHECK(c.materials[1].info.x == MAT_OREN_NAYAR);
+    CHECK(c.materials[1].info.y == MAT_FLAG_ENERGY_COMPENSATION);
+    CHECK(c.materials[1].params.x == 0.3f);
+    CHECK(c.materials[2].info.x == MAT_EON);
+    CHECK(c.materials[3].info.x == MAT_MIRROR);
+    CHECK(c.materials[4].info.x == MAT_TRANSMISSION);
+    CHECK(c.materials[5].info.x == MAT_ROUGH_DIELECTRIC);
+    CHECK(c.materials[5].params.y == 1.33f);
+    CHECK(c.materials[6].info.x == MAT_ROUGH_CONDUCTOR);
+    CHECK(c.materials[6].eta == glm::vec4(0.183f, 0.421f, 1.373f, 0));
+    CHECK(c.materials[6].k == glm::vec4(3.424f, 2.346f, 1.770f, 0));
+    CHECK(c.materials[7].info.x == MAT_CONDUCTOR);  // roughness 0: the smooth model
+    CHECK(c.materials[7].emission.x == 1.0f);
+    s.materials[5].roughness = 0.0f;
+    REQUIRE(compileScene(s, &c, &error));
+    CHECK(c.materials[5].info.x == MAT_DIELECTRIC);
+}
+
+TEST_CASE("materials: an unreadable texture is an error naming the file and the material", "[materials]") {
+    Scene s = mustParse(R"({"version": 1, "materials": [{"name": "brick", "albedo_texture": "tex/missing.png"}]})");
+    s.sourcePath = "scenes/x.json";
+    CompiledScene c;
+    std::string error;
+    ImageReader failing = [](const std::string& path, ImageData*, std::string* why) {
+        *why = path + ": No such file or directory";
+        return false;
+    };
+    CHECK_FALSE(compileScene(s, failing, &c, &error));
+    CHECK(error.find("scenes/tex/missing.png") != std::string::npos);
+    CHECK(error.find("'brick'") != std::string::npos);
+    CHECK(error.find("materials[0].albedo_texture") != std::string::npos);
+    // No reader at all (a lean build) also names both.
+    CHECK_FALSE(compileScene(s, &c, &error));
+    CHECK(error.find("missing.png") != std::string::npos);
+    CHECK(error.find("'brick'") != std::string::npos);
+    // A reader that succeeds with an empty image.
+    ImageReader empty = [](const std::string&, ImageData* out, std::string*) {
+        *out = ImageData{};
+        return true;
+    };
+    CHECK_FALSE(compileScene(s, empty, &c, &error));
+    CHECK(error.find("empty") != std::string::npos);
+}
+
+TEST_CASE("materials: textures are shared between materials and keep their size", "[materials]") {
+    Scene s = mustParse(R"({"version": 1, "materials": [
+        {"name": "a", "albedo_texture": "t.png"}, {"name": "b", "albedo_texture": "t.png"},
+        {"name": "c", "type": "eon", "roughness_texture": "t.png"}]})");
+    int reads = 0;
+    ImageReader reader = [&](const std::string&, ImageData* out, std::string*) {
+        ++reads;
+        out->width = 7;
+        out->height = 3;
+        out->channels = 4;
+        out->pixels.assign(7 * 3 * 4, 0.5f);
+        return true;
+    };
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, reader, &c, &error));
+    CHECK(reads == 2);  // once as sRGB (albedo), once linear (roughness)
+    REQUIRE(c.textures.size() == 2);
+    CHECK(c.materials[0].textures.x == c.materials[1].textures.x);
+    CHECK(c.textures[0].info == glm::uvec4(0, 7, 3, 3));  // 7x3, 3x1, 1x1
+    CHECK(c.texels.size() == size_t(2 * (21 + 3 + 1)));
+}
+
+TEST_CASE("materials: the GGX albedo table", "[materials]") {
+    const std::vector<float>& t = ggxAlbedoTable();
+    constexpr int N = GGX_ALBEDO_TABLE_SIZE;
+    REQUIRE(t.size() == size_t(N * N));
+    // alpha = 1, normal incidence: 1 - ln 2 (D = 1/pi, integrated by hand).
+    CHECK(t[size_t(N - 1) * N + N - 1] == Approx(1.0 - std::log(2.0)).margin(2e-3));
+    // Nearly smooth: everything is reflected.
+    CHECK(t[size_t(N - 1)] == Approx(1.0).margin(1e-3));
+    for (float e : t) {
+        CHECK(e > 0.0f);
+        CHECK(e <= 1.0f);
+    }
+}

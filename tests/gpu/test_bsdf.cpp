@@ -1,0 +1,430 @@
+// The BSDF models through the real GLSL (tests/gpu/kernels/bsdf_eval.comp includes the same
+// bsdf/bsdf.glsl as the integrator), tested the way pbrt-v4 (bsdfs_test.cpp) and Mitsuba 3
+// (chi2.py) test theirs:
+//   - chi-square goodness of fit of every sampled lobe against its pdf, binned in (theta, phi)
+//     over the whole sphere, for normal, oblique, grazing, below-the-horizon and total-internal-
+//     reflection directions and several roughness values, Sidak-corrected over the suite;
+//   - the pdf integrates to the fraction of samples that are valid (and so to at most 1, and to 1
+//     where nothing is lost);
+//   - every sample's weight equals eval |cos| / pdf, and its pdf equals bsdfPdf;
+//   - reciprocity of the reflection lobes;
+//   - white furnaces: the mean sample weight (the directional albedo) per model and direction.
+#include "renderer/gpu_scene.h"
+#include "renderer/shader_loader.h"
+#include "tests/gpu/gl_fixture.h"
+#include "tests/support/chi2.h"
+
+#include <glad/gl.h>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace caustic;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+GLuint bsdfKernel() {
+    static GLuint program = [] {
+        ShaderLoader loader(defaultShaderDir());
+        ShaderSource src;
+        std::string err;
+        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/bsdf_eval.comp", {}, &src, &err);
+        INFO(err);
+        REQUIRE(loaded);
+        GLuint p = compileComputeProgram(src, "bsdf_eval.comp", &err);
+        INFO(err);
+        REQUIRE(p != 0);
+        return p;
+    }();
+    return program;
+}
+
+gpu::GpuMaterial material(std::uint32_t type, glm::vec3 albedo, float roughness = 0.0f, float ior = 1.5f,
+                          std::uint32_t flags = 0) {
+    gpu::GpuMaterial m{};
+    m.albedo = glm::vec4(albedo, 0);
+    m.params = glm::vec4(roughness, ior, 0, 0);
+    m.info = glm::uvec4(type, flags, 0, 0);
+    // Gold (the preset), so that conductor tests see a coloured, angle-dependent Fresnel.
+    m.eta = glm::vec4(0.183f, 0.421f, 1.373f, 0);
+    m.k = glm::vec4(3.424f, 2.346f, 1.770f, 0);
+    return m;
+}
+
+glm::vec3 directionWithCos(float cosTheta, float phi = 0.3f) {
+    float s = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    return {s * std::cos(phi), s * std::sin(phi), cosTheta};
+}
+
+// One renderer (for the scene buffers, the GGX table among them) and a material buffer.
+class Harness {
+public:
+    Harness() : m_renderer(test::makeRenderer()) {
+        Scene s;
+        s.render.width = s.render.height = 1;
+        std::string error;
+        REQUIRE(m_renderer->setScene(s, &error));
+        glCreateBuffers(1, &m_material);
+        glCreateBuffers(1, &m_out);
+    }
+    ~Harness() {
+        glDeleteBuffers(1, &m_material);
+        glDeleteBuffers(1, &m_out);
+    }
+    Harness(const Harness&) = delete;
+    Harness& operator=(const Harness&) = delete;
+
+    void setMaterial(const gpu::GpuMaterial& m) { glNamedBufferData(m_material, sizeof m, &m, GL_STATIC_DRAW); }
+
+    std::vector<glm::vec4> run(GLuint mode, GLuint count, GLuint outputs, glm::vec3 wo, GLuint rows = 0,
+                               GLuint cols = 1, GLuint sub = 1, GLuint seed = 1234) {
+        GLuint p = bsdfKernel();
+        const size_t n = size_t(count) * outputs;
+        glNamedBufferData(m_out, GLsizeiptr(n * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_READ);
+        m_renderer->bindScene(0, 1);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_material);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, m_out);
+        glUseProgram(p);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_mode"), mode);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_count"), count);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_material"), 0);
+        glProgramUniform3f(p, glGetUniformLocation(p, "u_wo"), wo.x, wo.y, wo.z);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_rows"), rows);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_cols"), cols);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_sub"), sub);
+        glProgramUniform1ui(p, glGetUniformLocation(p, "u_seed"), seed);
+        glDispatchCompute((count + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<glm::vec4> r(n);
+        glGetNamedBufferSubData(m_out, 0, GLsizeiptr(n * sizeof(glm::vec4)), r.data());
+        REQUIRE(glDebugErrorCount() == 0);
+        return r;
+    }
+
+    struct Samples {
+        std::vector<glm::vec3> wi;
+        std::vector<float> pdf;
+        std::vector<glm::vec3> weight;
+        std::vector<std::uint32_t> flags;
+        std::vector<glm::vec3> eval;
+        std::vector<float> pdfEval;
+    };
+    Samples sample(glm::vec3 wo, GLuint count, GLuint seed = 1234) {
+        std::vector<glm::vec4> r = run(0, count, 3, wo, 0, 1, 1, seed);
+        Samples s;
+        for (GLuint i = 0; i < count; ++i) {
+            s.wi.emplace_back(r[3 * i]);
+            s.pdf.push_back(r[3 * i].w);
+            s.weight.emplace_back(r[3 * i + 1]);
+            s.flags.push_back(std::uint32_t(r[3 * i + 1].w));
+            s.eval.emplace_back(r[3 * i + 2]);
+            s.pdfEval.push_back(r[3 * i + 2].w);
+        }
+        return s;
+    }
+
+private:
+    std::unique_ptr<Renderer> m_renderer;
+    GLuint m_material = 0, m_out = 0;
+};
+
+Harness& harness() {
+    static Harness h;
+    return h;
+}
+
+// The directional albedo: the mean weight, transmitted samples times etap^2 (undoing the radiance
+// scaling, which is not a loss of energy; see shaders/bsdf/specular.glsl).
+double furnace(const Harness::Samples& s, glm::vec3 wo, float eta) {
+    double sum = 0.0;
+    for (size_t i = 0; i < s.wi.size(); ++i) {
+        if (!(s.pdf[i] > 0.0f)) continue;
+        double w = s.weight[i].g;
+        if (s.flags[i] & 2u) {
+            double etap = wo.z > 0.0f ? eta : 1.0 / eta;
+            w *= etap * etap;
+        }
+        sum += w;
+    }
+    return sum / double(s.wi.size());
+}
+
+constexpr GLuint kRows = 32, kCols = 32, kSub = 32;
+constexpr GLuint kSamples = 1u << 19;
+
+struct Chi2Case {
+    const char* name;
+    gpu::GpuMaterial mat;
+    glm::vec3 wo;
+};
+
+std::vector<Chi2Case> chi2Cases() {
+    std::vector<Chi2Case> cases;
+    const glm::vec3 normal(0, 0, 1), oblique = directionWithCos(0.5f), grazing = directionWithCos(0.05f);
+    cases.push_back({"lambert normal", material(MAT_DIFFUSE, glm::vec3(0.7f)), normal});
+    cases.push_back({"lambert oblique", material(MAT_DIFFUSE, glm::vec3(0.7f)), oblique});
+    cases.push_back({"oren-nayar oblique", material(MAT_OREN_NAYAR, glm::vec3(0.7f), 0.6f), oblique});
+    cases.push_back({"eon oblique", material(MAT_EON, glm::vec3(0.7f), 0.7f), oblique});
+    static const char* kConductorNames[3][3] = {
+        {"conductor a=0.1 normal", "conductor a=0.1 oblique", "conductor a=0.1 grazing"},
+        {"conductor a=0.35 normal", "conductor a=0.35 oblique", "conductor a=0.35 grazing"},
+        {"conductor a=0.8 normal", "conductor a=0.8 oblique", "conductor a=0.8 grazing"}};
+    static const char* kDielectricNames[3][5] = {
+        {"glass a=0.1 normal", "glass a=0.1 oblique", "glass a=0.1 grazing", "glass a=0.1 inside",
+         "glass a=0.1 inside beyond the critical angle"},
+        {"glass a=0.35 normal", "glass a=0.35 oblique", "glass a=0.35 grazing", "glass a=0.35 inside",
+         "glass a=0.35 inside beyond the critical angle"},
+        {"glass a=0.8 normal", "glass a=0.8 oblique", "glass a=0.8 grazing", "glass a=0.8 inside",
+         "glass a=0.8 inside beyond the critical angle"}};
+    const float alphas[3] = {0.1f, 0.35f, 0.8f};
+    for (int a = 0; a < 3; ++a) {
+        const glm::vec3 wos[3] = {normal, oblique, grazing};
+        for (int w = 0; w < 3; ++w)
+            cases.push_back({kConductorNames[a][w], material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), alphas[a]), wos[w]});
+        // Inside: cos -0.9 refracts out; cos -0.5 (60 degrees) is beyond the critical angle of
+        // 41.8 degrees for eta 1.5, where only rough microfacets let light out.
+        const glm::vec3 gwos[5] = {normal, oblique, grazing, directionWithCos(-0.9f), directionWithCos(-0.5f)};
+        for (int w = 0; w < 5; ++w)
+            cases.push_back({kDielectricNames[a][w], material(MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), alphas[a], 1.5f), gwos[w]});
+    }
+    return cases;
+}
+
+}  // namespace
+
+TEST_CASE("BSDF sampling matches the pdf (chi-square), and the pdf integrates to the valid fraction",
+          "[gpu][bsdf][chi2]") {
+    Harness& h = harness();
+    const std::vector<Chi2Case> cases = chi2Cases();
+    for (const Chi2Case& c : cases) {
+        INFO(c.name);
+        h.setMaterial(c.mat);
+        Harness::Samples s = h.sample(c.wo, kSamples);
+        std::vector<glm::vec4> cells = h.run(1, kRows * kCols, 1, c.wo, kRows, kCols, kSub);
+        std::vector<double> observed(kRows * kCols, 0.0), expected(kRows * kCols, 0.0);
+        double valid = 0.0, integral = 0.0;
+        for (size_t i = 0; i < s.wi.size(); ++i) {
+            if (!(s.pdf[i] > 0.0f)) continue;
+            valid += 1.0;
+            glm::dvec3 w = glm::normalize(glm::dvec3(s.wi[i]));
+            int row = std::clamp(int(std::acos(std::clamp(w.z, -1.0, 1.0)) / kPi * kRows), 0, int(kRows) - 1);
+            double phi = std::atan2(w.y, w.x);
+            if (phi < 0.0) phi += 2.0 * kPi;
+            int col = std::clamp(int(phi / (2.0 * kPi) * kCols), 0, int(kCols) - 1);
+            observed[size_t(row) * kCols + size_t(col)] += 1.0;
+        }
+        for (size_t i = 0; i < cells.size(); ++i) {
+            integral += cells[i].x;
+            expected[i] = double(cells[i].x) * kSamples;
+        }
+        const double validFraction = valid / kSamples;
+        CHECK(integral <= 1.002);
+        CHECK(integral == Approx(validFraction).margin(0.004));
+        test::Chi2Result r = test::chi2Test(observed, expected, kRows, kCols, 0.01, int(cases.size()));
+        std::printf("chi2 %-48s valid %.4f  pdf integral %.4f  chi2 %.1f dof %d p %.3g\n", c.name, validFraction,
+                    integral, r.statistic, r.dof, r.pValue);
+        INFO(r.report);
+        CHECK(r.passed);
+    }
+}
+
+TEST_CASE("BSDF sample weights equal eval |cos| / pdf, and pdfs equal bsdfPdf", "[gpu][bsdf]") {
+    Harness& h = harness();
+    for (const Chi2Case& c : chi2Cases()) {
+        INFO(c.name);
+        h.setMaterial(c.mat);
+        Harness::Samples s = h.sample(c.wo, 1u << 14, 99);
+        int bad = 0, checked = 0;
+        for (size_t i = 0; i < s.wi.size(); ++i) {
+            if (!(s.pdf[i] > 0.0f)) continue;
+            ++checked;
+            glm::vec3 expect = s.eval[i] * std::abs(s.wi[i].z) / s.pdfEval[i];
+            float scale = std::max(1e-3f, std::max(expect.x, std::max(expect.y, expect.z)));
+            bool ok = glm::all(glm::lessThanEqual(glm::abs(expect - s.weight[i]), glm::vec3(2e-3f * scale))) &&
+                      std::abs(s.pdf[i] - s.pdfEval[i]) <= 2e-3f * s.pdf[i];
+            if (!ok && bad++ < 5) {
+                INFO("sample " << i << ": weight " << s.weight[i].x << " vs eval*cos/pdf " << expect.x << ", pdf "
+                               << s.pdf[i] << " vs " << s.pdfEval[i]);
+                CHECK(ok);
+            }
+        }
+        CHECK(checked > 1000);
+        CHECK(bad <= 2);  // rounding at the very edges of the lobes
+    }
+}
+
+TEST_CASE("BSDF reflection lobes are reciprocal", "[gpu][bsdf]") {
+    Harness& h = harness();
+    struct Case { const char* name; gpu::GpuMaterial mat; };
+    const Case cases[] = {
+        {"lambert", material(MAT_DIFFUSE, glm::vec3(0.7f))},
+        {"oren-nayar", material(MAT_OREN_NAYAR, glm::vec3(0.7f), 0.8f)},
+        {"oren-nayar compensated", material(MAT_OREN_NAYAR, glm::vec3(0.7f), 0.8f, 1.5f, MAT_FLAG_ENERGY_COMPENSATION)},
+        {"eon", material(MAT_EON, glm::vec3(0.7f), 0.8f)},
+        {"rough conductor", material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), 0.3f)},
+        {"rough dielectric reflection", material(MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), 0.3f, 1.5f)},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        h.setMaterial(c.mat);
+        std::vector<glm::vec4> r = h.run(2, 4096, 2, glm::vec3(0, 0, 1));
+        int bad = 0;
+        for (size_t i = 0; i < 4096; ++i) {
+            glm::vec3 a(r[2 * i]), b(r[2 * i + 1]);
+            float scale = std::max(1e-4f, std::max(a.x, b.x));
+            if (std::abs(a.x - b.x) > 1e-3f * scale) ++bad;
+        }
+        CHECK(bad == 0);
+    }
+}
+
+TEST_CASE("BSDF white furnace: directional albedo per model", "[gpu][bsdf][furnace]") {
+    Harness& h = harness();
+    const GLuint n = 1u << 18;
+    const float cosines[] = {1.0f, 0.5f, 0.1f};
+    SECTION("lossless models reflect exactly 1") {
+        struct Case { const char* name; gpu::GpuMaterial mat; double tolerance; };
+        const Case cases[] = {
+            {"lambert", material(MAT_DIFFUSE, glm::vec3(1.0f)), 0.003},
+            {"eon r=0.3", material(MAT_EON, glm::vec3(1.0f), 0.3f), 0.006},
+            {"eon r=1", material(MAT_EON, glm::vec3(1.0f), 1.0f), 0.006},
+            {"mirror", material(MAT_MIRROR, glm::vec3(1.0f)), 1e-6},
+            {"smooth conductor F=1", material(MAT_CONDUCTOR, glm::vec3(1.0f), 0.0f, 1.5f, MAT_FLAG_FRESNEL_ONE), 1e-6},
+            {"perfect transmission ior 1.33", material(MAT_TRANSMISSION, glm::vec3(1.0f), 0.0f, 1.33f), 1e-5},
+            {"smooth glass ior 1.5", material(MAT_DIELECTRIC, glm::vec3(1.0f), 0.0f, 1.5f), 1e-5},
+        };
+        for (const Case& c : cases) {
+            h.setMaterial(c.mat);
+            for (float cosTheta : cosines) {
+                const glm::vec3 wo = directionWithCos(cosTheta);
+                double e = furnace(h.sample(wo, n), wo, c.mat.params.y);
+                std::printf("furnace %-32s cos %.2f: %.5f\n", c.name, double(cosTheta), e);
+                INFO(c.name << " cos " << cosTheta);
+                CHECK(e == Approx(1.0).margin(c.tolerance));
+            }
+        }
+        // Glass from inside, below and beyond the critical angle (total internal reflection).
+        h.setMaterial(material(MAT_DIELECTRIC, glm::vec3(1.0f), 0.0f, 1.5f));
+        for (float cosTheta : {-0.9f, -0.5f}) {
+            const glm::vec3 wo = directionWithCos(cosTheta);
+            CHECK(furnace(h.sample(wo, n), wo, 1.5f) == Approx(1.0).margin(1e-5));
+        }
+    }
+    SECTION("rough conductors with F = 1 lose what single-scattering GGX loses; compensation restores it") {
+        // Normal incidence: E(1, alpha) = 0.3069 at alpha = 1 is exact (1 - ln 2, integrated by
+        // hand: D = 1/pi and G2 = 2 cos(2 theta_h) / (1 + cos(2 theta_h)) there). The numbers the
+        // issue quotes (0.973 / 0.845 / 0.628 / 0.406 height-correlated) are the cosine-weighted
+        // averages over wo, E_avg = 2 int E(mu) mu dmu, checked below.
+        const float alphas[] = {0.1f, 0.3f, 0.6f, 1.0f};
+        const double reference[] = {0.9881, 0.8768, 0.5912, 0.3069};
+        const double referenceAvg[] = {0.973, 0.845, 0.628, 0.406};
+        const std::vector<float>& table = ggxAlbedoTable();
+        for (int a = 0; a < 4; ++a) {
+            h.setMaterial(material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), alphas[a], 1.5f, MAT_FLAG_FRESNEL_ONE));
+            double e = furnace(h.sample(glm::vec3(0, 0, 1), n), glm::vec3(0, 0, 1), 1.5f);
+            const int j = int(std::lround(alphas[a] * (GGX_ALBEDO_TABLE_SIZE - 1)));
+            std::printf("furnace rough conductor F=1 alpha %.1f normal: %.4f (reference %.3f, CPU table %.4f at alpha %.3f)\n",
+                        double(alphas[a]), e, reference[a], double(table[size_t(j) * GGX_ALBEDO_TABLE_SIZE + GGX_ALBEDO_TABLE_SIZE - 1]),
+                        double(j) / (GGX_ALBEDO_TABLE_SIZE - 1));
+            INFO("alpha " << alphas[a]);
+            CHECK(e == Approx(reference[a]).margin(0.004));
+            // E_avg by the midpoint rule over mu.
+            double avg = 0.0;
+            const int kMu = 16;
+            for (int k = 0; k < kMu; ++k) {
+                const float mu = (float(k) + 0.5f) / kMu;
+                const glm::vec3 wo = directionWithCos(mu);
+                avg += 2.0 * furnace(h.sample(wo, 1u << 15), wo, 1.5f) * mu / kMu;
+            }
+            std::printf("furnace rough conductor F=1 alpha %.1f average over wo: %.4f (issue: %.3f)\n", double(alphas[a]), avg,
+                        referenceAvg[a]);
+            CHECK(avg == Approx(referenceAvg[a]).margin(0.01));
+            h.setMaterial(material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), alphas[a], 1.5f,
+                                   MAT_FLAG_FRESNEL_ONE | MAT_FLAG_ENERGY_COMPENSATION));
+            for (float cosTheta : cosines) {
+                const glm::vec3 wo = directionWithCos(cosTheta);
+                double ec = furnace(h.sample(wo, n), wo, 1.5f);
+                std::printf("furnace rough conductor F=1 compensated alpha %.1f cos %.2f: %.4f\n", double(alphas[a]),
+                            double(cosTheta), ec);
+                INFO("compensated, cos " << cosTheta);
+                CHECK(ec == Approx(1.0).margin(0.015));
+            }
+        }
+    }
+    SECTION("lossy models stay at or below 1") {
+        struct Case { const char* name; gpu::GpuMaterial mat; };
+        const Case cases[] = {
+            {"oren-nayar sigma 0.5", material(MAT_OREN_NAYAR, glm::vec3(1.0f), 0.5f)},
+            {"oren-nayar sigma 1.0", material(MAT_OREN_NAYAR, glm::vec3(1.0f), 1.0f)},
+            {"rough glass a=0.3", material(MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), 0.3f, 1.5f)},
+            {"rough glass a=0.8", material(MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), 0.8f, 1.5f)},
+            {"gold a=0.3", material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), 0.3f)},
+        };
+        for (const Case& c : cases) {
+            h.setMaterial(c.mat);
+            for (float cosTheta : cosines) {
+                const glm::vec3 wo = directionWithCos(cosTheta);
+                double e = furnace(h.sample(wo, n), wo, c.mat.params.y);
+                std::printf("furnace %-32s cos %.2f: %.4f\n", c.name, double(cosTheta), e);
+                INFO(c.name << " cos " << cosTheta);
+                CHECK(e <= 1.003);
+                CHECK(e > 0.3);
+            }
+        }
+        // The compensated Oren-Nayar is not bounded by 1 everywhere; its values are reported
+        // (docs/materials.md), not asserted.
+        for (float sigma : {0.5f, 1.0f}) {
+            h.setMaterial(material(MAT_OREN_NAYAR, glm::vec3(1.0f), sigma, 1.5f, MAT_FLAG_ENERGY_COMPENSATION));
+            for (float cosTheta : cosines) {
+                const glm::vec3 wo = directionWithCos(cosTheta);
+                std::printf("furnace oren-nayar compensated sigma %.1f cos %.2f: %.4f\n", double(sigma),
+                            double(cosTheta), furnace(h.sample(wo, n), wo, 1.5f));
+            }
+        }
+    }
+}
+
+TEST_CASE("smooth dielectric: reflects with probability F, refracts by Snell's law", "[gpu][bsdf]") {
+    Harness& h = harness();
+    const float eta = 1.5f;
+    h.setMaterial(material(MAT_DIELECTRIC, glm::vec3(1.0f), 0.0f, eta));
+    for (float cosTheta : {1.0f, 0.5f, 0.05f, -0.9f, -0.5f}) {
+        INFO("cos " << cosTheta);
+        const glm::vec3 wo = directionWithCos(cosTheta);
+        // Fresnel in double, written independently of the GLSL.
+        double ci = std::abs(cosTheta), e = cosTheta > 0 ? eta : 1.0 / eta;
+        double s2t = (1.0 - ci * ci) / (e * e);
+        double F = 1.0;
+        if (s2t < 1.0) {
+            double ct = std::sqrt(1.0 - s2t);
+            double rs = (ci - e * ct) / (ci + e * ct), rp = (e * ci - ct) / (e * ci + ct);
+            F = 0.5 * (rs * rs + rp * rp);
+        }
+        const GLuint n = 1u << 16;
+        Harness::Samples s = h.sample(wo, n);
+        double reflected = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            REQUIRE(s.pdf[i] > 0.0f);
+            REQUIRE((s.flags[i] & 1u) != 0u);  // delta
+            CHECK(s.eval[i] == glm::vec3(0.0f));
+            CHECK(s.pdfEval[i] == 0.0f);
+            if (s.flags[i] & 2u) {
+                // Snell: e sin(theta_t) = sin(theta_i) (relative to the side), opposite azimuth.
+                double st = std::sqrt(std::max(0.0, 1.0 - double(s.wi[i].z) * s.wi[i].z));
+                CHECK(st * e == Approx(std::sqrt(1.0 - ci * ci)).margin(1e-4));
+                CHECK(s.wi[i].z * wo.z < 0.0f);
+                CHECK(s.wi[i].x * wo.x <= 0.0f);
+            } else {
+                reflected += 1.0;
+                CHECK(s.wi[i].x == Approx(-wo.x).margin(1e-6));
+                CHECK(s.wi[i].z == Approx(wo.z).margin(1e-6));
+            }
+        }
+        const double sd = std::sqrt(F * (1.0 - F) / n);
+        CHECK(reflected / n == Approx(F).margin(5.0 * sd + 1e-6));
+    }
+}

@@ -1,0 +1,185 @@
+// The thin-lens camera against the thin-lens formula: a small emitter on the plane of focus
+// stays sharp; off it, it spreads into a circle of confusion of radius
+// aperture * |z - focal| / z (on the plane of focus); with squeeze s the bokeh is s times taller
+// than wide; with n blades it is a regular n-gon. The pixel filters keep a flat field flat.
+#include "tests/gpu/gl_fixture.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+using namespace caustic;
+
+namespace {
+
+constexpr int kSize = 96;
+constexpr float kFov = 20.0f, kFocal = 5.0f, kDepth = 2.5f, kBall = 0.05f;
+
+Scene bokehScene(float aperture, float z, float ballRadius = kBall) {
+    Scene s;
+    s.render.width = s.render.height = kSize;
+    s.render.maxDepth = 0;  // only what the camera sees directly
+    s.camera.position = glm::vec3(0.0f);
+    s.camera.lookAt = glm::vec3(0.0f, 0.0f, -1.0f);
+    s.camera.fovDegrees = kFov;
+    s.camera.apertureRadius = aperture;
+    s.camera.focalDistance = kFocal;
+    s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(1.0f)});
+    Object ball;
+    ball.shape = Shape::Sphere;
+    ball.material = "glow";
+    ball.transform.translate = glm::vec3(0.0f, 0.0f, -z);
+    ball.transform.scale = glm::vec3(ballRadius);
+    s.objects.push_back(ball);
+    return s;
+}
+
+struct Spot {
+    double cx = 0, cy = 0, varX = 0, varY = 0, total = 0;
+};
+
+Spot measure(const Film& f) {
+    Spot s;
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            double v = f.mean[f.index(x, y)].g;
+            s.total += v;
+            s.cx += v * (x + 0.5);
+            s.cy += v * (y + 0.5);
+        }
+    s.cx /= s.total;
+    s.cy /= s.total;
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            double v = f.mean[f.index(x, y)].g;
+            s.varX += v * (x + 0.5 - s.cx) * (x + 0.5 - s.cx);
+            s.varY += v * (y + 0.5 - s.cy) * (y + 0.5 - s.cy);
+        }
+    s.varX /= s.total;
+    s.varY /= s.total;
+    return s;
+}
+
+// Pixels per unit length on the plane of focus.
+double pixelsPerUnit() { return (kSize / 2.0) / (kFocal * std::tan(glm::radians(kFov / 2.0))); }
+
+// The variance (per axis) that the emitter's own size and the box pixel filter add to a spot:
+// the ball's image on the plane of focus is a disk of radius kBall * focal / z (var r^2 / 4),
+// the box filter a uniform pixel (var 1/12).
+double ownVariance(float z) {
+    double r = kBall * kFocal / z * pixelsPerUnit();
+    return r * r / 4.0 + 1.0 / 12.0;
+}
+
+}  // namespace
+
+TEST_CASE("thin lens: sharp on the plane of focus, circle of confusion off it", "[gpu][camera]") {
+    auto renderer = test::makeRenderer();
+    const float aperture = 0.5f;
+    SECTION("on the plane of focus the aperture changes nothing") {
+        Spot pin = measure(test::renderFilm(*renderer, bokehScene(0.0f, kFocal), 64));
+        Spot lens = measure(test::renderFilm(*renderer, bokehScene(aperture, kFocal), 64));
+        INFO("pinhole var " << pin.varX << ", lens var " << lens.varX);
+        CHECK(lens.varX - ownVariance(kFocal) < 0.3);  // only the ball's own image and the pixel
+        CHECK(std::abs(lens.varX - pin.varX) < 0.3);
+        CHECK(lens.cx == Approx(kSize / 2.0).margin(0.2));
+    }
+    SECTION("off the plane of focus: radius aperture * |z - focal| / z") {
+        Spot s = measure(test::renderFilm(*renderer, bokehScene(aperture, kDepth), 256));
+        const double expected = aperture * std::abs(kDepth - kFocal) / kDepth * pixelsPerUnit();
+        // A uniform disk of radius R has variance R^2 / 4 along each axis.
+        const double measured = 2.0 * std::sqrt(s.varX - ownVariance(kDepth));
+        const double measuredY = 2.0 * std::sqrt(s.varY - ownVariance(kDepth));
+        INFO("circle of confusion radius: expected " << expected << " px, measured " << measured << " / " << measuredY);
+        CHECK(measured == Approx(expected).epsilon(0.03));
+        CHECK(measuredY == Approx(expected).epsilon(0.03));
+        // Farther than the plane of focus blurs too, by the same formula.
+        const float far = 10.0f;
+        Spot f = measure(test::renderFilm(*renderer, bokehScene(aperture, far), 256));
+        const double expectedFar = aperture * std::abs(far - kFocal) / far * pixelsPerUnit();
+        CHECK(2.0 * std::sqrt(f.varX - ownVariance(far)) == Approx(expectedFar).epsilon(0.05));
+    }
+}
+
+TEST_CASE("anamorphic bokeh: squeeze s makes it s times taller than wide", "[gpu][camera]") {
+    auto renderer = test::makeRenderer();
+    for (float squeeze : {1.0f, 2.0f}) {
+        Scene s = bokehScene(0.5f, kDepth);
+        s.camera.squeeze = squeeze;
+        Spot spot = measure(test::renderFilm(*renderer, s, 256));
+        double own = ownVariance(kDepth);
+        double ratio = std::sqrt((spot.varY - own) / (spot.varX - own));
+        INFO("squeeze " << squeeze << ": height / width " << ratio);
+        CHECK(ratio == Approx(squeeze).epsilon(0.04));
+    }
+}
+
+TEST_CASE("polygonal aperture: n blades give an n-gon", "[gpu][camera]") {
+    // A smaller emitter (its image blurs the bokeh's outline by b = 1.1 px) and more samples,
+    // so the outline can be measured: the support function h(theta) = max over lit pixels of
+    // (p - centre) . (cos theta, sin theta), minus the blur.
+    auto renderer = test::makeRenderer();
+    const float ball = 0.02f;
+    const double R = 0.5 * std::abs(kDepth - kFocal) / kDepth * pixelsPerUnit();
+    const double b = ball * kFocal / kDepth * pixelsPerUnit();
+    auto support = [](const Film& f, double angleDegrees) {
+        Spot s = measure(f);
+        double peak = 0;
+        for (const glm::vec3& m : f.mean) peak = std::max(peak, double(m.g));
+        const double c = std::cos(glm::radians(angleDegrees)), sn = std::sin(glm::radians(angleDegrees));
+        double h = 0;
+        for (int y = 0; y < f.height; ++y)
+            for (int x = 0; x < f.width; ++x)
+                if (f.mean[f.index(x, y)].g > 0.1 * peak)
+                    h = std::max(h, (x + 0.5 - s.cx) * c + (y + 0.5 - s.cy) * sn + 0.5);
+        return h;
+    };
+    auto litArea = [](const Film& f) {
+        double peak = 0;
+        int n = 0;
+        for (const glm::vec3& m : f.mean) peak = std::max(peak, double(m.g));
+        for (const glm::vec3& m : f.mean) n += m.g > 0.1 * peak;
+        return double(n);
+    };
+    Scene round = bokehScene(0.5f, kDepth, ball);
+    Film r = test::renderFilm(*renderer, round, 1024);
+    Scene hex = round;
+    hex.camera.blades = 6;
+    Film h = test::renderFilm(*renderer, hex, 1024);
+    const double rx = support(r, 0) - b, ry = support(r, 90) - b;
+    const double hx = support(h, 0) - b, hy = support(h, 90) - b;
+    INFO("R " << R << " px, blur " << b << " px; round " << rx << " x " << ry << "; hexagon " << hx << " x " << hy
+              << "; lit areas " << litArea(r) << " / " << litArea(h));
+    CHECK(rx == Approx(R).epsilon(0.06));
+    CHECK(ry / rx == Approx(1.0).epsilon(0.05));
+    // A hexagon with a vertex on the x axis has an edge whose normal is the y axis, at R cos 30
+    // from the centre. (Along a vertex direction the threshold clips the blurred tip, so that
+    // support is only checked to stick out beyond the edges, as a hexagon's corners do.)
+    CHECK(hy == Approx(R * std::cos(glm::radians(30.0))).epsilon(0.04));
+    CHECK(hx > 1.05 * hy);
+    // Its area is 3 sqrt(3) / (2 pi) of the circle's (outlines widened by the blur b: Steiner's
+    // formula A + P b + pi b^2).
+    const double pi = std::numbers::pi;
+    const double hexArea = 1.5 * std::sqrt(3.0) * R * R + 6.0 * R * b + pi * b * b;
+    const double circleArea = pi * (R + b) * (R + b);
+    CHECK(litArea(h) / litArea(r) == Approx(hexArea / circleArea).epsilon(0.04));
+    // Rotating the blades by 30 degrees puts an edge normal on the x axis instead.
+    hex.camera.bladeRotationDegrees = 30.0f;
+    Film hr = test::renderFilm(*renderer, hex, 1024);
+    CHECK(support(hr, 0) - b == Approx(R * std::cos(glm::radians(30.0))).epsilon(0.04));
+    CHECK(support(hr, 90) - b > 1.05 * (support(hr, 0) - b));
+}
+
+TEST_CASE("pixel filters keep a uniform field uniform and the mean unchanged", "[gpu][camera]") {
+    auto renderer = test::makeRenderer();
+    for (PixelFilter filter : {PixelFilter::Box, PixelFilter::Tent, PixelFilter::Gaussian}) {
+        Scene s;
+        s.render.width = s.render.height = 8;
+        s.render.filter = filter;
+        s.environment.type = EnvironmentType::Constant;
+        s.environment.radiance = glm::vec3(0.5f);
+        Film f = test::renderFilm(*renderer, s, 4);
+        for (const glm::vec3& m : f.mean) CHECK(m.g == Approx(0.5f));
+    }
+}
