@@ -1,9 +1,12 @@
 #include "renderer/gpu_scene.h"
 
+#include "renderer/mesh_import.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
@@ -18,8 +21,12 @@ static_assert(sizeof(GpuMaterial) == 112);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 80);
-static_assert(sizeof(GpuFrame) == 224);
+static_assert(sizeof(GpuFrame) == 256);
 static_assert(offsetof(GpuLight, info) == 64);
+static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
+static_assert(sizeof(GpuInstance) == 128);
+static_assert(sizeof(GpuTriangle) == 64);
+static_assert(sizeof(GpuVertex) == 32);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
 }  // namespace gpu
 
@@ -99,6 +106,8 @@ struct Builder {
     const ImageReader& readImage;
     CompiledScene& out;
     std::string* error;
+    std::vector<Aabb> primBounds;          // world bounds of each analytic primitive
+    std::map<std::string, std::uint32_t> meshByFile;  // imported file -> BLAS index
 
     void growBounds(glm::vec3 p) {
         out.boundsMin = glm::min(out.boundsMin, p);
@@ -114,7 +123,15 @@ struct Builder {
         p.b = glm::vec4(eu, 0);
         p.c = glm::vec4(ev, 0);
         p.info = glm::uvec4(PRIM_QUAD, material, 0, flags);
-        for (glm::vec3 q : {corner, corner + eu, corner + ev, corner + eu + ev}) growBounds(q);
+        Aabb box;
+        for (glm::vec3 q : {corner, corner + eu, corner + ev, corner + eu + ev}) {
+            growBounds(q);
+            box.grow(q);
+        }
+        // A flat box is fine for the slab test, but give it a sliver of thickness so that
+        // rounding cannot make it empty.
+        const glm::vec3 pad = 1e-6f * (glm::abs(box.min) + glm::abs(box.max)) + 1e-20f;
+        primBounds.push_back({box.min - pad, box.max + pad});
         out.primitives.push_back(p);
         return static_cast<std::uint32_t>(out.primitives.size() - 1);
     }
@@ -135,6 +152,7 @@ struct Builder {
                       glm::length(glm::vec3(lin[0].z, lin[1].z, lin[2].z)));
         growBounds(c - ext);
         growBounds(c + ext);
+        primBounds.push_back({c - ext, c + ext});
         out.primitives.push_back(p);
         return static_cast<std::uint32_t>(out.primitives.size() - 1);
     }
@@ -176,6 +194,174 @@ struct Builder {
         l.info = glm::uvec4(LIGHT_SPHERE, 0, 0, 0);
         addLight(l, kPi * 4.0f * kPi * sx * sx * luminance(radiance), static_cast<int>(prim));
         return true;
+    }
+
+    // Imports a model file once (every object using it shares its BVH), merging its meshes.
+    bool importMesh(const std::string& file, const std::string& where, std::uint32_t* blasIndex) {
+        if (auto it = meshByFile.find(file); it != meshByFile.end()) {
+            *blasIndex = it->second;
+            return true;
+        }
+        MeshImportResult imported = importMeshFile(file);
+        if (!imported.ok()) {
+            *error = where + ".file: " + imported.error;
+            return false;
+        }
+        for (const std::string& w : imported.warnings) out.warnings.push_back(w);
+        std::vector<glm::vec3> positions;
+        std::vector<glm::uvec3> tris;
+        const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
+        for (const Mesh& mesh : imported.meshes) {
+            const auto base = static_cast<std::uint32_t>(positions.size());
+            for (size_t v = 0; v < mesh.positions.size(); ++v) {
+                positions.push_back(mesh.positions[v]);
+                gpu::GpuVertex gv{};
+                const glm::vec3 n = mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[v];
+                const glm::vec2 uv = mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[v];
+                const glm::vec3 t = mesh.tangents.empty() ? glm::vec3(0.0f) : glm::vec3(mesh.tangents[v]);
+                gv.normalU = glm::vec4(n, uv.x);
+                gv.tangentV = glm::vec4(t, uv.y);
+                out.vertices.push_back(gv);
+            }
+            for (const glm::uvec3& t : mesh.triangles) tris.push_back(t + glm::uvec3(base));
+        }
+        if (tris.empty()) {
+            *error = where + ".file: " + file + ": the file has no triangles";
+            return false;
+        }
+        MeshBlas blas = buildBlas(positions, tris);
+        if (blas.bvh.empty()) {
+            *error = where + ".file: " + file + ": no valid triangles (all are degenerate or not finite)";
+            return false;
+        }
+        out.meshBvh.blases.push_back(std::move(blas));
+        out.meshPositions.push_back(std::move(positions));
+        meshVertexBase.push_back(vertexBase);
+        *blasIndex = static_cast<std::uint32_t>(out.meshBvh.blases.size() - 1);
+        meshByFile.emplace(file, *blasIndex);
+        return true;
+    }
+    std::vector<std::uint32_t> meshVertexBase;
+
+    bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
+                         const glm::vec3* emission, const std::string& where) {
+        std::filesystem::path file(o.file);
+        if (file.is_relative() && !scene.sourcePath.empty())
+            file = std::filesystem::path(scene.sourcePath).parent_path() / file;
+        std::uint32_t blas = 0;
+        if (!importMesh(file.lexically_normal().string(), where, &blas)) return false;
+        const glm::mat4 w2o = glm::inverse(m);
+        if (!std::isfinite(glm::determinant(m)) || std::abs(glm::determinant(glm::mat3(m))) < 1e-30f) {
+            *error = where + ".transform: not invertible";
+            return false;
+        }
+        out.meshBvh.instances.push_back({blas, m});
+        out.meshBvh.worldToObject.push_back(w2o);
+        out.instanceObject.push_back(objectIndex);
+        const glm::mat4 w2oRows = glm::transpose(w2o), o2wRows = glm::transpose(m);
+        gpu::GpuInstance gi{};
+        gi.worldToObject0 = w2oRows[0];
+        gi.worldToObject1 = w2oRows[1];
+        gi.worldToObject2 = w2oRows[2];
+        gi.objectToWorld0 = o2wRows[0];
+        gi.objectToWorld1 = o2wRows[1];
+        gi.objectToWorld2 = o2wRows[2];
+        gi.info = glm::uvec4(0, 0, material, 0);   // node and triangle offsets: set in finishGeometry
+        gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), 0, 0);
+        out.instances.push_back(gi);
+        const Aabb local = out.meshBvh.blases[blas].bvh.nodes.front().bounds();
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 corner((c & 1) ? local.max.x : local.min.x, (c & 2) ? local.max.y : local.min.y,
+                                   (c & 4) ? local.max.z : local.min.z);
+            growBounds(glm::vec3(m * glm::vec4(corner, 1.0f)));
+        }
+        if (emission) {
+            // An emissive mesh is a light: triangles chosen by world area, then a uniform point.
+            const MeshBlas& b = out.meshBvh.blases[blas];
+            const std::vector<glm::vec3>& pos = out.meshPositions[blas];
+            gpu::GpuLight l{};
+            const auto cdfOffset = static_cast<std::uint32_t>(out.meshLightCdf.size());
+            double total = 0.0;
+            std::vector<double> areas;
+            for (const glm::uvec3& t : b.triangles) {
+                const glm::vec3 p0 = glm::vec3(m * glm::vec4(pos[t.x], 1)), p1 = glm::vec3(m * glm::vec4(pos[t.y], 1)),
+                                p2 = glm::vec3(m * glm::vec4(pos[t.z], 1));
+                const double a = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+                areas.push_back(std::isfinite(a) ? a : 0.0);
+                total += areas.back();
+            }
+            if (!(total > 0.0)) {
+                *error = where + ": an emissive mesh needs a non-zero area";
+                return false;
+            }
+            double run = 0.0;
+            for (double a : areas) {
+                run += a / total;
+                out.meshLightCdf.push_back(static_cast<float>(run));
+            }
+            out.meshLightCdf.back() = 1.0f;
+            const auto instance = static_cast<std::uint32_t>(out.instances.size() - 1);
+            l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
+            l.color = glm::vec4(*emission, 0);
+            l.info = glm::uvec4(LIGHT_MESH, LIGHT_FLAG_TWO_SIDED, instance, cdfOffset);
+            out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
+            out.lights.push_back(l);
+            out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * total * luminance(*emission)));
+        }
+        return true;
+    }
+
+    // Lays the meshes' BVHs and triangles out for the GPU and builds the top level over every
+    // analytic primitive and mesh instance.
+    void finishGeometry() {
+        std::vector<Aabb> bounds = primBounds;
+        std::vector<std::uint32_t> refs;
+        for (std::uint32_t i = 0; i < primBounds.size(); ++i) refs.push_back(i);
+        const std::vector<Aabb> instBounds = instanceWorldBounds(out.meshBvh.blases, out.meshBvh.instances);
+        for (std::uint32_t i = 0; i < instBounds.size(); ++i) {
+            bounds.push_back(instBounds[i]);
+            refs.push_back(TLAS_REF_INSTANCE | i);
+        }
+        BvhBuildOptions tlasOptions;
+        tlasOptions.maxLeafSize = 1;  // a leaf is one primitive or one instance
+        Bvh tlas = buildBvh(bounds, tlasOptions);
+        out.bvhNodes.clear();
+        for (const BvhNode& n : tlas.nodes) out.bvhNodes.push_back(std::bit_cast<gpu::GpuBvhNode>(n));
+        out.tlasNodeCount = static_cast<std::uint32_t>(tlas.nodes.size());
+        out.tlasRefs.clear();
+        for (std::uint32_t id : tlas.primIndices) out.tlasRefs.push_back(refs[id]);
+        // Each mesh's BVH after the top level, its triangles in leaf order.
+        std::vector<std::uint32_t> rootOf, firstTriangleOf;
+        for (size_t b = 0; b < out.meshBvh.blases.size(); ++b) {
+            const MeshBlas& blas = out.meshBvh.blases[b];
+            rootOf.push_back(static_cast<std::uint32_t>(out.bvhNodes.size()));
+            firstTriangleOf.push_back(static_cast<std::uint32_t>(out.triangles.size()));
+            for (BvhNode n : blas.bvh.nodes) {
+                if (n.isLeaf()) {
+                    // Leaf ranges index the mesh's reordered triangles: keep them relative.
+                } else {
+                    n.rightOrFirst += rootOf.back();
+                }
+                out.bvhNodes.push_back(std::bit_cast<gpu::GpuBvhNode>(n));
+            }
+            const std::vector<glm::vec3>& pos = out.meshPositions[b];
+            for (size_t k = 0; k < blas.triangles.size(); ++k) {
+                const glm::uvec3 t = blas.triangles[k];
+                gpu::GpuTriangle gt{};
+                gt.p0 = glm::vec4(pos[t.x], 0);
+                gt.p1 = glm::vec4(pos[t.y], 0);
+                gt.p2 = glm::vec4(pos[t.z], 0);
+                gt.v = glm::uvec4(t + glm::uvec3(meshVertexBase[b]), blas.triangleIds[k]);
+                out.triangles.push_back(gt);
+            }
+        }
+        for (size_t i = 0; i < out.instances.size(); ++i) {
+            const std::uint32_t b = out.meshBvh.instances[i].mesh;
+            out.instances[i].info.x = rootOf[b];
+            out.instances[i].info.y = firstTriangleOf[b];
+        }
+        out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
+        buildTlas(out.meshBvh);
     }
 
     std::uint32_t internalMaterial(glm::vec3 emission) {
@@ -249,6 +435,11 @@ struct Builder {
             bool emissive = glm::any(glm::greaterThan(it->emission, glm::vec3(0.0f)));
             glm::mat4 m = o.transform.toMatrix();
             switch (o.shape) {
+                case Shape::Mesh: {
+                    if (!addMeshInstance(o, static_cast<std::uint32_t>(i), m, mat, emissive ? &it->emission : nullptr, where))
+                        return false;
+                    break;
+                }
                 case Shape::Sphere: {
                     std::uint32_t p = addSphere(m, mat);
                     if (emissive && !addSphereLight(p, m, it->emission, where)) return false;
@@ -318,7 +509,9 @@ struct Builder {
                 }
             }
         }
-        if (out.primitives.empty() && out.lights.empty()) out.boundsMin = out.boundsMax = glm::vec3(0.0f);
+        finishGeometry();
+        if (out.primitives.empty() && out.lights.empty() && out.instances.empty())
+            out.boundsMin = out.boundsMax = glm::vec3(0.0f);
         const Environment& env = scene.environment;
         if (env.type == EnvironmentType::Map) {
             if (env.file.empty()) {
@@ -533,8 +726,18 @@ const std::vector<float>& ggxAlbedoTable() {
     return table;
 }
 
+std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
+    const size_t a = c.lightCdf.size(), b = c.envMap.marginalCdf.size(), d = c.envMap.conditionalCdf.size();
+    if (offsets) *offsets = glm::uvec4(0, a, a + b, a + b + d);
+    std::vector<float> out;
+    out.reserve(a + b + d + c.meshLightCdf.size());
+    for (const auto* t : {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf})
+        out.insert(out.end(), t->begin(), t->end());
+    return out;
+}
+
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error) {
-    Builder b{scene, readImage, *out, error};
+    Builder b{scene, readImage, *out, error, {}, {}, {}};
     return b.run();
 }
 
@@ -579,6 +782,8 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
                                  : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
                                                                                 : FILTER_BOX;
     f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, 0, 0);
+    f.geometry = glm::uvec4(compiled.tlasNodeCount, compiled.instances.size(), 0, 0);
+    packTables(compiled, &f.tables);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

@@ -2,6 +2,7 @@
 // is unit-tested directly, and the Renderer only uploads what this produces.
 #pragma once
 
+#include "renderer/bvh.h"
 #include "renderer/image.h"
 #include "renderer/scene.h"
 #include "shaders/shared/layout.h"
@@ -37,6 +38,21 @@ struct CompiledScene {
     std::vector<glm::uvec2> texels;     // material textures' mip chains (RGBA halves), see GpuTexture
     std::vector<gpu::GpuTexture> textures;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all finite geometry
+
+    // Geometry acceleration (docs/design.md, "Geometry"): one top-level BVH over every analytic
+    // primitive and every mesh instance, then one BVH per distinct mesh file.
+    std::vector<gpu::GpuBvhNode> bvhNodes;        // top level at 0 (empty: nothing to hit)
+    std::uint32_t tlasNodeCount = 0;
+    std::vector<std::uint32_t> tlasRefs;          // primitive index or TLAS_REF_INSTANCE | instance
+    std::vector<gpu::GpuInstance> instances;
+    std::vector<gpu::GpuTriangle> triangles;
+    std::vector<gpu::GpuVertex> vertices;
+    std::vector<float> meshLightCdf;
+    // The same meshes on the CPU (BVHs, instances, positions), for CPU queries and tests.
+    SceneBvh meshBvh;
+    std::vector<std::vector<glm::vec3>> meshPositions;
+    std::vector<std::uint32_t> instanceObject;    // the scene object each instance came from
+    std::vector<std::string> warnings;            // what mesh import reported (file: message)
 };
 
 // How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
@@ -55,6 +71,10 @@ const std::vector<float>& ggxAlbedoTable();
 // pass validation but cannot be rendered as given. readImage loads the files the scene names
 // (environment maps; later textures), relative paths resolved against scene.sourcePath.
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error);
+// The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
+// selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
+std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr);
+
 // For scenes that name no files.
 inline bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {
     return compileScene(scene, ImageReader{}, out, error);

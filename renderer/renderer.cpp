@@ -46,10 +46,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_counters = buffers[5];
     std::uint32_t zero[4] = {0, 0, 0, 0};
     glNamedBufferData(r->m_counters, sizeof zero, zero, GL_DYNAMIC_COPY);
-    unsigned envBuffers[2];
-    glCreateBuffers(2, envBuffers);
-    r->m_envMarginal = envBuffers[0];
-    r->m_envConditional = envBuffers[1];
+    glCreateBuffers(kGeometryBuffers, r->m_geometry);
     // Material textures and the BSDF tables (the GGX albedo table is the same for every scene).
     unsigned materialBuffers[3];
     glCreateBuffers(3, materialBuffers);
@@ -61,9 +58,9 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
 }
 
 Renderer::~Renderer() {
-    unsigned buffers[8] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters,
-                           m_envMarginal, m_envConditional};
-    glDeleteBuffers(8, buffers);
+    unsigned buffers[6] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters};
+    glDeleteBuffers(6, buffers);
+    glDeleteBuffers(kGeometryBuffers, m_geometry);
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
     unsigned textures[3] = {m_accum, m_accumSq, m_envTexture};
@@ -121,7 +118,7 @@ void Renderer::upload() {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
-    uploadBuffer(m_lightCdf, m_compiled.lightCdf);
+    uploadBuffer(m_lightCdf, packTables(m_compiled));
     // The environment map (a 1x1 black texture when there is none, so the sampler is always
     // complete). Mipmaps are not needed: the map is looked up at level 0 only.
     const EnvironmentMap& env = m_compiled.envMap;
@@ -135,8 +132,11 @@ void Renderer::upload() {
     glTextureParameteri(m_envTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    uploadBuffer(m_envMarginal, env.marginalCdf);
-    uploadBuffer(m_envConditional, env.conditionalCdf);
+    uploadBuffer(m_geometry[0], m_compiled.bvhNodes);
+    uploadBuffer(m_geometry[1], m_compiled.tlasRefs);
+    uploadBuffer(m_geometry[2], m_compiled.instances);
+    uploadBuffer(m_geometry[3], m_compiled.triangles);
+    uploadBuffer(m_geometry[4], m_compiled.vertices);
     uploadBuffer(m_texels, m_compiled.texels);
     uploadBuffer(m_textures, m_compiled.textures);
 }
@@ -167,10 +167,12 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_CDF, m_lightCdf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TABLES, m_lightCdf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_MARGINAL, m_envMarginal);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_ENV_CONDITIONAL, m_envConditional);
+    const unsigned geometryBindings[kGeometryBuffers] = {BINDING_BVH_NODES, BINDING_TLAS_REFS, BINDING_INSTANCES,
+                                                         BINDING_TRIANGLES, BINDING_VERTICES};
+    for (int i = 0; i < kGeometryBuffers; ++i)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, geometryBindings[i], m_geometry[i]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXELS, m_texels);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXTURES, m_textures);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BSDF_TABLES, m_bsdfTables);

@@ -68,7 +68,10 @@ private:
     unsigned m_program = 0;
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_lightCdf = 0, m_counters = 0;
-    unsigned m_envMarginal = 0, m_envConditional = 0, m_envTexture = 0;
+    unsigned m_envTexture = 0;   // m_lightCdf holds all the CDF tables (packTables)
+    // Geometry: BVH nodes, top-level entries, instances, triangles, vertices.
+    static constexpr int kGeometryBuffers = 5;
+    unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
     ImageReader m_readImage;
     int m_width = 0, m_height = 0;

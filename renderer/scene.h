@@ -99,13 +99,16 @@ struct Material {
 //   sphere: the unit sphere at the origin;
 //   quad:   the square [-1, 1]^2 in the z = 0 plane, front side facing +z;
 //   box:    the cube [-1, 1]^3 (six quads facing outward).
-enum class Shape { Sphere, Quad, Box };
+//   mesh:   the triangles of a model file (OBJ, PLY, glTF, FBX, ... through Assimp), in the
+//           file's own coordinates (node transforms baked in).
+enum class Shape { Sphere, Quad, Box, Mesh };
 
 struct Object {
     std::string name;
     Shape shape = Shape::Sphere;
     std::string material;              // name of an entry of Scene::materials
     Transform transform;
+    std::string file;                  // mesh: the model file, relative to the scene file
     bool operator==(const Object&) const = default;
 };
 

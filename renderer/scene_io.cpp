@@ -204,7 +204,7 @@ std::span<const EnumName<Metal>> enumNames(Metal) {
 
 std::span<const EnumName<Shape>> enumNames(Shape) {
     static constexpr EnumName<Shape> kNames[] = {
-        {Shape::Quad, "quad"}, {Shape::Sphere, "sphere"}, {Shape::Box, "box"}};
+        {Shape::Quad, "quad"}, {Shape::Sphere, "sphere"}, {Shape::Box, "box"}, {Shape::Mesh, "mesh"}};
     return kNames;
 }
 
@@ -488,10 +488,10 @@ Json writeFields(const T& in, const Fields<T>& fields) {
 // absent), then the keys of that type.
 template <class T, class E>
 void readTyped(const Json& value, const std::string& path, T& out, E T::*typeMember,
-               const Fields<T>& (*fieldsFor)(E), const char* noun) {
+               const Fields<T>& (*fieldsFor)(E), const char* noun, const char* typeKey = "type") {
     requireType(value.is_object(), value, path, "an object");
-    if (const auto it = value.find("type"); it != value.end()) {
-        readValue(*it, member(path, "type"), out.*typeMember, kAnyValue);
+    if (const auto it = value.find(typeKey); it != value.end()) {
+        readValue(*it, member(path, typeKey), out.*typeMember, kAnyValue);
     }
     readFields(value, path, fieldsFor(out.*typeMember), out,
                " for a '" + enumName(out.*typeMember) + "' " + noun);
@@ -741,21 +741,23 @@ Json toJson(const Material& material) {
 // ---------------------------------------------------------------------------------------------
 // Objects
 
-const Fields<Object>& objectFields() {
+const Fields<Object>& objectFields(Shape shape) {
     static const Fields<Object> kFields = {
         nameField(&Object::name),
         field("shape", &Object::shape),
         field("material", &Object::material),
         field("transform", &Object::transform),
     };
-    return kFields;
+    static const Fields<Object> kMesh = concat(kFields, {field("file", &Object::file)});
+    return shape == Shape::Mesh ? kMesh : kFields;
 }
 
 void readValue(const Json& value, const std::string& path, Object& out, const Range&) {
-    readFields(value, path, objectFields(), out);
+    readTyped(value, path, out, &Object::shape, objectFields, "object", "shape");
+    if (out.shape == Shape::Mesh && out.file.empty()) fail(member(path, "file"), "a mesh object needs a model file");
 }
 
-Json toJson(const Object& object) { return writeFields(object, objectFields()); }
+Json toJson(const Object& object) { return writeFields(object, objectFields(object.shape)); }
 
 // ---------------------------------------------------------------------------------------------
 // Lights

@@ -134,7 +134,7 @@ void CommandStack::clear() {
 std::uint32_t editDirty(const Object& a, const Object& b) {
     std::uint32_t d = kDirtyNone;
     if (a.transform != b.transform) d |= kDirtyTransforms;
-    if (a.shape != b.shape || a.material != b.material) d |= kDirtyGeometry;
+    if (a.shape != b.shape || a.material != b.material || a.file != b.file) d |= kDirtyGeometry;
     return d;
 }
 std::uint32_t editDirty(const Light& a, const Light& b) {

@@ -148,6 +148,7 @@ const char* shapeName(Shape shape) {
         case Shape::Sphere: return "sphere";
         case Shape::Quad: return "quad";
         case Shape::Box: return "box";
+        case Shape::Mesh: return "mesh";
     }
     return "object";
 }
@@ -225,6 +226,20 @@ std::unique_ptr<Command> makeAddMaterial(const EditorState& s) {
     Material m;
     m.name = uniqueName("material", namesOf(s.scene.materials));
     return std::make_unique<InsertCommand<Material>>(static_cast<int>(s.scene.materials.size()), std::move(m));
+}
+
+std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file) {
+    Object o;
+    o.shape = Shape::Mesh;
+    o.name = uniqueName(fs::path(file).stem().string(), namesOf(s.scene.objects));
+    o.material = s.scene.materials.empty() ? std::string() : s.scene.materials.front().name;
+    std::error_code ec;
+    o.file = file;
+    if (!s.path.empty()) {
+        fs::path rel = fs::absolute(file, ec).lexically_relative(fs::absolute(s.path, ec).parent_path());
+        if (!ec && !rel.empty()) o.file = rel.string();
+    }
+    return std::make_unique<InsertCommand<Object>>(static_cast<int>(s.scene.objects.size()), std::move(o), "Import");
 }
 
 std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why) {

@@ -77,6 +77,9 @@ std::unique_ptr<Command> makeSetEnvironment(const EditorState& s, Environment af
 std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape);
 std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type);
 std::unique_ptr<Command> makeAddMaterial(const EditorState& s);
+// A mesh object for a model file (check the file first: the renderer would refuse a broken one).
+// The path is stored relative to the scene's folder when the scene has a file.
+std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file);
 // Duplicates / deletes the entity `ref` (objects, lights, materials). Returns null with *why set
 // when it cannot (e.g. deleting a material that objects use).
 std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why);

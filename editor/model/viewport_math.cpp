@@ -106,6 +106,7 @@ std::optional<PickHit> pick(const Scene& scene, const Ray& ray) {
     };
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
+        if (o.shape == Shape::Mesh) continue;   // meshes are picked in the Outliner (no CPU triangles here yet)
         auto hit = o.shape == Shape::Sphere ? hitUnitSphere : o.shape == Shape::Quad ? hitUnitQuad : hitUnitBox;
         consider({EntityKind::Object, static_cast<int>(i)}, hitTransformed(o.transform.toMatrix(), ray, hit));
     }
@@ -126,6 +127,7 @@ std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, 
     const size_t i = static_cast<size_t>(ref.index);
     if (ref.kind == EntityKind::Object && ref.index >= 0 && i < scene.objects.size()) {
         const Object& o = scene.objects[i];
+        if (o.shape == Shape::Mesh) return std::nullopt;   // its extent lives in the file
         return boundsOfUnitCube(o.transform.toMatrix(), o.shape == Shape::Quad);
     }
     if (ref.kind == EntityKind::Light && ref.index >= 0 && i < scene.lights.size()) {

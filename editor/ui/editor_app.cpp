@@ -186,9 +186,12 @@ void renderFrame(EditorUi& ui) {
     const long long fullPixels = static_cast<long long>(rs.width) * rs.height;
     // While something is dragged, shrink the image if one full sample would not fit the budget.
     const double budget = std::clamp(kFrameTarget - ui.uiSeconds - 0.002, 0.004, kFrameTarget);
+    std::uint32_t dirty = ui.state.takeDirty();
+    // Any edit gets a quick first frame: it counts as interaction, so when one full-resolution
+    // sample would not fit the frame budget, the first frames after it render at preview size.
+    if (dirty != kDirtyNone && ui.sceneUploaded) ui.lastInteraction = t;
     const bool recentlyInteracting = ui.interacting || (t - ui.lastInteraction) < kInteractionHold;
     const int divisor = recentlyInteracting ? std::max(ui.previewDivisor, ui.pacer.previewDivisor(fullPixels, budget)) : 1;
-    std::uint32_t dirty = ui.state.takeDirty();
     if (divisor != ui.previewDivisor) dirty |= kDirtySettings;
     if (dirty != kDirtyNone || !ui.sceneUploaded) {
         Scene scene = ui.state.scene;

@@ -23,7 +23,7 @@ class ScriptRunner;
 enum class GizmoOp { Translate, Rotate, Scale };
 
 struct FileBrowserState {
-    enum class Mode { Open, SaveAs, RenderTo };
+    enum class Mode { Open, SaveAs, RenderTo, ImportMesh };
     bool open = false;
     bool justOpened = false;
     Mode mode = Mode::Open;

@@ -1,6 +1,7 @@
 // The in-app file browser (a modal): folders and .json scenes (or .png images when choosing a
 // render's output), a path field, Up, and OK/Cancel. Used for Open, Save As and Render to file.
 #include "editor/ui/editor_ui.h"
+#include "renderer/mesh_import.h"
 
 #include <imgui.h>
 
@@ -29,14 +30,16 @@ void drawFileBrowser(EditorUi& ui) {
     FileBrowserState& b = ui.browser;
     const char* title = b.mode == FileBrowserState::Mode::Open ? "Open scene###files"
                         : b.mode == FileBrowserState::Mode::SaveAs ? "Save scene as###files"
-                                                                     : "Render to file###files";
+                        : b.mode == FileBrowserState::Mode::RenderTo ? "Render to file###files"
+                                                                     : "Import mesh###files";
     if (b.justOpened) {
         ImGui::OpenPopup("###files");
         b.justOpened = false;
     }
     ImGui::SetNextWindowSize(ImVec2(640.0f, 440.0f), ImGuiCond_Appearing);
     if (!ImGui::BeginPopupModal(title, &b.open)) return;
-    const std::string wanted = b.mode == FileBrowserState::Mode::RenderTo ? ".png" : ".json";
+    const std::string wanted = b.mode == FileBrowserState::Mode::RenderTo ? ".png" : b.mode == FileBrowserState::Mode::ImportMesh ? "mesh" : ".json";
+    auto listed = [&](const fs::path& p) { return wanted == "mesh" ? isMeshFileExtensionSupported(p.string()) : p.extension() == wanted; };
 
     char dir[1024];
     std::strncpy(dir, b.directory.c_str(), sizeof dir - 1);
@@ -54,7 +57,7 @@ void drawFileBrowser(EditorUi& ui) {
         if (name.empty() || name[0] == '.') continue;
         std::error_code e2;
         if (it->is_directory(e2)) dirs.push_back(*it);
-        else if (it->path().extension() == wanted) files.push_back(*it);
+        else if (listed(it->path())) files.push_back(*it);
     }
     auto byName = [](const fs::directory_entry& a, const fs::directory_entry& c) { return a.path().filename() < c.path().filename(); };
     std::sort(dirs.begin(), dirs.end(), byName);
@@ -83,7 +86,7 @@ void drawFileBrowser(EditorUi& ui) {
     if (ImGui::InputText("##name", nameBuf, sizeof nameBuf, ImGuiInputTextFlags_EnterReturnsTrue)) accept = true;
     b.fileName = nameBuf;
     ImGui::SameLine();
-    const char* okLabel = b.mode == FileBrowserState::Mode::Open ? "Open" : b.mode == FileBrowserState::Mode::SaveAs ? "Save" : "Render";
+    const char* okLabel = b.mode == FileBrowserState::Mode::Open ? "Open" : b.mode == FileBrowserState::Mode::SaveAs ? "Save" : b.mode == FileBrowserState::Mode::RenderTo ? "Render" : "Import";
     if (ImGui::Button(okLabel)) accept = true;
     ImGui::SameLine();
     if (ImGui::Button("Cancel")) {
@@ -92,7 +95,9 @@ void drawFileBrowser(EditorUi& ui) {
     }
     if (accept && !b.fileName.empty()) {
         std::string path = (fs::path(b.directory) / b.fileName).string();
-        if (b.mode != FileBrowserState::Mode::Open && fs::path(path).extension() != wanted) path += wanted;
+        if ((b.mode == FileBrowserState::Mode::SaveAs || b.mode == FileBrowserState::Mode::RenderTo) &&
+            fs::path(path).extension() != wanted)
+            path += wanted;
         bool ok = true;
         switch (b.mode) {
             case FileBrowserState::Mode::Open: ok = openFile(ui, path); break;
@@ -105,6 +110,18 @@ void drawFileBrowser(EditorUi& ui) {
                 }
                 break;
             case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;
+            case FileBrowserState::Mode::ImportMesh: {
+                // Checked before it enters the scene: a broken file shows its error, nothing changes.
+                // (Synchronous: a worker thread for big files is future work, see docs/editor.md.)
+                MeshImportResult imported = importMeshFile(path);
+                if (!imported.ok()) {
+                    showError(ui, "could not import the mesh; the scene is unchanged.\n" + imported.error);
+                    ok = false;
+                } else {
+                    ui.state.apply(makeImportMesh(ui.state, path));
+                }
+                break;
+            }
         }
         if (ok) b.open = false;
     }

@@ -88,10 +88,11 @@ void objectInspector(EditorUi& ui, int index) {
     Object o = s.scene.objects[static_cast<size_t>(index)];
     nameField(ui, {EntityKind::Object, index});
     Edit e{ui};
-    static const char* const shapes[] = {"sphere", "quad", "box"};
+    static const char* const shapes[] = {"sphere", "quad", "box", "mesh"};
     int shape = static_cast<int>(o.shape);
     e.track(combo("Shape", &shape, shapes), true);
     o.shape = static_cast<Shape>(shape);
+    if (o.shape == Shape::Mesh) ImGui::TextDisabled("File: %s", o.file.empty() ? "(none)" : o.file.c_str());
     if (ImGui::BeginCombo("Material", o.material.c_str())) {
         for (const Material& m : s.scene.materials) {
             if (ImGui::Selectable(m.name.c_str(), m.name == o.material)) {

@@ -85,10 +85,7 @@ void addMenu(EditorUi& ui) {
         ImGui::Separator();
         if (ImGui::MenuItem("Material")) ui.state.apply(makeAddMaterial(ui.state));
         ImGui::Separator();
-        // The scene model has no mesh objects yet (the geometry work adds them); say so.
-        ImGui::MenuItem("Import mesh...", nullptr, false, false);
-        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-            ImGui::SetTooltip("Meshes are not in the scene format yet");
+        if (ImGui::MenuItem("Import mesh...")) openFileBrowser(ui, FileBrowserState::Mode::ImportMesh);
         ImGui::EndPopup();
     }
 }

@@ -13,38 +13,7 @@
 #ifndef BSDF_MATERIAL_GLSL
 #define BSDF_MATERIAL_GLSL
 #include "texture.glsl"
-
-struct SurfacePoint {
-    vec2 uv;
-    vec3 dpdu;        // world-space derivatives of the position (tangents, not normalised)
-    vec3 dpdv;
-    float uvPerLength;  // texture units per world length (geometric mean of the two directions)
-};
-
-SurfacePoint primitiveSurface(GpuPrimitive prim, vec3 p) {
-    SurfacePoint s;
-    if (prim.info.x == PRIM_QUAD) {
-        vec3 n = cross(prim.b.xyz, prim.c.xyz);
-        vec3 w = n / dot(n, n);
-        vec3 hp = p - prim.a.xyz;
-        s.uv = vec2(dot(w, cross(hp, prim.c.xyz)), dot(w, cross(prim.b.xyz, hp)));
-        s.dpdu = prim.b.xyz;
-        s.dpdv = prim.c.xyz;
-    } else {
-        vec3 po = vec3(dot(prim.a, vec4(p, 1.0)), dot(prim.b, vec4(p, 1.0)), dot(prim.c, vec4(p, 1.0)));
-        po = normalize(po);
-        float theta = acos(clamp(po.y, -1.0, 1.0));
-        float phi = atan(po.x, -po.z);
-        s.uv = vec2(phi / (2.0 * PI) + 0.5, 1.0 - theta / PI);
-        float st = sin(theta), ct = cos(theta), sp = sin(phi), cp = cos(phi);
-        // Object to world: the inverse of the world-to-object rows a, b, c.
-        mat3 o2w = inverse(transpose(mat3(prim.a.xyz, prim.b.xyz, prim.c.xyz)));
-        s.dpdu = o2w * (2.0 * PI * vec3(st * cp, 0.0, st * sp));
-        s.dpdv = o2w * (-PI * vec3(ct * sp, -st, -ct * cp));
-    }
-    s.uvPerLength = inversesqrt(max(length(s.dpdu) * length(s.dpdv), 1e-30));
-    return s;
-}
+#include "../geometry/surface.glsl"
 
 // The material with its albedo and roughness textures applied; coneWidth = the ray cone's width
 // at the hit divided by |cos| (world length).

@@ -1,10 +1,10 @@
-// Ray-primitive intersection and the scene queries (closest hit, any hit).
-// Brute force over all primitives for now; the two-level BVH of the geometry issue replaces the
-// loops in sceneIntersect / sceneOccluded and nothing else.
+// Ray-primitive intersection (spheres, quads) and the scene queries (closest hit with the
+// surface attributes shading needs, any hit), through the two-level BVH of bvh.glsl.
 #ifndef GEOMETRY_INTERSECT_GLSL
 #define GEOMETRY_INTERSECT_GLSL
 #include "../lib/math.glsl"
 #include "../scene/buffers.glsl"
+#include "surface.glsl"
 
 struct Ray { vec3 o; vec3 d; };
 
@@ -13,9 +13,13 @@ uint g_rayCount = 0u;
 
 struct Hit {
     float t;
-    uint prim;
-    vec3 p;    // world position
-    vec3 ng;   // unit geometric normal (front side, not flipped towards the ray)
+    vec3 p;        // world position
+    vec3 ng;       // unit geometric normal (front side, not flipped towards the ray)
+    vec3 ns;       // unit shading normal (interpolated for meshes), on the side of ng
+    uint material;
+    uint light;    // light index + 1, 0: not a light
+    uint flags;    // PRIM_FLAG_*
+    SurfacePoint surface;
 };
 
 // The unit sphere in object space; p.abc are the rows of the affine world-to-object matrix.
@@ -64,32 +68,47 @@ bool intersectPrimitive(GpuPrimitive prim, Ray r, float tMax, out float t) {
     return intersectQuad(prim, r, tMax, t);
 }
 
-// Closest hit with t in (0, tMax).
+bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t) {
+    Ray r;
+    r.o = o;
+    r.d = d;
+    return intersectPrimitive(primitives[index], r, tMax, t);
+}
+
+#include "bvh.glsl"
+
+// Closest hit with t in (0, tMax), with everything shading needs.
 bool sceneIntersect(Ray r, float tMax, out Hit hit) {
     ++g_rayCount;
-    hit.t = tMax;
-    hit.prim = 0xffffffffu;
-    uint count = frame.counts.x;
-    for (uint i = 0u; i < count; ++i) {
-        float t;
-        if (intersectPrimitive(primitives[i], r, hit.t, t)) { hit.t = t; hit.prim = i; }
+    TraceHit th;
+    if (!traceScene(r.o, r.d, tMax, false, th)) return false;
+    hit.t = th.t;
+    hit.p = r.o + th.t * r.d;
+    if ((th.ref & TLAS_REF_INSTANCE) == 0u) {
+        GpuPrimitive prim = primitives[th.ref];
+        hit.ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
+        hit.ns = hit.ng;
+        hit.material = prim.info.y;
+        hit.light = prim.info.z;
+        hit.flags = prim.info.w;
+        hit.surface = primitiveSurface(prim, hit.p);
+    } else {
+        GpuInstance inst = instances[th.ref & ~TLAS_REF_INSTANCE];
+        GpuTriangle tri = triangles[th.triangle];
+        hit.ng = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
+        hit.material = inst.info.z;
+        hit.light = inst.info.w;
+        hit.flags = 0u;
+        hit.surface = triangleSurface(inst, tri, th.bary, hit.ng, hit.ns);
     }
-    if (hit.prim == 0xffffffffu) return false;
-    GpuPrimitive prim = primitives[hit.prim];
-    hit.p = r.o + hit.t * r.d;
-    hit.ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
     return true;
 }
 
 // Any hit with t in (0, tMax): shadow rays, early exit.
 bool sceneOccluded(Ray r, float tMax) {
     ++g_rayCount;
-    uint count = frame.counts.x;
-    for (uint i = 0u; i < count; ++i) {
-        float t;
-        if (intersectPrimitive(primitives[i], r, tMax, t)) return true;
-    }
-    return false;
+    TraceHit th;
+    return traceScene(r.o, r.d, tMax, true, th);
 }
 
 // Offsets a ray origin off the surface on the side of `dir`, by an amount that grows with the

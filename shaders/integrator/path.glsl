@@ -50,18 +50,17 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
             break;
         }
 
-        GpuPrimitive prim = primitives[hit.prim];
-        GpuMaterial mat = materials[prim.info.y];
+        GpuMaterial mat = materials[hit.material];
         vec3 wo = -ray.d;
 
         // Emission (both faces, unless the primitive is a one-sided emitter seen from behind).
         bool frontFacing = dot(hit.ng, wo) > 0.0;
         if (maxComponent(mat.emission.rgb) > 0.0 &&
-            (frontFacing || (prim.info.w & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u)) {
+            (frontFacing || (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u)) {
             if (countEmitted || !useLights) {
                 L += beta * mat.emission.rgb;
-            } else if (misOn && prim.info.z > 0u) {
-                uint li = prim.info.z - 1u;
+            } else if (misOn && hit.light > 0u) {
+                uint li = hit.light - 1u;
                 float pl = lightSelectionPmf(li) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
                 L += beta * mat.emission.rgb * powerHeuristic(prevBsdfPdf, pl);
             }
@@ -75,9 +74,9 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
         pathLength += hit.t;
         float cosHit = abs(dot(hit.ng, wo));
         float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
-        SurfacePoint sp = primitiveSurface(prim, hit.p);
+        SurfacePoint sp = hit.surface;
         mat = materialAtSurface(mat, sp, coneWidth);
-        vec3 ns = shadingNormalAt(mat, sp, hit.ng, coneWidth);
+        vec3 ns = shadingNormalAt(mat, sp, hit.ns, coneWidth);
         bool keepFront = bsdfHasTransmission(mat);
         float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
         vec3 n = side * ns;

@@ -49,7 +49,7 @@ uint envFindInterval(bool marginal, uint offset, uint n, float u) {
     uint lo = 0u, hi = n - 1u;
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1;
-        float c = marginal ? envMarginalCdf[offset + mid] : envConditionalCdf[offset + mid];
+        float c = marginal ? envMarginalCdf(offset + mid) : envConditionalCdf(offset + mid);
         if (c <= u) lo = mid; else hi = mid - 1u;
     }
     return lo;
@@ -59,10 +59,10 @@ uint envFindInterval(bool marginal, uint offset, uint n, float u) {
 vec3 sampleEnvironmentMap(vec2 u, out float pdf) {
     uint w = frame.envInfo.y, h = frame.envInfo.z;
     uint j = envFindInterval(true, 0u, h, u.y);
-    float r0 = envMarginalCdf[j], r1 = envMarginalCdf[j + 1u];
+    float r0 = envMarginalCdf(j), r1 = envMarginalCdf(j + 1u);
     uint rowOffset = j * (w + 1u);
     uint i = envFindInterval(false, rowOffset, w, u.x);
-    float c0 = envConditionalCdf[rowOffset + i], c1 = envConditionalCdf[rowOffset + i + 1u];
+    float c0 = envConditionalCdf(rowOffset + i), c1 = envConditionalCdf(rowOffset + i + 1u);
     float pRow = r1 - r0, pCol = c1 - c0;
     // Continuous position inside the chosen texel (reusing the leftover of each random number).
     float dv = pRow > 0.0 ? clamp((u.y - r0) / pRow, 0.0, 1.0) : 0.5;
@@ -78,9 +78,9 @@ float environmentMapPdf(vec3 dir) {
     vec2 uv = envDirectionToUv(dir);
     uint i = min(uint(uv.x * float(w)), w - 1u);
     uint j = min(uint(uv.y * float(h)), h - 1u);
-    float pRow = envMarginalCdf[j + 1u] - envMarginalCdf[j];
+    float pRow = envMarginalCdf(j + 1u) - envMarginalCdf(j);
     uint rowOffset = j * (w + 1u);
-    float pCol = envConditionalCdf[rowOffset + i + 1u] - envConditionalCdf[rowOffset + i];
+    float pCol = envConditionalCdf(rowOffset + i + 1u) - envConditionalCdf(rowOffset + i);
     float sinTheta = sin(PI * uv.y);
     return sinTheta > 0.0 ? pRow * pCol * float(w * h) / (2.0 * PI * PI * sinTheta) : 0.0;
 }

@@ -14,6 +14,8 @@
 //         angle. Emits from both faces, as every emissive material does.
 // point:  a delta light, L_i = I / r^2.
 // spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2).
+// mesh:   an emissive mesh instance: a triangle chosen in proportion to its world area, a
+//         uniform point on it; p_omega = r^2 / (|cos theta_l| A_total). Emits from both faces.
 // env:    a map is importance-sampled by its luminance table (environment.glsl); the constant
 //         colour and the smooth sky use uniform directions on the sphere, p_omega = 1/(4 pi).
 #ifndef LIGHTS_LIGHTS_GLSL
@@ -21,6 +23,7 @@
 #include "../lib/sampling.glsl"
 #include "../scene/buffers.glsl"
 #include "environment.glsl"
+#include "../geometry/surface.glsl"
 
 struct LightSample {
     vec3 wi;       // unit direction from the shading point towards the light
@@ -37,7 +40,7 @@ uint selectLight(float u) {
     uint lo = 0u, hi = count - 1u;
     while (lo < hi) {
         uint mid = (lo + hi) >> 1;
-        if (u < lightCdf[mid]) hi = mid; else lo = mid + 1u;
+        if (u < lightCdf(mid)) hi = mid; else lo = mid + 1u;
     }
     return lo;
 }
@@ -122,6 +125,33 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         float falloff = 1.0;
         if (type == LIGHT_SPOT) falloff = smoothstep(l.p1.w, l.p2.w, dot(-s.wi, l.p1.xyz));
         s.Li = l.color.rgb * falloff / dist2;
+    } else if (type == LIGHT_MESH) {
+        // A triangle by area (binary search of the instance's CDF), then a uniform point in it
+        // (PBRT 4th ed. eq. A.12, the square-root parametrisation), reusing u.x's remainder.
+        GpuInstance inst = instances[l.info.z];
+        uint offset = l.info.w, count = inst.info2.y;
+        uint lo = 0u, hi = count - 1u;
+        while (lo < hi) {
+            uint mid = (lo + hi) >> 1;
+            if (u.x < meshLightCdf(offset + mid)) hi = mid; else lo = mid + 1u;
+        }
+        float c0 = lo > 0u ? meshLightCdf(offset + lo - 1u) : 0.0, c1 = meshLightCdf(offset + lo);
+        float ux = c1 > c0 ? clamp((u.x - c0) / (c1 - c0), 0.0, 1.0) : 0.5;
+        GpuTriangle tri = triangles[inst.info.y + lo];
+        float su = sqrt(ux);
+        vec2 b = vec2(su * (1.0 - u.y), su * u.y);  // weights of p1 and p2
+        vec3 qo = (1.0 - b.x - b.y) * tri.p0.xyz + b.x * tri.p1.xyz + b.y * tri.p2.xyz;
+        vec3 q = vec3(dot(inst.objectToWorld0, vec4(qo, 1.0)), dot(inst.objectToWorld1, vec4(qo, 1.0)),
+                      dot(inst.objectToWorld2, vec4(qo, 1.0)));
+        vec3 n = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
+        vec3 d = q - p;
+        float dist2 = dot(d, d);
+        if (dist2 <= 0.0) return s;
+        s.dist = sqrt(dist2);
+        s.wi = d / s.dist;
+        s.nl = n;
+        s.pdf = areaToSolidAngle(1.0 / l.p0.x, p, q, n);
+        s.Li = l.color.rgb;
     } else if (type == LIGHT_ENV) {
         if (frame.envInfo.x == ENV_MAP) {
             s.wi = sampleEnvironmentMap(u, s.pdf);
@@ -155,6 +185,7 @@ float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
         }
         return areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, nl);
     }
+    if (type == LIGHT_MESH) return areaToSolidAngle(1.0 / l.p0.x, p, q, nl);
     if (type == LIGHT_ENV) return frame.envInfo.x == ENV_MAP ? environmentMapPdf(wi) : uniformSpherePdf();
     return 0.0;  // delta lights cannot be hit
 }

@@ -8,18 +8,30 @@ layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock { GpuFrame frame;
 layout(std430, binding = BINDING_PRIMITIVES) readonly buffer PrimitiveBuffer { GpuPrimitive primitives[]; };
 layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
 layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
-// lightCdf[i] = probability of choosing a light with index <= i; the last entry is 1.
-layout(std430, binding = BINDING_LIGHT_CDF) readonly buffer LightCdfBuffer { float lightCdf[]; };
+// The CDF tables, one after another (offsets in frame.tables):
+//   lightCdf(i): probability of choosing a light with index <= i (the last entry is 1);
+//   envMarginalCdf(j), envConditionalCdf(k): the environment map's sampling tables;
+//   meshLightCdf(k): per emissive mesh instance, the CDF over its triangles' areas.
+layout(std430, binding = BINDING_TABLES) readonly buffer TableBuffer { float sceneTables[]; };
+#define lightCdf(i) sceneTables[frame.tables.x + (i)]
+#define envMarginalCdf(i) sceneTables[frame.tables.y + (i)]
+#define envConditionalCdf(i) sceneTables[frame.tables.z + (i)]
+#define meshLightCdf(i) sceneTables[frame.tables.w + (i)]
 // The environment map and its sampling tables (see EnvironmentMap in renderer/gpu_scene.h).
 layout(binding = TEXUNIT_ENV_MAP) uniform sampler2D envMapTexture;
-layout(std430, binding = BINDING_ENV_MARGINAL) readonly buffer EnvMarginalBuffer { float envMarginalCdf[]; };
-layout(std430, binding = BINDING_ENV_CONDITIONAL) readonly buffer EnvConditionalBuffer { float envConditionalCdf[]; };
 // Material textures: every texture's mip chain in one buffer (RGBA as two packHalf2x16 words),
 // found through its GpuTexture descriptor (shaders/bsdf/texture.glsl reads them).
 layout(std430, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
 layout(std430, binding = BINDING_TEXTURES) readonly buffer TextureBuffer { GpuTexture textures[]; };
 // The directional albedo of the F = 1 GGX lobe (renderer/gpu_scene.cpp ggxAlbedoTable).
 layout(std430, binding = BINDING_BSDF_TABLES) readonly buffer BsdfTableBuffer { float ggxAlbedoTable[]; };
+// Geometry: BVH nodes (the top level first), top-level leaf entries, mesh instances, triangles
+// (object space, each mesh's in its BVH's leaf order) and vertices.
+layout(std430, binding = BINDING_BVH_NODES) readonly buffer BvhNodeBuffer { GpuBvhNode bvhNodes[]; };
+layout(std430, binding = BINDING_TLAS_REFS) readonly buffer TlasRefBuffer { uint tlasRefs[]; };
+layout(std430, binding = BINDING_INSTANCES) readonly buffer InstanceBuffer { GpuInstance instances[]; };
+layout(std430, binding = BINDING_TRIANGLES) readonly buffer TriangleBuffer { GpuTriangle triangles[]; };
+layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVertex vertices[]; };
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 

@@ -25,14 +25,17 @@ using uint = std::uint32_t;
 #define BINDING_PRIMITIVES 1
 #define BINDING_MATERIALS 2
 #define BINDING_LIGHTS 3
-#define BINDING_LIGHT_CDF 4
+#define BINDING_TABLES 4           // float[]: the scene's CDF tables, one after another (GpuFrame::tables)
 #define BINDING_COUNTERS 5
 #define BINDING_TEST_OUTPUT 7      // test kernels only
-#define BINDING_ENV_MARGINAL 6     // float[H + 1]: CDF over the environment map's rows
-#define BINDING_ENV_CONDITIONAL 8  // float[H * (W + 1)]: per row, the CDF over its columns
 #define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
+#define BINDING_BVH_NODES 13       // BvhNode[]: the top-level BVH at 0, then every mesh's BVH
+#define BINDING_TLAS_REFS 14       // uint[]: top-level leaf entries: primitive index, or TLAS_REF_INSTANCE | instance
+#define BINDING_INSTANCES 15       // GpuInstance[]: mesh instances
+#define BINDING_TRIANGLES 16       // GpuTriangle[]: every mesh's triangles, in its BVH's leaf order
+#define BINDING_VERTICES 17        // GpuVertex[]: every mesh's shading attributes
 #define BINDING_BSDF_TABLES 11     // float[]: the GGX directional albedo table (GGX_ALBEDO_TABLE_SIZE^2)
 
 // Words of the counter buffer.
@@ -64,12 +67,15 @@ using uint = std::uint32_t;
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 
+#define TLAS_REF_INSTANCE 0x80000000u
+
 // Light types.
 #define LIGHT_RECT 0u
 #define LIGHT_SPHERE 1u
 #define LIGHT_POINT 2u
 #define LIGHT_SPOT 3u
 #define LIGHT_ENV 4u
+#define LIGHT_MESH 5u
 
 // Light flags.
 #define LIGHT_FLAG_TWO_SIDED 1u
@@ -102,6 +108,50 @@ CAUSTIC_STRUCT(GpuPrimitive) {
 };
 
 // Which member means what for each model: the header of its file in shaders/bsdf/.
+// A node of a BVH (renderer/bvh.h): count = countAndAxis >> 2 (0: interior, left child = next
+// node, right child = rightOrFirst), axis = countAndAxis & 3; a leaf's primitives are
+// [rightOrFirst, rightOrFirst + count) of its list.
+CAUSTIC_STRUCT(GpuBvhNode) {
+#ifdef __cplusplus
+    glm::vec3 boundsMin;
+    uint rightOrFirst;
+    glm::vec3 boundsMax;
+    uint countAndAxis;
+#else
+    vec3 boundsMin;
+    uint rightOrFirst;
+    vec3 boundsMax;
+    uint countAndAxis;
+#endif
+};
+
+// A placed mesh: its BVH and triangles, and the affine transforms both ways (rows).
+CAUSTIC_STRUCT(GpuInstance) {
+    vec4 worldToObject0;
+    vec4 worldToObject1;
+    vec4 worldToObject2;
+    vec4 objectToWorld0;
+    vec4 objectToWorld1;
+    vec4 objectToWorld2;
+    uvec4 info;   // x: root node in bvhNodes, y: first triangle, z: material, w: light index + 1
+    uvec4 info2;  // x: first vertex, y: triangle count, z, w: unused
+};
+
+// One triangle in object space; v: its vertices' indices into the vertex buffer (already offset),
+// w: the triangle's index in the mesh as imported.
+CAUSTIC_STRUCT(GpuTriangle) {
+    vec4 p0;
+    vec4 p1;
+    vec4 p2;
+    uvec4 v;
+};
+
+// Shading attributes of a mesh vertex (object space).
+CAUSTIC_STRUCT(GpuVertex) {
+    vec4 normalU;   // xyz: unit normal, w: texture u
+    vec4 tangentV;  // xyz: unit tangent (0 when the mesh has none), w: texture v
+};
+
 CAUSTIC_STRUCT(GpuMaterial) {
     vec4 albedo;    // rgb: diffuse albedo (diffuse models) or specular tint (the others)
     vec4 emission;  // rgb emitted radiance (both faces)
@@ -118,6 +168,8 @@ CAUSTIC_STRUCT(GpuTexture) {
     uvec4 info;     // x: offset of level 0 (in texels), y: width, z: height, w: number of levels
 };
 
+// mesh:   p0.x = total world area; info.z = instance index, info.w = offset of its triangle CDF
+//         (triangle count = the instance's info2.y)
 // rect:   p0 = corner, p1.xyz = edge u, p1.w = area, p2.xyz = edge v
 // sphere: p0.xyz = centre, p0.w = radius
 // point:  p0.xyz = position
@@ -147,6 +199,11 @@ CAUSTIC_STRUCT(GpuFrame) {
     vec4 envMap;       // map: x = cos(rotation), y = sin(rotation), z = intensity
     vec4 camLens;      // x: aperture radius, y: focal distance, z: squeeze, w: blade rotation (rad)
     uvec4 camInfo;     // x: blades (0: round), y: FILTER_*
+    uvec4 geometry;    // x: top-level BVH nodes (0: empty scene), y: instances
+    // Offsets into the tables buffer (one storage block for all of them: Mesa allows 16 per
+    // shader): x: light selection CDF, y: environment map row CDF (H + 1), z: environment map
+    // per-row column CDFs (H (W + 1)), w: emissive meshes' triangle-area CDFs.
+    uvec4 tables;
 };
 
 #ifdef __cplusplus

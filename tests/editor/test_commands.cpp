@@ -330,3 +330,18 @@ TEST_CASE("the selection is dropped when its entity disappears", "[editor]") {
     s.validateSelection();
     CHECK_FALSE(s.selection);
 }
+
+TEST_CASE("importing a mesh adds a mesh object whose file is relative to the scene", "[editor]") {
+    EditorState s = cornell();
+    const std::string file = std::string(CAUSTIC_SOURCE_DIR) + "/scenes/models/bunny.obj";
+    s.apply(makeImportMesh(s, file));
+    const Object& o = s.scene.objects.back();
+    CHECK(o.shape == Shape::Mesh);
+    CHECK(o.name == "bunny");
+    CHECK(o.file == "models/bunny.obj");
+    CHECK(s.takeDirty() == kDirtyGeometry);
+    Object changed = o;
+    changed.file = "models/other.obj";
+    s.apply(makeSetObject(s, static_cast<int>(s.scene.objects.size()) - 1, changed));
+    CHECK(s.takeDirty() == kDirtyGeometry);
+}

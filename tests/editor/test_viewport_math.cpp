@@ -46,7 +46,7 @@ TEST_CASE("camera rays match the GPU camera's frame constants", "[editor]") {
         const glm::vec2 pixel(37.25f, 101.5f);
         const float ndcX = 2.0f * pixel.x / float(w) - 1.0f, ndcY = 1.0f - 2.0f * pixel.y / float(h);
         const glm::vec3 gpuDir = glm::normalize(glm::vec3(f.camForward) + ndcX * glm::vec3(f.camRight) + ndcY * glm::vec3(f.camUp));
-        const Ray r = cameraRay(s.scene.camera, w, h, pixel);
+        const editor::Ray r = cameraRay(s.scene.camera, w, h, pixel);
         checkNear(r.origin, glm::vec3(f.camPosition));
         checkNear(r.direction, gpuDir);
     }

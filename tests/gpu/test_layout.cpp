@@ -49,6 +49,11 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("materials", GpuMaterial, emission);
     CHECK_MEMBER("materials", GpuMaterial, params);
     CHECK_MEMBER("materials", GpuMaterial, info);
+    CHECK_MEMBER("materials", GpuMaterial, eta);
+    CHECK_MEMBER("materials", GpuMaterial, k);
+    CHECK_MEMBER("materials", GpuMaterial, textures);
+    CHECK_MEMBER("textures", GpuTexture, info);
+    CHECK(arrayStride(p, "textures[0].info") == GLint(sizeof(GpuTexture)));
     CHECK(arrayStride(p, "materials[0].albedo") == GLint(sizeof(GpuMaterial)));
     CHECK_MEMBER("lights", GpuLight, p0);
     CHECK_MEMBER("lights", GpuLight, p1);
@@ -72,5 +77,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_FRAME(envMap);
     CHECK_FRAME(camLens);
     CHECK_FRAME(camInfo);
+    CHECK_FRAME(geometry);
+    CHECK_FRAME(tables);
 #undef CHECK_FRAME
 }

@@ -29,7 +29,7 @@ void main() {
         r.d = s.wi;
         Hit h;
         bool hit = sceneIntersect(r, FLT_MAX, h);
-        hitsLight = (hit && h.prim == l.info.z && abs(h.t - s.dist) <= 1e-3 * s.dist) ? 1.0 : 0.0;
+        hitsLight = (hit && h.light == u_light + 1u && abs(h.t - s.dist) <= 1e-3 * s.dist) ? 1.0 : 0.0;
     } else if (l.info.x == LIGHT_ENV) {
         pdfMismatch = abs(lightPdf(u_light, u_point, s.wi, vec3(0.0), vec3(0.0)) / s.pdf - 1.0);
     }

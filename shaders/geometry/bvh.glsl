@@ -1,0 +1,198 @@
+// Two-level BVH traversal (renderer/bvh.h builds the trees): one loop walks the top level over
+// analytic primitives and mesh instances and, on reaching an instance, the instance's own BVH in
+// object space (the ray is transformed, t keeps its meaning). An explicit stack holds nodes with
+// their entry distance, so a node that starts beyond the closest hit so far is never visited;
+// children are visited nearer first. Closest hit and any hit (shadow rays, early exit) are the
+// same routine with a flag.
+//   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
+//   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
+//   inverted (empty) box is never entered.
+//   Triangles: Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1),
+//   with the edge functions redone in double when one is exactly 0 (as the CPU reference does).
+#ifndef GEOMETRY_BVH_GLSL
+#define GEOMETRY_BVH_GLSL
+#include "../lib/math.glsl"
+#include "../scene/buffers.glsl"
+
+#define BVH_STACK_SIZE 136          // 64 levels per tree (kBvhMaxDepth) plus leaf entries
+#define BVH_ENTRY_EXIT 0xffffffffu  // leaving an instance: back to the world ray
+
+struct TraceHit {
+    float t;
+    uint ref;      // the top-level entry: a primitive index, or TLAS_REF_INSTANCE | instance
+    uint triangle; // for instances: the index into triangles[]
+    vec2 bary;     // for triangles: (b1, b2)
+};
+
+vec3 safeInverse(vec3 d) {
+    // A zero component would give inf * 0 = NaN in the slab test; a tiny one gives a huge slope.
+    vec3 s = vec3(d.x < 0.0 ? -1.0 : 1.0, d.y < 0.0 ? -1.0 : 1.0, d.z < 0.0 ? -1.0 : 1.0);
+    return 1.0 / mix(d, s * 1e-30, lessThan(abs(d), vec3(1e-30)));
+}
+
+bool slabTest(GpuBvhNode n, vec3 o, vec3 invD, float tMax, out float tEnter) {
+    vec3 nearB = vec3(invD.x < 0.0 ? n.boundsMax.x : n.boundsMin.x, invD.y < 0.0 ? n.boundsMax.y : n.boundsMin.y,
+                      invD.z < 0.0 ? n.boundsMax.z : n.boundsMin.z);
+    vec3 farB = vec3(invD.x < 0.0 ? n.boundsMin.x : n.boundsMax.x, invD.y < 0.0 ? n.boundsMin.y : n.boundsMax.y,
+                     invD.z < 0.0 ? n.boundsMin.z : n.boundsMax.z);
+    vec3 t0 = (nearB - o) * invD, t1 = (farB - o) * invD;
+    float tn = max(max(t0.x, t0.y), max(t0.z, 0.0));
+    float tf = min(min(t1.x, t1.y), t1.z) * 1.0000004;
+    tEnter = tn;
+    return tn <= min(tf, tMax);
+}
+
+struct WatertightRay { vec3 o; int kx, ky, kz; vec3 s; };
+
+WatertightRay makeWatertightRay(vec3 o, vec3 d) {
+    WatertightRay r;
+    r.o = o;
+    vec3 ad = abs(d);
+    r.kz = ad.x >= ad.y && ad.x >= ad.z ? 0 : (ad.y >= ad.z ? 1 : 2);
+    r.kx = r.kz == 2 ? 0 : r.kz + 1;
+    r.ky = r.kx == 2 ? 0 : r.kx + 1;
+    if (d[r.kz] < 0.0) { int tmp = r.kx; r.kx = r.ky; r.ky = tmp; }
+    r.s = vec3(d[r.kx] / d[r.kz], d[r.ky] / d[r.kz], 1.0 / d[r.kz]);
+    return r;
+}
+
+bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, out float t, out vec2 bary) {
+    vec3 a = v0 - r.o, b = v1 - r.o, c = v2 - r.o;
+    float ax = a[r.kx] - r.s.x * a[r.kz], ay = a[r.ky] - r.s.y * a[r.kz];
+    float bx = b[r.kx] - r.s.x * b[r.kz], by = b[r.ky] - r.s.y * b[r.kz];
+    float cx = c[r.kx] - r.s.x * c[r.kz], cy = c[r.ky] - r.s.y * c[r.kz];
+    float u = cx * by - cy * bx;
+    float v = ax * cy - ay * cx;
+    float w = bx * ay - by * ax;
+    if (u == 0.0 || v == 0.0 || w == 0.0) {
+        double ud = double(cx) * double(by) - double(cy) * double(bx);
+        double vd = double(ax) * double(cy) - double(ay) * double(cx);
+        double wd = double(bx) * double(ay) - double(by) * double(ax);
+        if ((ud < 0.0 || vd < 0.0 || wd < 0.0) && (ud > 0.0 || vd > 0.0 || wd > 0.0)) return false;
+        u = float(ud);
+        v = float(vd);
+        w = float(wd);
+    }
+    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
+    float det = u + v + w;
+    if (!(det != 0.0)) return false;
+    float tScaled = u * r.s.z * a[r.kz] + v * r.s.z * b[r.kz] + w * r.s.z * c[r.kz];
+    float invDet = 1.0 / det;
+    t = tScaled * invDet;
+    if (!(t > 0.0 && t < tMax)) return false;
+    bary = vec2(v * invDet, w * invDet);
+    return true;
+}
+
+// intersectPrimitive (analytic shapes) comes from intersect.glsl, which includes this file after
+// declaring it.
+bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
+
+bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
+    hit.t = tMax;
+    hit.ref = 0xffffffffu;
+    hit.triangle = 0u;
+    hit.bary = vec2(0.0);
+    if (frame.geometry.x == 0u) return false;
+    vec3 o = rayO, d = rayD, invD = safeInverse(rayD);
+    WatertightRay wr = makeWatertightRay(o, d);
+    bool inInstance = false;
+    uint instance = 0u, firstTriangle = 0u;
+    uvec2 stack[BVH_STACK_SIZE];
+    int sp = 0;
+    float tEnter;
+    if (!slabTest(bvhNodes[0], o, invD, hit.t, tEnter)) return false;
+    uint node = 0u;
+    bool found = false;
+    while (true) {
+        GpuBvhNode n = bvhNodes[node];
+        uint count = n.countAndAxis >> 2;
+        bool descend = false;
+        if (count == 0u) {
+            uint l = node + 1u, r = n.rightOrFirst;
+            float tl, tr;
+            bool hl = slabTest(bvhNodes[l], o, invD, hit.t, tl);
+            bool hr = slabTest(bvhNodes[r], o, invD, hit.t, tr);
+            if (hl && hr) {
+                bool leftFirst = tl <= tr;
+                if (sp < BVH_STACK_SIZE) stack[sp++] = uvec2(leftFirst ? r : l, floatBitsToUint(leftFirst ? tr : tl));
+                node = leftFirst ? l : r;
+                descend = true;
+            } else if (hl || hr) {
+                node = hl ? l : r;
+                descend = true;
+            }
+        } else if (!inInstance) {
+            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
+                uint ref = tlasRefs[k];
+                if ((ref & TLAS_REF_INSTANCE) != 0u) {
+                    if (sp < BVH_STACK_SIZE) stack[sp++] = uvec2(ref, floatBitsToUint(0.0));
+                    continue;
+                }
+                float t;
+                if (intersectPrimitiveT(ref, rayO, rayD, hit.t, t)) {
+                    hit.t = t;
+                    hit.ref = ref;
+                    found = true;
+                    if (anyHit) return true;
+                }
+            }
+        } else {
+            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
+                GpuTriangle tri = triangles[firstTriangle + k];
+                float t;
+                vec2 b;
+                if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
+                    hit.t = t;
+                    hit.ref = TLAS_REF_INSTANCE | instance;
+                    hit.triangle = firstTriangle + k;
+                    hit.bary = b;
+                    found = true;
+                    if (anyHit) return true;
+                }
+            }
+        }
+        if (descend) continue;
+        // Pop the next node worth visiting.
+        bool next = false;
+        while (sp > 0) {
+            uvec2 e = stack[--sp];
+            if (e.x == BVH_ENTRY_EXIT) {
+                inInstance = false;
+                o = rayO;
+                d = rayD;
+                invD = safeInverse(rayD);
+                continue;
+            }
+            if (uintBitsToFloat(e.y) > hit.t) continue;  // starts beyond the closest hit
+            if ((e.x & TLAS_REF_INSTANCE) != 0u) {
+                instance = e.x & ~TLAS_REF_INSTANCE;
+                GpuInstance inst = instances[instance];
+                vec3 lo = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
+                               dot(inst.worldToObject2, vec4(rayO, 1.0)));
+                vec3 ld = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
+                               dot(inst.worldToObject2.xyz, rayD));
+                vec3 linvD = safeInverse(ld);
+                float te;
+                if (!slabTest(bvhNodes[inst.info.x], lo, linvD, hit.t, te) || sp >= BVH_STACK_SIZE) continue;
+                o = lo;
+                d = ld;
+                invD = linvD;
+                wr = makeWatertightRay(o, d);
+                firstTriangle = inst.info.y;
+                inInstance = true;
+                stack[sp++] = uvec2(BVH_ENTRY_EXIT, 0u);
+                node = inst.info.x;
+                next = true;
+                break;
+            }
+            node = e.x;
+            next = true;
+            break;
+        }
+        if (!next) break;
+    }
+    return found;
+}
+
+#endif
