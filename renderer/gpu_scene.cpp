@@ -108,6 +108,7 @@ struct Builder {
     std::string* error;
     std::vector<Aabb> primBounds;          // world bounds of each analytic primitive
     std::map<std::string, std::uint32_t> meshByFile;  // imported file -> BLAS index
+    MeshCache* meshCache;                  // may be null
 
     void growBounds(glm::vec3 p) {
         out.boundsMin = glm::min(out.boundsMin, p);
@@ -197,31 +198,26 @@ struct Builder {
     }
 
     // Imports a model file once (every object using it shares its BVH), merging its meshes.
-    bool importMesh(const std::string& file, const std::string& where, std::uint32_t* blasIndex) {
-        if (auto it = meshByFile.find(file); it != meshByFile.end()) {
-            *blasIndex = it->second;
-            return true;
-        }
+    // Imports a file, merges its meshes and builds their BVH.
+    bool loadMesh(const std::string& file, const std::string& where, MeshCacheEntry* entry) {
         MeshImportResult imported = importMeshFile(file);
         if (!imported.ok()) {
             *error = where + ".file: " + imported.error;
             return false;
         }
-        for (const std::string& w : imported.warnings) out.warnings.push_back(w);
-        std::vector<glm::vec3> positions;
+        entry->warnings = imported.warnings;
         std::vector<glm::uvec3> tris;
-        const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
         for (const Mesh& mesh : imported.meshes) {
-            const auto base = static_cast<std::uint32_t>(positions.size());
+            const auto base = static_cast<std::uint32_t>(entry->positions.size());
             for (size_t v = 0; v < mesh.positions.size(); ++v) {
-                positions.push_back(mesh.positions[v]);
+                entry->positions.push_back(mesh.positions[v]);
                 gpu::GpuVertex gv{};
                 const glm::vec3 n = mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[v];
                 const glm::vec2 uv = mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[v];
                 const glm::vec3 t = mesh.tangents.empty() ? glm::vec3(0.0f) : glm::vec3(mesh.tangents[v]);
                 gv.normalU = glm::vec4(n, uv.x);
                 gv.tangentV = glm::vec4(t, uv.y);
-                out.vertices.push_back(gv);
+                entry->vertices.push_back(gv);
             }
             for (const glm::uvec3& t : mesh.triangles) tris.push_back(t + glm::uvec3(base));
         }
@@ -229,11 +225,38 @@ struct Builder {
             *error = where + ".file: " + file + ": the file has no triangles";
             return false;
         }
-        MeshBlas blas = buildBlas(positions, tris);
-        if (blas.bvh.empty()) {
+        entry->blas = buildBlas(entry->positions, tris);
+        if (entry->blas.bvh.empty()) {
             *error = where + ".file: " + file + ": no valid triangles (all are degenerate or not finite)";
             return false;
         }
+        return true;
+    }
+
+    bool importMesh(const std::string& file, const std::string& where, std::uint32_t* blasIndex) {
+        if (auto it = meshByFile.find(file); it != meshByFile.end()) {
+            *blasIndex = it->second;
+            return true;
+        }
+        std::error_code ec;
+        const auto stamp = std::filesystem::last_write_time(file, ec);
+        std::shared_ptr<const MeshCacheEntry> entry;
+        if (meshCache) {
+            auto it = meshCache->entries.find(file);
+            if (it != meshCache->entries.end() && !ec && it->second->stamp == stamp) entry = it->second;
+        }
+        if (!entry) {
+            auto made = std::make_shared<MeshCacheEntry>();
+            if (!loadMesh(file, where, made.get())) return false;
+            made->stamp = stamp;
+            entry = made;
+            if (meshCache) meshCache->entries[file] = entry;
+        }
+        for (const std::string& w : entry->warnings) out.warnings.push_back(w);
+        const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
+        out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
+        MeshBlas blas = entry->blas;
+        std::vector<glm::vec3> positions = entry->positions;
         out.meshBvh.blases.push_back(std::move(blas));
         out.meshPositions.push_back(std::move(positions));
         meshVertexBase.push_back(vertexBase);
@@ -736,8 +759,9 @@ std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
     return out;
 }
 
-bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error) {
-    Builder b{scene, readImage, *out, error, {}, {}, {}};
+bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
+                  MeshCache* meshCache) {
+    Builder b{scene, readImage, *out, error, {}, {}, meshCache, {}};
     return b.run();
 }
 

@@ -7,6 +7,9 @@
 #include "renderer/scene.h"
 #include "shaders/shared/layout.h"
 
+#include <filesystem>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,6 +58,19 @@ struct CompiledScene {
     std::vector<std::string> warnings;            // what mesh import reported (file: message)
 };
 
+// Imported meshes kept between compiles (keyed by file, checked against the file's time), so an
+// edit that does not touch a mesh never re-imports it or rebuilds its BVH.
+struct MeshCacheEntry {
+    MeshBlas blas;
+    std::vector<glm::vec3> positions;
+    std::vector<gpu::GpuVertex> vertices;
+    std::vector<std::string> warnings;
+    std::filesystem::file_time_type stamp;
+};
+struct MeshCache {
+    std::map<std::string, std::shared_ptr<const MeshCacheEntry>> entries;
+};
+
 // How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
 enum class TextureEncoding { Srgb, Linear };
 
@@ -70,7 +86,8 @@ const std::vector<float>& ggxAlbedoTable();
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names
 // (environment maps; later textures), relative paths resolved against scene.sourcePath.
-bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error);
+bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
+                  MeshCache* meshCache = nullptr);
 // The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
 // selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
 std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr);

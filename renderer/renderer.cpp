@@ -63,27 +63,28 @@ Renderer::~Renderer() {
     glDeleteBuffers(kGeometryBuffers, m_geometry);
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
-    unsigned textures[3] = {m_accum, m_accumSq, m_envTexture};
-    glDeleteTextures(3, textures);
+    unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
+    glDeleteTextures(5, textures);
     glDeleteProgram(m_program);
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
     CompiledScene compiled;
-    if (!compileScene(scene, m_readImage, &compiled, error)) return false;
+    if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache)) return false;
     m_scene = scene;
     m_compiled = std::move(compiled);
     upload();
     if (m_width != scene.render.width || m_height != scene.render.height) {
-        unsigned textures[2] = {m_accum, m_accumSq};
-        if (m_accum) glDeleteTextures(2, textures);
-        glCreateTextures(GL_TEXTURE_2D, 2, textures);
+        unsigned textures[4] = {m_accum, m_accumSq, m_albedo, m_normal};
+        if (m_accum) glDeleteTextures(4, textures);
+        glCreateTextures(GL_TEXTURE_2D, 4, textures);
         m_accum = textures[0];
         m_accumSq = textures[1];
+        m_albedo = textures[2];
+        m_normal = textures[3];
         m_width = scene.render.width;
         m_height = scene.render.height;
-        glTextureStorage2D(m_accum, 1, GL_RGBA32F, m_width, m_height);
-        glTextureStorage2D(m_accumSq, 1, GL_RGBA32F, m_width, m_height);
+        for (unsigned t : textures) glTextureStorage2D(t, 1, GL_RGBA32F, m_width, m_height);
     }
     resetAccumulation();
     return true;
@@ -91,23 +92,44 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
 
 bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* error) {
     const bool sameSize = scene.render.width == m_width && scene.render.height == m_height;
-    if ((dirty & ~std::uint32_t(kDirtyCamera | kDirtySettings | kDirtyMaterials)) != 0 || !sameSize ||
-        scene.materials.size() != m_scene.materials.size() ||
+    if ((dirty & ~std::uint32_t(kDirtyCamera | kDirtySettings | kDirtyMaterials | kDirtyTransforms)) != 0 ||
+        !sameSize || scene.materials.size() != m_scene.materials.size() ||
         scene.render.lightSelection != m_scene.render.lightSelection)
         return setScene(scene, error);
-    if (dirty & kDirtyMaterials) {
-        // Material parameters only: the same table, rebuilt and re-uploaded; emission changes
-        // alter the light list, so they recompile.
-        for (size_t i = 0; i < scene.materials.size(); ++i)
-            if (scene.materials[i].emission != m_scene.materials[i].emission) return setScene(scene, error);
+    if (dirty & (kDirtyMaterials | kDirtyTransforms)) {
+        // Recompiling on the CPU is cheap (meshes come from the cache, their BVHs untouched); what
+        // is uploaded is only what changed. Transforms: primitives, instances, lights and the top
+        // level of the BVH (whose node count stays 2n - 1 for n entries, so it is rewritten in
+        // place); materials: the material table and textures. Anything that changes the sizes of
+        // the mesh data (an emission change alters the light list, for one) uploads everything.
         CompiledScene compiled;
-        if (!compileScene(scene, m_readImage, &compiled, error)) return false;
-        m_compiled.materials = std::move(compiled.materials);
-        uploadBuffer(m_materials, m_compiled.materials);
-        m_compiled.texels = std::move(compiled.texels);
-        m_compiled.textures = std::move(compiled.textures);
-        uploadBuffer(m_texels, m_compiled.texels);
-        uploadBuffer(m_textures, m_compiled.textures);
+        if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache)) return false;
+        const bool sameLayout = compiled.bvhNodes.size() == m_compiled.bvhNodes.size() &&
+                                compiled.tlasNodeCount == m_compiled.tlasNodeCount &&
+                                compiled.triangles.size() == m_compiled.triangles.size() &&
+                                compiled.lights.size() == m_compiled.lights.size();
+        m_scene = scene;
+        if (!sameLayout) {
+            m_compiled = std::move(compiled);
+            upload();
+        } else {
+            if (dirty & kDirtyTransforms) {
+                uploadBuffer(m_primitives, compiled.primitives);
+                uploadBuffer(m_lights, compiled.lights);
+                uploadBuffer(m_lightCdf, packTables(compiled));
+                uploadBuffer(m_geometry[1], compiled.tlasRefs);
+                uploadBuffer(m_geometry[2], compiled.instances);
+                if (compiled.tlasNodeCount > 0)
+                    glNamedBufferSubData(m_geometry[0], 0, GLsizeiptr(compiled.tlasNodeCount * sizeof(gpu::GpuBvhNode)),
+                                         compiled.bvhNodes.data());
+            }
+            if (dirty & kDirtyMaterials) {
+                uploadBuffer(m_materials, compiled.materials);
+                uploadBuffer(m_texels, compiled.texels);
+                uploadBuffer(m_textures, compiled.textures);
+            }
+            m_compiled = std::move(compiled);
+        }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
     resetAccumulation();
@@ -151,6 +173,8 @@ void Renderer::resetAccumulation() {
     if (m_accum) {
         glClearTexImage(m_accum, 0, GL_RGBA, GL_FLOAT, zero);
         glClearTexImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, zero);
+        glClearTexImage(m_albedo, 0, GL_RGBA, GL_FLOAT, zero);
+        glClearTexImage(m_normal, 0, GL_RGBA, GL_FLOAT, zero);
     }
     std::uint32_t counters[4] = {0, 0, 0, 0};
     glNamedBufferSubData(m_counters, 0, sizeof counters, counters);
@@ -184,6 +208,8 @@ void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(BINDING_ALBEDO_IMAGE, m_albedo, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(BINDING_NORMAL_IMAGE, m_normal, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (static_cast<GLuint>(m_height) + 7) / 8, 1);
     // The next dispatch reads what this one wrote.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
@@ -237,13 +263,21 @@ Film Renderer::readFilm() const {
     film.width = m_width;
     film.height = m_height;
     const size_t n = static_cast<size_t>(m_width) * m_height;
-    std::vector<glm::vec4> sum(n), sumSq(n);
-    glGetTextureImage(m_accum, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)), sum.data());
-    glGetTextureImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)), sumSq.data());
+    std::vector<glm::vec4> sum(n), sumSq(n), albedo(n), normal(n);
+    const auto bytes = static_cast<GLsizei>(n * sizeof(glm::vec4));
+    glGetTextureImage(m_accum, 0, GL_RGBA, GL_FLOAT, bytes, sum.data());
+    glGetTextureImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, bytes, sumSq.data());
+    glGetTextureImage(m_albedo, 0, GL_RGBA, GL_FLOAT, bytes, albedo.data());
+    glGetTextureImage(m_normal, 0, GL_RGBA, GL_FLOAT, bytes, normal.data());
     film.mean.resize(n);
     film.varianceOfMean.resize(n);
     film.count.resize(n);
+    film.albedo.resize(n);
+    film.normal.resize(n);
     for (size_t i = 0; i < n; ++i) {
+        // The AOVs count every sample, dropped ones too (path.comp), so they have their own count.
+        if (albedo[i].a > 0.0f) film.albedo[i] = glm::vec3(albedo[i]) / albedo[i].a;
+        if (normal[i].a > 0.0f) film.normal[i] = glm::vec3(normal[i]) / normal[i].a;
         float c = sum[i].a;
         film.count[i] = c;
         if (c <= 0.0f) continue;

@@ -32,8 +32,10 @@ public:
     // restarts accumulation.
     bool setScene(const Scene& scene, std::string* error);
 
-    // Applies an edited scene, redoing only what `dirty` names (camera: nothing to upload;
-    // materials: re-upload them; anything else: recompile), and restarts accumulation.
+    // Applies an edited scene, redoing only what `dirty` names (camera and settings: nothing to
+    // upload; materials: the material table; transforms: the top level of the BVH, instances and
+    // lights, never a mesh's BVH; anything else: recompile, reusing cached meshes), and restarts
+    // accumulation.
     bool update(const Scene& scene, std::uint32_t dirty, std::string* error);
 
     // The accumulation image (RGBA32F: rgb = sum of samples, a = sample count) for display.
@@ -67,6 +69,7 @@ private:
 
     unsigned m_program = 0;
     unsigned m_accum = 0, m_accumSq = 0;
+    unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_lightCdf = 0, m_counters = 0;
     unsigned m_envTexture = 0;   // m_lightCdf holds all the CDF tables (packTables)
     // Geometry: BVH nodes, top-level entries, instances, triangles, vertices.
@@ -74,6 +77,7 @@ private:
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
     ImageReader m_readImage;
+    MeshCache m_meshCache;      // imported meshes and their BVHs, reused across edits
     int m_width = 0, m_height = 0;
     Scene m_scene;
     CompiledScene m_compiled;

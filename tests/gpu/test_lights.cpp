@@ -4,6 +4,7 @@
 // BSDF-sampled hits) agrees with the sampler's own pdf.
 #include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/meshes.h"
 
 #include <glad/gl.h>
 
@@ -148,4 +149,33 @@ TEST_CASE("environment light: mean 1/pdf is 4 pi", "[gpu][lights]") {
     s.environment.type = EnvironmentType::Sky;
     SamplerStats st = runSampler(*renderer, s, glm::vec3(0.0f));
     checkSolidAngle(st, 4.0 * kPi);
+}
+
+TEST_CASE("emissive mesh: mean 1/pdf is the solid angle it subtends, both faces", "[gpu][lights]") {
+    // A quad mesh of two triangles with an emissive material: sampled by area over its
+    // triangles, so the mean of 1/pdf is the quad's solid angle, from either side.
+    auto renderer = test::makeRenderer();
+    test::TempDir dir;
+    test::writeObjQuad(dir.file("quad.obj"));
+    Scene s;
+    s.render.width = s.render.height = 1;
+    s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(2.0f)});
+    Object o;
+    o.shape = Shape::Mesh;
+    o.file = dir.file("quad.obj");
+    o.material = "glow";
+    o.transform.translate = glm::vec3(0.1f, 0.2f, -0.3f);
+    o.transform.rotate = glm::vec3(30.0f, -15.0f, 10.0f);
+    o.transform.scale = glm::vec3(0.6f, 0.4f, 1.0f);
+    s.objects.push_back(o);
+    const glm::dmat4 m = o.transform.toMatrix();
+    auto corner = [&](double x, double y) { return glm::dvec3(m * glm::dvec4(x, y, 0, 1)); };
+    for (glm::dvec3 p : {glm::dvec3(0.2, 0.1, 1.0), glm::dvec3(-0.4, 0.5, -1.2)}) {
+        auto rel = [&](glm::dvec3 c) { return c - p; };
+        double omega = triangleSolidAngle(rel(corner(-1, -1)), rel(corner(1, -1)), rel(corner(1, 1))) +
+                       triangleSolidAngle(rel(corner(-1, -1)), rel(corner(1, 1)), rel(corner(-1, 1)));
+        INFO("point " << p.x << " " << p.y << " " << p.z);
+        SamplerStats st = runSampler(*renderer, s, glm::vec3(p));
+        checkSolidAngle(st, omega);
+    }
 }

@@ -3,6 +3,7 @@
 // (per image block, within statistical error); and MIS must not be worse than the better of the
 // two where one of them is poor (Veach 1997, ch. 9).
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
 
@@ -131,6 +132,21 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
         s.objects.push_back(box);
         s.environment.type = EnvironmentType::Sky;
         s.environment.intensity = 0.5f;
+        checkConsistent(renderAll(*renderer, s, 64));
+    }
+    SECTION("emissive mesh (a torus)") {
+        test::TempDir dir;
+        test::writeObjTorus(dir.file("torus.obj"), 1.0, 0.35, 32, 16);
+        Scene s = floorScene();
+        s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(2.0f, 1.5f, 1.0f)});
+        Object torus;
+        torus.shape = Shape::Mesh;
+        torus.file = dir.file("torus.obj");
+        torus.material = "glow";
+        torus.transform.translate = glm::vec3(-0.6f, 1.3f, 0.0f);
+        torus.transform.rotate = glm::vec3(70.0f, 0.0f, 0.0f);
+        torus.transform.scale = glm::vec3(0.5f);
+        s.objects.push_back(torus);
         checkConsistent(renderAll(*renderer, s, 64));
     }
     SECTION("uniform light selection gives the same image as selection by power") {
