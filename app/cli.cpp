@@ -21,7 +21,7 @@ bool parseInt(const std::string& s, long long lo, long long hi, T* out) {
 
 std::string cliUsage() {
     return R"(usage: caustic --scene <file.json> [options]     render headless and exit
-       caustic [scene.json]                         open the editor (not built yet)
+       caustic [scene.json]                         open the editor (needs a display)
 
 options:
   --scene <file.json>   the scene to render in batch mode
@@ -34,6 +34,7 @@ options:
                         after the scene
   --png | --hdr | --exr output formats, any combination (default: --png); PNG is 8-bit sRGB
                         after tone mapping, HDR (Radiance) and EXR are linear float
+  --half                EXR channels as 16-bit half floats (default: 32-bit float)
   --reinhard            Reinhard tone mapping for PNG (default: ACES filmic)
   --exposure <ev>       scale the image by 2^ev before tone mapping (PNG only; default 0)
   --time <seconds>      render until the time is up instead of a sample count
@@ -47,8 +48,13 @@ options:
   --sky                 replace the scene's environment with the procedural sky
   --envmap <file.hdr>   light the scene with an equirectangular HDR environment map (wins
                         over --sky and the scene's own environment)
-  --oidn                denoise with Intel Open Image Denoise (not available yet)
-  --aovs                also write the albedo and normal passes (not available yet)
+  --oidn                denoise with Intel Open Image Denoise (filter RT, HDR, albedo and normal
+                        as guides); the written images are the denoised ones
+  --oidn-guides <g>     prefilter (default: the guides are denoised first, OIDN's best quality),
+                        raw (guides as rendered) or none (colour alone)
+  --aovs                also write the albedo and normal passes: <scene>-albedo and <scene>-normal
+                        for PNG/HDR (normal remapped from [-1, 1] to [0, 1]); with --exr one
+                        multi-layer EXR with layers raw, denoised (with --oidn), albedo, normal
   --help                show this text
   --version             show the version
 
@@ -121,11 +127,16 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
              return true;
          }},
         {"--envmap", [&](const std::string& v, std::string*) { o.envmap = v; return true; }},
+        {"--oidn-guides", [&](const std::string& v, std::string* why) {
+             if (v != "prefilter" && v != "raw" && v != "none") { *why = "expected prefilter, raw or none, got '" + v + "'"; return false; }
+             o.oidnGuides = v;
+             return true;
+         }},
     };
     const std::map<std::string, bool*> switches = {
         {"--png", &o.png}, {"--hdr", &o.hdr}, {"--exr", &o.exr}, {"--reinhard", &o.reinhard},
         {"--oidn", &o.oidn}, {"--aovs", &o.aovs}, {"--sky", &o.sky}, {"--help", &o.help},
-        {"--version", &o.version},
+        {"--version", &o.version}, {"--half", &o.half},
     };
     for (size_t i = 0; i < args.size(); ++i) {
         std::string arg = args[i];

@@ -228,10 +228,25 @@ void cameraInspector(EditorUi& ui) {
     int axis = static_cast<int>(c.fovAxis);
     e.track(combo("Fov axis", &axis, axes), true);
     c.fovAxis = static_cast<FovAxis>(axis);
+    e.track(ImGui::DragFloat("Roll", &c.rollDegrees, 0.2f, -180.0f, 180.0f, "%.1f deg"));
+    ImGui::SeparatorText("Lens");
+    e.track(ImGui::DragFloat("Aperture radius", &c.apertureRadius, 0.001f, 0.0f, 10.0f, "%.4f", ImGuiSliderFlags_AlwaysClamp));
+    e.track(ImGui::DragFloat("Focal distance", &c.focalDistance, 0.01f, 0.0f, 1e4f, c.focalDistance > 0.0f ? "%.3f" : "at look-at",
+                             ImGuiSliderFlags_AlwaysClamp));
+    bool focusOnPoint = c.focusPoint.has_value();
+    if (ImGui::Checkbox("Focus on a point", &focusOnPoint)) {
+        e.changed = e.seal = true;
+        if (focusOnPoint) c.focusPoint = c.lookAt;
+        else c.focusPoint.reset();
+    }
+    if (c.focusPoint) e.track(ImGui::DragFloat3("Focus point", &c.focusPoint->x, 0.01f));
+    e.track(ImGui::DragFloat("Squeeze (anamorphic)", &c.squeeze, 0.01f, 0.1f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+    e.track(ImGui::SliderInt("Blades (0: round)", &c.blades, 0, 16));
+    if (c.blades == 1 || c.blades == 2) c.blades = 3;
+    e.track(ImGui::DragFloat("Blade rotation", &c.bladeRotationDegrees, 0.5f, -180.0f, 180.0f, "%.1f deg"));
     // Reject degenerate cameras instead of letting the renderer divide by zero.
     const bool valid = glm::length(c.lookAt - c.position) > 1e-6f && glm::length(glm::cross(c.lookAt - c.position, c.up)) > 1e-6f;
     e.commit(e.changed && valid ? makeSetCamera(s, c) : nullptr);
-    ImGui::TextDisabled("Aperture and focus distance: not in the scene format yet");
     if (ImGui::Button("Frame all (F)")) {
         s.selection = {EntityKind::Camera, -1};
         frameSelection(ui);
