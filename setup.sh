@@ -76,6 +76,63 @@ if [ "$(cat "$imgui_dir/.stamp" 2>/dev/null)" != "$imgui_sha" ]; then
   echo "$imgui_sha" > "$imgui_dir/.stamp"
 fi
 
+# 2c. Intel Open Image Denoise 2.5.1 (--oidn): the libraries from the pyoidn wheel, the headers
+# from the mitsuba-oidn sdist (shared/docs/dependencies.md), sha256-checked, only the needed files,
+# into .deps/oidn/{lib,include} (a CMake prefix). config.h is made from config.h.in: version
+# 2.5.1, no API namespace, shared libraries. Python's zipfile extracts the wheel (no unzip needed).
+oidn_whl=pyoidn-2.5.1.0-py3-none-manylinux2014_x86_64.whl
+oidn_whl_sha=32ad13368f8de1ef63001942ad05b02a00cd732d1206d97f352d3a3f606d823e
+oidn_sdist=mitsuba_oidn-0.1.2.tar.gz
+oidn_sdist_sha=baa03e305e92709aa62fb27347ce28f00ce683df0f93d58b6056cea18909e506
+oidn_dir=.deps/oidn
+if [ "$(cat "$oidn_dir/.stamp" 2>/dev/null)" != "$oidn_whl_sha $oidn_sdist_sha" ]; then
+  mkdir -p .deps/downloads
+  fetch() {  # file sha256 pip-arguments...
+    local file=$1 sha=$2; shift 2
+    if ! echo "$sha  .deps/downloads/$file" | sha256sum -c --status 2>/dev/null; then
+      log "downloading $file (PyPI)"
+      rm -f ".deps/downloads/$file"
+      "$venv/bin/pip" download -q --disable-pip-version-check --no-deps -d .deps/downloads "$@"
+      echo "$sha  .deps/downloads/$file" | sha256sum -c --status ||
+        { echo "setup.sh: $file: sha256 mismatch" >&2; exit 1; }
+    fi
+  }
+  fetch "$oidn_whl" "$oidn_whl_sha" --only-binary pyoidn --platform manylinux2014_x86_64 pyoidn==2.5.1.0
+  fetch "$oidn_sdist" "$oidn_sdist_sha" --no-binary mitsuba-oidn mitsuba-oidn==0.1.2
+  log "extracting Open Image Denoise into $oidn_dir"
+  rm -rf "$oidn_dir" && mkdir -p "$oidn_dir/include"
+  python3 - ".deps/downloads/$oidn_whl" "$oidn_dir" <<'PY'
+import os, sys, zipfile
+wheel, dest = sys.argv[1], sys.argv[2]
+keep = ("libOpenImageDenoise.so", "libOpenImageDenoise.so.2", "libOpenImageDenoise.so.2.5.1",
+        "libOpenImageDenoise_core.so.2.5.1", "libOpenImageDenoise_device_cpu.so.2.5.1",
+        "libOpenImageDenoise_device_cuda.so.2.5.1", "libtbb.so.12")
+with zipfile.ZipFile(wheel) as z:
+    for info in z.infolist():
+        name = info.filename
+        if not name.startswith("pyoidn/oidn/lib/") or name.endswith("/"):
+            continue
+        rel = name[len("pyoidn/oidn/"):]
+        if not (os.path.basename(rel) in keep or rel.startswith("lib/cmake/")):
+            continue
+        target = os.path.join(dest, rel)
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        with z.open(info) as src, open(target, "wb") as out:
+            out.write(src.read())
+PY
+  inc=mitsuba_oidn-0.1.2/ext/oidn/include/OpenImageDenoise
+  tar -xzf ".deps/downloads/$oidn_sdist" -C "$oidn_dir/include" --strip-components=4 \
+    $inc/oidn.h $inc/oidn.hpp $inc/config.h.in
+  sed -e 's/@OIDN_VERSION_MAJOR@/2/g; s/@OIDN_VERSION_MINOR@/5/g; s/@OIDN_VERSION_PATCH@/1/g' \
+      -e 's/@OIDN_VERSION_NUMBER@/20501/g; s/@OIDN_VERSION_NOTE@//g' \
+      -e 's|^#cmakedefine OIDN_API_NAMESPACE.*|/* #undef OIDN_API_NAMESPACE */|' \
+      -e 's|^#cmakedefine OIDN_STATIC_LIB|/* #undef OIDN_STATIC_LIB */|' \
+      -e 's|^\( *\)#cmakedefine OIDN_DEVICE_METAL|\1/* #undef OIDN_DEVICE_METAL */|' \
+      -e 's|^\( *\)#cmakedefine \(OIDN_[A-Z_]*\)|\1#define \2|' \
+      "$oidn_dir/include/OpenImageDenoise/config.h.in" > "$oidn_dir/include/OpenImageDenoise/config.h"
+  echo "$oidn_whl_sha $oidn_sdist_sha" > "$oidn_dir/.stamp"
+fi
+
 # 3. Configure and build (Release).
 # Always configure (quick when nothing changed; recovers from an interrupted first configure).
 log "configuring build/"

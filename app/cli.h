@@ -22,6 +22,8 @@ struct CliOptions {
     std::vector<std::string> sweeps;         // --sweep path=v1,v2,..., in order
     std::string strategy = "mis";            // mis | light | bsdf (for checking MIS)
     bool oidn = false, aovs = false, sky = false;
+    std::string oidnGuides = "prefilter";    // --oidn-guides: prefilter | raw | none
+    bool half = false;                       // --half: EXR channels as 16-bit half floats
     std::optional<std::string> envmap;
     bool help = false, version = false;
 };

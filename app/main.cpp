@@ -3,6 +3,7 @@
 #include "app/cli.h"
 #include "editor/ui/editor_app.h"
 #include "app/contact_sheet.h"
+#include "renderer/denoise.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/renderer.h"
@@ -32,11 +33,34 @@ int fail(const std::string& message, int code = kExitRenderFailed) {
     return code;
 }
 
-// A flag whose feature is not built yet must say so, never be silently ignored.
-std::string notYet(const CliOptions& o) {
-    if (o.oidn) return "--oidn: denoising with Open Image Denoise is not available in this build yet";
-    if (o.aovs) return "--aovs: AOV output (albedo, normal) is not available in this build yet";
+// A flag whose feature is not in this build must say so before anything renders.
+std::string notAvailable(const CliOptions& o) {
+    std::string error;
+    if (o.oidn && !denoiserAvailable()) {
+        denoise(Film{}, {}, nullptr, &error);
+        return "--oidn: " + error;
+    }
     return "";
+}
+
+// The AOVs as images: albedo as it is (linear reflectance); the normal remapped from [-1, 1] to
+// [0, 1] (files without negative values: PNG, Radiance) or as it is (EXR).
+std::vector<float> flatten(const std::vector<glm::vec3>& v, bool remapSigned = false) {
+    std::vector<float> out(v.size() * 3);
+    for (size_t i = 0; i < v.size(); ++i)
+        for (int c = 0; c < 3; ++c) out[i * 3 + c] = remapSigned ? v[i][c] * 0.5f + 0.5f : v[i][c];
+    return out;
+}
+
+// 8-bit with no tone curve: linear values in [0, 1], sRGB-encoded (albedo) or stored as they are
+// (the remapped normal, which is data, not colour).
+std::vector<std::uint8_t> to8Bit(const std::vector<float>& v, bool srgb) {
+    std::vector<std::uint8_t> out(v.size());
+    for (size_t i = 0; i < v.size(); ++i) {
+        const float x = std::clamp(v[i], 0.0f, 1.0f);
+        out[i] = static_cast<std::uint8_t>(std::lround((srgb ? srgbEncode(x) : x) * 255.0f));
+    }
+    return out;
 }
 
 std::string formatSeconds(double s) {
@@ -93,7 +117,8 @@ bool makeVariants(const CliOptions& o, std::vector<Variant>* out, std::string* e
                 Variant n = v;
                 n.overrides.push_back({ov.path, values[i]});
                 n.label += (n.label.empty() ? "" : "\n") + ov.path + "=" + values[i];  // one line per sweep
-                n.fileSuffix += "-" + std::to_string(i);
+                n.fileSuffix += '-';  // two appends: "-" + to_string trips GCC 12's false -Wrestrict (bug 105329)
+                n.fileSuffix += std::to_string(i);
                 grown.push_back(n);
             }
         variants = std::move(grown);
@@ -212,7 +237,23 @@ int runBatch(const CliOptions& o) {
         }
         const double seconds = elapsed();
         if (tty) std::fprintf(stderr, "\r%*s\r", 60, "");
-        const Film film = renderer->readFilm();
+        const Film raw = renderer->readFilm();
+        Film film = raw;  // what the files show: the denoised image with --oidn
+        std::string denoiser;
+        if (o.oidn) {
+            DenoiseOptions dopt;
+            dopt.useGuides = o.oidnGuides != "none";
+            dopt.prefilterGuides = o.oidnGuides == "prefilter";
+            DenoiseResult denoised;
+            const auto t0 = std::chrono::steady_clock::now();
+            if (!denoise(raw, dopt, &denoised, &error)) return fail("--oidn: " + error);
+            const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            film.mean = std::move(denoised.image);
+            denoiser = "Open Image Denoise " + denoiserVersion() + ", filter RT, hdr, guides " +
+                       (dopt.useGuides ? (dopt.prefilterGuides ? "albedo+normal prefiltered" : "albedo+normal") : "none") +
+                       ", device " + denoised.device;
+            std::fprintf(stderr, "caustic: denoised in %.2f s: %s\n", dt, denoiser.c_str());
+        }
         const std::uint64_t dropped = renderer->droppedSamples();
         const int done = renderer->samplesDone();
 
@@ -224,19 +265,58 @@ int runBatch(const CliOptions& o) {
             {"caustic:render_seconds", std::to_string(seconds)},
         };
         if (!variants[vi].label.empty()) meta.push_back({"caustic:variant", variants[vi].label});
+        if (!denoiser.empty()) meta.push_back({"caustic:denoiser", denoiser});
         const std::string base = stem + variants[vi].fileSuffix;
         std::vector<std::uint8_t> srgb = toSrgb8(film, toneMap, o.exposure);
+        // AOV files carry the same metadata plus what they are.
+        auto aovMeta = [&](const char* pass) {
+            ImageMetadata m = meta;
+            m.push_back({"caustic:pass", pass});
+            return m;
+        };
+        const std::vector<float> albedo = o.aovs ? flatten(raw.albedo) : std::vector<float>{};
+        const std::vector<float> normal01 = o.aovs ? flatten(raw.normal, true) : std::vector<float>{};
         if (png) {
             if (!writeImage8(base + ".png", film.width, film.height, srgb, meta, &error)) return fail(error);
             wrote(base + ".png");
-        }
-        if (o.hdr || o.exr) {
-            std::vector<float> linear = toLinearRgb(film);
-            for (auto [wanted, ext] : {std::pair{o.hdr, ".hdr"}, std::pair{o.exr, ".exr"}}) {
-                if (!wanted) continue;
-                if (!writeImageFloat(base + ext, film.width, film.height, linear, meta, &error)) return fail(error);
-                wrote(base + ext);
+            if (o.aovs) {
+                if (!writeImage8(base + "-albedo.png", film.width, film.height, to8Bit(albedo, true), aovMeta("albedo"), &error))
+                    return fail(error);
+                wrote(base + "-albedo.png");
+                if (!writeImage8(base + "-normal.png", film.width, film.height, to8Bit(normal01, false), aovMeta("normal"), &error))
+                    return fail(error);
+                wrote(base + "-normal.png");
             }
+        }
+        const std::vector<float> linear = toLinearRgb(film);
+        if (o.hdr) {
+            if (!writeImageFloat(base + ".hdr", film.width, film.height, linear, meta, &error)) return fail(error);
+            wrote(base + ".hdr");
+            if (o.aovs) {
+                if (!writeImageFloat(base + "-albedo.hdr", film.width, film.height, albedo, aovMeta("albedo"), &error))
+                    return fail(error);
+                wrote(base + "-albedo.hdr");
+                if (!writeImageFloat(base + "-normal.hdr", film.width, film.height, normal01, aovMeta("normal"), &error))
+                    return fail(error);
+                wrote(base + "-normal.hdr");
+            }
+        }
+        if (o.exr) {
+            // One file: R, G, B hold the final image (what viewers without layer support show);
+            // with --aovs the named layers raw, denoised (with --oidn), albedo and normal follow
+            // (the normal as it is, in [-1, 1]).
+            std::vector<ImageLayer> layers = {{"", &linear}};
+            std::vector<float> rawRgb, normal;
+            if (o.aovs) {
+                rawRgb = toLinearRgb(raw);
+                normal = flatten(raw.normal);
+                layers.push_back({"raw", &rawRgb});
+                if (o.oidn) layers.push_back({"denoised", &linear});
+                layers.push_back({"albedo", &albedo});
+                layers.push_back({"normal", &normal});
+            }
+            if (!writeExrLayers(base + ".exr", film.width, film.height, layers, o.half, meta, &error)) return fail(error);
+            wrote(base + ".exr");
         }
         std::string oneLineLabel = variants[vi].label;
         std::replace(oneLineLabel.begin(), oneLineLabel.end(), '\n', ' ');
@@ -268,7 +348,7 @@ int main(int argc, char** argv) {
         if (o.version) { std::cout << "caustic " << CAUSTIC_VERSION << "\n"; return 0; }
         if (!o.scene) return editor::runEditor(o.editorScene);   // `caustic [scene.json]`: the editor
         if (o.editorScene) return fail("unexpected argument '" + *o.editorScene + "' in batch mode", kExitUsage);
-        if (std::string why = notYet(o); !why.empty()) return fail(why, kExitUsage);
+        if (std::string why = notAvailable(o); !why.empty()) return fail(why);
         return runBatch(o);
     } catch (const std::exception& e) {
         return fail(std::string("unexpected failure: ") + e.what());

@@ -9,14 +9,19 @@
 namespace caustic {
 namespace {
 
+// data: `type` values, channels interleaved; fileType: what the file stores (EXR: half or float).
 bool writeAtomically(const std::string& path, int width, int height, OIIO::TypeDesc type, const void* data,
-                     const ImageMetadata& metadata, std::string* error) {
+                     const ImageMetadata& metadata, std::string* error,
+                     const std::vector<std::string>& channelNames = {"R", "G", "B"},
+                     OIIO::TypeDesc fileType = OIIO::TypeDesc::UNKNOWN) {
     auto out = OIIO::ImageOutput::create(path);
     if (!out) {
         *error = path + ": cannot write this format: " + OIIO::geterror();
         return false;
     }
-    OIIO::ImageSpec spec(width, height, 3, type);
+    OIIO::ImageSpec spec(width, height, static_cast<int>(channelNames.size()),
+                         fileType == OIIO::TypeDesc::UNKNOWN ? type : fileType);
+    spec.channelnames = channelNames;
     for (const auto& [key, value] : metadata) spec.attribute(key, value);
     const std::string tmp = tempPathBeside(path);
     if (!out->open(tmp, spec)) {
@@ -44,6 +49,28 @@ bool writeImage8(const std::string& path, int width, int height, const std::vect
 bool writeImageFloat(const std::string& path, int width, int height, const std::vector<float>& rgb,
                      const ImageMetadata& metadata, std::string* error) {
     return writeAtomically(path, width, height, OIIO::TypeDesc::FLOAT, rgb.data(), metadata, error);
+}
+
+bool writeExrLayers(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers, bool half,
+                    const ImageMetadata& metadata, std::string* error) {
+    const size_t n = static_cast<size_t>(width) * height;
+    const size_t channels = layers.size() * 3;
+    std::vector<std::string> names;
+    std::vector<float> pixels(n * channels);
+    for (size_t l = 0; l < layers.size(); ++l) {
+        const std::vector<float>& rgb = *layers[l].rgb;
+        if (rgb.size() != n * 3) {
+            *error = path + ": layer '" + layers[l].name + "' has the wrong size";
+            return false;
+        }
+        for (const char* c : {"R", "G", "B"}) names.push_back(layers[l].name.empty() ? c : layers[l].name + "." + c);
+        for (size_t i = 0; i < n; ++i)
+            for (size_t c = 0; c < 3; ++c) pixels[i * channels + l * 3 + c] = rgb[i * 3 + c];
+    }
+    ImageMetadata meta = metadata;
+    meta.push_back({"compression", "zip"});
+    return writeAtomically(path, width, height, OIIO::TypeDesc::FLOAT, pixels.data(), meta, error, names,
+                           half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
 }
 
 bool readImage(const std::string& path, ImageData* out, std::string* error) {

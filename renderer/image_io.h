@@ -23,6 +23,18 @@ bool writeImage8(const std::string& path, int width, int height, const std::vect
 bool writeImageFloat(const std::string& path, int width, int height, const std::vector<float>& rgb,
                      const ImageMetadata& metadata, std::string* error);
 
+// One RGB layer of a multi-layer EXR: channels "<name>.R", "<name>.G", "<name>.B" (the layer
+// convention Nuke, Blender and OpenImageIO read), or plain "R", "G", "B" when the name is empty.
+struct ImageLayer {
+    std::string name;
+    const std::vector<float>* rgb = nullptr;  // width * height * 3 linear floats, row 0 at the top
+};
+
+// Writes the layers into one single-part OpenEXR file (ZIP compressed), as 32-bit float or
+// 16-bit half channels. Atomic.
+bool writeExrLayers(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers, bool half,
+                    const ImageMetadata& metadata, std::string* error);
+
 // Reads any format OpenImageIO knows; errors name the file.
 bool readImage(const std::string& path, ImageData* out, std::string* error);
 

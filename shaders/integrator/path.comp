@@ -2,12 +2,16 @@
 // The integrator kernel: frame.dispatch.x samples per pixel per dispatch, each from its own
 // random stream (pixel, sample index, seed), summed into the accumulation images. A sample that
 // is NaN or infinite is dropped, counted in counters[0], and not averaged in.
+// The albedo and normal images (the denoiser's guides, written as AOVs) are accumulated in the
+// same loop from every sample, dropped ones included (their first hit is still well defined).
 #include "path.glsl"
 #include "camera.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = BINDING_ACCUM_IMAGE) uniform image2D accumImage;
 layout(rgba32f, binding = BINDING_ACCUM_SQ_IMAGE) uniform image2D accumSqImage;
+layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
+layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -15,13 +19,18 @@ void main() {
     ivec2 ip = ivec2(pixel);
     vec4 sum = imageLoad(accumImage, ip);
     vec4 sumSq = imageLoad(accumSqImage, ip);
+    vec4 albedoSum = imageLoad(albedoImage, ip);
+    vec4 normalSum = imageLoad(normalImage, ip);
     uint pixelIndex = pixel.y * frame.image.x + pixel.x;
     uint dropped = 0u;
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
         uint rng = rngInit(pixelIndex, frame.image.z + s, frame.image.w);
         vec2 uFilter = rngNext2(rng);
         Ray ray = cameraRay(pixel, uFilter, rngNext2(rng));
-        vec3 L = pathRadiance(ray, rng);
+        PathAov aov;
+        vec3 L = pathRadiance(ray, rng, aov);
+        albedoSum += vec4(aov.albedo, 1.0);
+        normalSum += vec4(aov.normal, 1.0);
         if (any(isnan(L)) || any(isinf(L))) { ++dropped; continue; }
         sum += vec4(L, 1.0);
         sumSq += vec4(L * L, 0.0);
@@ -32,4 +41,6 @@ void main() {
     if (before + g_rayCount < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
     imageStore(accumImage, ip, sum);
     imageStore(accumSqImage, ip, sumSq);
+    imageStore(albedoImage, ip, albedoSum);
+    imageStore(normalImage, ip, normalSum);
 }

@@ -11,6 +11,14 @@
 // caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on.
 // Russian roulette from the fourth vertex on (after three bounces): survive with
 // q = clamp(max(throughput), 0.05, 1) and divide by q.
+//
+// AOVs (the denoiser's guides, Open Image Denoise's documented convention): at the first vertex
+// whose material is not purely specular (bsdfIsDelta), the path records the material's
+// reflectance there (textured albedo for the diffuse models, tint * F(normal incidence) for rough
+// conductors, the tint for rough glass) and the world shading normal turned towards the viewer.
+// Delta vertices (mirror, smooth glass and metal) are passed through, so through a glass sphere
+// the AOVs show what lies behind it. A path that escapes, ends or is absorbed before such a
+// vertex records zeros.
 #ifndef INTEGRATOR_PATH_GLSL
 #define INTEGRATOR_PATH_GLSL
 #include "../lib/rng.glsl"
@@ -19,7 +27,21 @@
 #include "../bsdf/material.glsl"
 #include "../lights/lights.glsl"
 
-vec3 pathRadiance(Ray ray, inout uint rng) {
+struct PathAov {
+    vec3 albedo;
+    vec3 normal;
+};
+
+// Reflectance of a non-delta material for the albedo AOV (values in [0, 1]).
+vec3 aovAlbedo(GpuMaterial m) {
+    if (m.info.x == MAT_ROUGH_CONDUCTOR) return m.albedo.rgb * conductorFresnel(m, 1.0);
+    return m.albedo.rgb;  // diffuse models: albedo; rough dielectric: tint
+}
+
+vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
+    aov.albedo = vec3(0.0);
+    aov.normal = vec3(0.0);
+    bool aovDone = false;
     uint strategy = frame.counts.w;
     uint maxDepth = frame.counts.z;
     bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
@@ -65,7 +87,6 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
                 L += beta * mat.emission.rgb * powerHeuristic(prevBsdfPdf, pl);
             }
         }
-        if (bounces >= maxDepth) break;
 
         // Textures, then the shading frame. Reflection-only models are two-sided: the normal is
         // turned towards the viewer. Transmissive models keep the front (unflipped) normal, so
@@ -81,6 +102,12 @@ vec3 pathRadiance(Ray ray, inout uint rng) {
         float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
         vec3 n = side * ns;
         if (dot(n, wo) * dot(side * hit.ng, wo) <= 0.0) n = side * hit.ng;
+        if (!aovDone && !bsdfIsDelta(mat)) {
+            aovDone = true;
+            aov.albedo = aovAlbedo(mat);
+            aov.normal = dot(n, wo) < 0.0 ? -n : n;  // n: the shading normal, or ng where it fails
+        }
+        if (bounces >= maxDepth) break;
         Frame f = frameFromNormal(n);
         vec3 woL = toLocal(f, wo);
         float ngWo = dot(hit.ng, wo);

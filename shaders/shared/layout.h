@@ -21,6 +21,8 @@ using uint = std::uint32_t;
 // Binding points (shared constants, never magic numbers).
 #define BINDING_ACCUM_IMAGE 0      // image2D rgba32f: rgb = sum of samples, a = sample count
 #define BINDING_ACCUM_SQ_IMAGE 1   // image2D rgba32f: rgb = sum of squared samples
+#define BINDING_ALBEDO_IMAGE 2     // image2D rgba32f: rgb = sum of first non-specular albedos, a = count
+#define BINDING_NORMAL_IMAGE 3     // image2D rgba32f: rgb = sum of first non-specular world normals, a = count
 #define BINDING_FRAME_UBO 0
 #define BINDING_PRIMITIVES 1
 #define BINDING_MATERIALS 2

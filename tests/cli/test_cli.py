@@ -20,6 +20,8 @@ BIN = os.environ.get("CAUSTIC_BIN", "")
 SOURCE_DIR = os.environ.get("CAUSTIC_SOURCE_DIR", "")
 CORNELL = os.path.join(SOURCE_DIR, "scenes", "cornell-box.json")
 SMALL = ["--width", "64", "--height", "64"]
+# Whether this build has Open Image Denoise (set by CMake from what it found).
+HAVE_OIDN = os.environ.get("CAUSTIC_HAVE_OIDN", "") in ("1", "ON", "TRUE", "true")
 
 
 def run_caustic(*args, env=None, timeout=120):
@@ -174,6 +176,51 @@ def exr_channels(chlist):
         (ptype,) = struct.unpack("<i", chlist[e + 1:e + 5])
         out[name] = ptype
         pos = e + 1 + 16
+    return out
+
+
+def exr_pixels(data):
+    """Decodes a scanline OpenEXR file (no or ZIP compression, half or float channels) into
+    {channel name: rows of floats}."""
+    attrs = exr_header(data)
+    channels = exr_channels(attrs["channels"][1])  # sorted by name, as stored
+    x0, y0, x1, y1 = struct.unpack("<iiii", attrs["dataWindow"][1])
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    compression = attrs["compression"][1][0]
+    if compression not in (0, 3):
+        raise ValueError("compression %d not supported here" % compression)
+    lines_per_chunk = 16 if compression == 3 else 1
+    pos = 8  # skip to the end of the header: the attribute list ends with an empty name
+    while data[pos] != 0:
+        pos = data.index(b"\0", data.index(b"\0", pos) + 1) + 1
+        (size,) = struct.unpack("<i", data[pos:pos + 4])
+        pos += 4 + size
+    pos += 1
+    nchunks = (h + lines_per_chunk - 1) // lines_per_chunk
+    offsets = struct.unpack("<%dQ" % nchunks, data[pos:pos + 8 * nchunks])
+    names = sorted(channels)
+    sizes = {1: 2, 2: 4}
+    out = {n: [] for n in names}
+    for off in offsets:
+        y, size = struct.unpack("<ii", data[off:off + 8])
+        raw = data[off + 8:off + 8 + size]
+        lines = min(lines_per_chunk, y1 + 1 - y)
+        expected = lines * w * sum(sizes[channels[n]] for n in names)
+        if compression == 3 and size < expected:
+            t = bytearray(zlib.decompress(raw))
+            for i in range(1, len(t)):  # undo the predictor, then the interleaving
+                t[i] = (t[i - 1] + t[i] - 128) & 0xFF
+            half = (len(t) + 1) // 2
+            raw = bytearray(len(t))
+            raw[0::2] = t[:half]
+            raw[1::2] = t[half:]
+        p = 0
+        for _ in range(lines):
+            for n in names:
+                fmt = "<%d%s" % (w, "e" if channels[n] == 1 else "f")
+                nbytes = w * sizes[channels[n]]
+                out[n].append(list(struct.unpack(fmt, bytes(raw[p:p + nbytes]))))
+                p += nbytes
     return out
 
 
@@ -387,13 +434,87 @@ class TestCommandLine(CliTestCase):
         r = run_caustic("--scene", CORNELL, "--samples", "-4")
         self.assertFailsWith(r, "--samples", code=2)
 
-    def test_features_not_available_yet(self):
-        for args, flag in ((["--oidn"], "--oidn"), (["--aovs"], "--aovs")):
-            with self.subTest(flag=flag):
-                out = os.path.join(self.tmp, flag.strip("-"))
-                r = run_caustic("--scene", CORNELL, *args, "--output", out)
-                self.assertFailsWith(r, flag)
-                self.assertFalse(os.path.exists(out) and os.listdir(out), "files written for " + flag)
+    def test_oidn_guides_value_is_checked(self):
+        r = run_caustic("--scene", CORNELL, "--oidn", "--oidn-guides", "blurry")
+        self.assertFailsWith(r, "--oidn-guides", code=2)
+
+
+class TestAovsAndDenoising(CliTestCase):
+    """--aovs (albedo and normal passes) and --oidn (Open Image Denoise)."""
+
+    def test_aovs_as_png_and_hdr_files(self):
+        out = os.path.join(self.tmp, "aov")
+        r = run_caustic("--scene", CORNELL, "--width", "32", "--height", "32", "--samples", "2", "--aovs",
+                        "--png", "--hdr", "--output", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        names = ["cornell-box" + s + e for e in (".png", ".hdr") for s in ("", "-albedo", "-normal")]
+        self.assertEqual(sorted(os.path.basename(p) for p in r.stdout.split()), sorted(names))
+        _, albedo = decode_png(Path(out, "cornell-box-albedo.png").read_bytes())
+        _, normal = decode_png(Path(out, "cornell-box-normal.png").read_bytes())
+        # Left wall: red reflectance (0.570, 0.043, 0.044 in the scene, sRGB-encoded: no tone curve)
+        # and its normal +x, remapped to (1, 0.5, 0.5).
+        left_albedo = region_mean(albedo, 1, 3, 10, 22)
+        self.assertAlmostEqual(left_albedo[0], 199, delta=3)  # 255 * srgbEncode(0.570)
+        self.assertLess(left_albedo[1], 90)
+        left_normal = region_mean(normal, 1, 3, 10, 22)
+        for got, want in zip(left_normal, (255, 128, 128)):
+            self.assertAlmostEqual(got, want, delta=3)
+        # The back wall faces the camera (+z): (0.5, 0.5, 1) in the normal HDR file, linear.
+        _, _, nrows = decode_hdr(Path(out, "cornell-box-normal.hdr").read_bytes())
+        back = region_mean(nrows, 12, 20, 8, 12)
+        for got, want in zip(back, (0.5, 0.5, 1.0)):
+            self.assertAlmostEqual(got, want, delta=0.02)
+
+    def test_multilayer_exr_layers_metadata_and_half(self):
+        out = os.path.join(self.tmp, "exr")
+        args = ["--scene", CORNELL, "--width", "32", "--height", "32", "--samples", "4", "--seed", "5",
+                "--aovs", "--exr", "--half", "--output", out]
+        if HAVE_OIDN:
+            args.append("--oidn")
+        r = run_caustic(*args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual([os.path.basename(p) for p in r.stdout.split()], ["cornell-box.exr"])
+        data = Path(out, "cornell-box.exr").read_bytes()
+        attrs = exr_header(data)
+        channels = exr_channels(attrs["channels"][1])
+        layers = ["raw", "albedo", "normal"] + (["denoised"] if HAVE_OIDN else [])
+        expected = {c for c in "RGB"} | {l + "." + c for l in layers for c in "RGB"}
+        self.assertEqual(set(channels), expected)
+        self.assertEqual(set(channels.values()), {1}, "--half: every channel is 16-bit half")
+        meta = {k: v[1].decode() for k, v in attrs.items() if v[0] == "string"}
+        self.assertEqual(meta["caustic:samples"], "4")
+        self.assertEqual(meta["caustic:seed"], "5")
+        self.assertEqual(meta["caustic:scene"], CORNELL)
+        self.assertGreater(float(meta["caustic:render_seconds"]), 0.0)
+        self.assertTrue(meta["Software"].startswith("caustic "), meta["Software"])
+        if HAVE_OIDN:
+            self.assertIn("Open Image Denoise", meta["caustic:denoiser"])
+        px = exr_pixels(data)
+        # The layers hold what they say: normals unit-length on the walls, in [-1, 1]; the left
+        # wall's normal is +x; albedo in [0, 1]; R, G, B is the final (denoised) image.
+        nx, ny, nz = px["normal.R"][16][1], px["normal.G"][16][1], px["normal.B"][16][1]
+        self.assertAlmostEqual(nx, 1.0, delta=0.01)
+        self.assertAlmostEqual(ny, 0.0, delta=0.01)
+        self.assertAlmostEqual(nz, 0.0, delta=0.01)
+        self.assertTrue(all(0.0 <= v <= 1.0 for row in px["albedo.G"] for v in row))
+        final = "denoised" if HAVE_OIDN else "raw"
+        self.assertEqual(px["R"], px[final + ".R"])
+        if HAVE_OIDN:
+            self.assertNotEqual(px["raw.R"], px["denoised.R"])
+
+    def test_oidn(self):
+        out = os.path.join(self.tmp, "oidn")
+        r = run_caustic("--scene", CORNELL, "--width", "32", "--height", "32", "--samples", "2", "--oidn",
+                        "--output", out)
+        if not HAVE_OIDN:
+            # Without the library: a clear message before anything renders, no files.
+            self.assertFailsWith(r, "--oidn", "Open Image Denoise", code=1)
+            self.assertFalse(os.path.exists(out) and os.listdir(out))
+            return
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual([os.path.basename(p) for p in r.stdout.split()], ["cornell-box.png"])
+        # Which device OIDN picked is reported: the CPU here, CUDA on an NVIDIA machine.
+        self.assertRegex(r.stderr, r"denoised in [0-9.]+ s: Open Image Denoise 2\.5\.1, .*device (CPU|CUDA)")
 
 
 class TestEnvironmentMap(CliTestCase):
