@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <map>
+
 namespace caustic::test {
 
 HeadlessGlContext& glContext() {
@@ -21,6 +23,23 @@ std::unique_ptr<Renderer> makeRenderer() {
     INFO(error);
     REQUIRE(renderer != nullptr);
     return renderer;
+}
+
+unsigned kernel(const std::string& name) {
+    static std::map<std::string, unsigned> programs;
+    if (auto it = programs.find(name); it != programs.end()) return it->second;
+    glContext();
+    ShaderLoader loader(defaultShaderDir());
+    ShaderSource src;
+    std::string err;
+    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/" + name, {}, &src, &err);
+    INFO(err);
+    REQUIRE(loaded);
+    const unsigned program = compileComputeProgram(src, name, &err);
+    INFO(err);
+    REQUIRE(program != 0);
+    programs.emplace(name, program);
+    return program;
 }
 
 Film renderFilm(Renderer& renderer, const Scene& scene, int samples) {

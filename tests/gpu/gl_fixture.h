@@ -13,6 +13,9 @@ namespace caustic::test {
 
 HeadlessGlContext& glContext();                  // REQUIREs a context
 std::unique_ptr<Renderer> makeRenderer();        // REQUIREs the integrator to compile
+// A test kernel from tests/gpu/kernels/ (compiled once per process; REQUIREs it to compile).
+// Kernels include the integrator's own shader files, so they test the real code.
+unsigned kernel(const std::string& name);
 // Renders `samples` spp of `scene` (REQUIREs setScene to succeed) and returns the film.
 Film renderFilm(Renderer& renderer, const Scene& scene, int samples);
 

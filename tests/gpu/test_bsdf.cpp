@@ -27,21 +27,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-GLuint bsdfKernel() {
-    static GLuint program = [] {
-        ShaderLoader loader(defaultShaderDir());
-        ShaderSource src;
-        std::string err;
-        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/bsdf_eval.comp", {}, &src, &err);
-        INFO(err);
-        REQUIRE(loaded);
-        GLuint p = compileComputeProgram(src, "bsdf_eval.comp", &err);
-        INFO(err);
-        REQUIRE(p != 0);
-        return p;
-    }();
-    return program;
-}
+GLuint bsdfKernel() { return test::kernel("bsdf_eval.comp"); }
 
 gpu::GpuMaterial material(std::uint32_t type, glm::vec3 albedo, float roughness = 0.0f, float ior = 1.5f,
                           std::uint32_t flags = 0) {

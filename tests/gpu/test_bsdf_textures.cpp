@@ -46,21 +46,7 @@ ImageReader generatedReader() {
     };
 }
 
-GLuint textureKernel() {
-    static GLuint program = [] {
-        ShaderLoader loader(defaultShaderDir());
-        ShaderSource src;
-        std::string err;
-        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/bsdf_texture.comp", {}, &src, &err);
-        INFO(err);
-        REQUIRE(loaded);
-        GLuint p = compileComputeProgram(src, "bsdf_texture.comp", &err);
-        INFO(err);
-        REQUIRE(p != 0);
-        return p;
-    }();
-    return program;
-}
+GLuint textureKernel() { return test::kernel("bsdf_texture.comp"); }
 
 std::vector<glm::vec4> runKernel(Renderer& r, GLuint mode, const std::vector<glm::vec4>& inputs, GLuint outputs,
                                  GLuint texture = 0, float lod = 0.0f, GLuint prim = 0, GLuint material = 0) {

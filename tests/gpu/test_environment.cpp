@@ -57,21 +57,7 @@ Scene envScene(const std::string& file, float rotation) {
     return s;
 }
 
-GLuint envKernel() {
-    static GLuint program = [] {
-        ShaderLoader loader(defaultShaderDir());
-        ShaderSource src;
-        std::string err;
-        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/env_sampling.comp", {}, &src, &err);
-        INFO(err);
-        REQUIRE(loaded);
-        GLuint p = compileComputeProgram(src, "env_sampling.comp", &err);
-        INFO(err);
-        REQUIRE(p != 0);
-        return p;
-    }();
-    return program;
-}
+GLuint envKernel() { return test::kernel("env_sampling.comp"); }
 
 std::vector<glm::vec4> runKernel(Renderer& r, GLuint mode, GLuint count) {
     GLuint program = envKernel();

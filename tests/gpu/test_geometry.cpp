@@ -17,21 +17,7 @@ using namespace caustic;
 
 namespace {
 
-GLuint traceKernel() {
-    static GLuint program = [] {
-        ShaderLoader loader(defaultShaderDir());
-        ShaderSource src;
-        std::string err;
-        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/trace_rays.comp", {}, &src, &err);
-        INFO(err);
-        REQUIRE(loaded);
-        GLuint p = compileComputeProgram(src, "trace_rays.comp", &err);
-        INFO(err);
-        REQUIRE(p != 0);
-        return p;
-    }();
-    return program;
-}
+GLuint traceKernel() { return test::kernel("trace_rays.comp"); }
 
 struct GpuHit { float t; std::uint32_t ref, triangle; bool occluded; };
 

@@ -35,18 +35,7 @@ struct SamplerStats { double meanInvPdf = 0, standardError = 0, maxPdfMismatch =
 SamplerStats runSampler(Renderer& renderer, const Scene& scene, glm::vec3 point) {
     std::string error;
     REQUIRE(renderer.setScene(scene, &error));
-    static GLuint program = [] {
-        ShaderLoader loader(defaultShaderDir());
-        ShaderSource src;
-        std::string err;
-        bool loaded = loader.load(CAUSTIC_SOURCE_DIR "/tests/gpu/kernels/light_sampling.comp", {}, &src, &err);
-        INFO(err);
-        REQUIRE(loaded);
-        GLuint p = compileComputeProgram(src, "light_sampling.comp", &err);
-        INFO(err);
-        REQUIRE(p != 0);
-        return p;
-    }();
+    const GLuint program = test::kernel("light_sampling.comp");
     GLuint out = 0;
     glCreateBuffers(1, &out);
     glNamedBufferData(out, kSamples * sizeof(glm::vec4), nullptr, GL_DYNAMIC_READ);
