@@ -10,7 +10,6 @@
 //   - reciprocity of the reflection lobes;
 //   - white furnaces: the mean sample weight (the directional albedo) per model and direction.
 #include "renderer/gpu_scene.h"
-#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/chi2.h"
 

@@ -3,7 +3,6 @@
 // non-square texture (nothing resized), the mip chain's averages, a flat normal map changing
 // nothing (per point and in a render), and uv / tangent derivation on quads and spheres.
 #include "renderer/gpu_scene.h"
-#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 
 #include <glad/gl.h>

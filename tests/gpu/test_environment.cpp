@@ -2,7 +2,6 @@
 // the map's texels, the directions binned back into texels by an independent CPU mapping that
 // also undoes the rotation), the mean of 1/pdf against the solid angle of the map's non-black
 // part, a furnace with a constant map, and MIS consistency with a sun-like hot spot.
-#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/chi2.h"
 

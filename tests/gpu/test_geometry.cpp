@@ -2,7 +2,6 @@
 // the same rays give the same hit, t and triangle, closest and any hit; rays aimed exactly at
 // the shared vertices and edges of a closed mesh never escape it; and moving instances through
 // Renderer::update (top level only) gives the same hits as a fresh build.
-#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/meshes.h"
 

@@ -2,7 +2,6 @@
 // the solid angle the light subtends (a pdf that integrates to one over exactly that set), each
 // sampled direction reaches the light at the sampled distance, and lightPdf (used by MIS for
 // BSDF-sampled hits) agrees with the sampler's own pdf.
-#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/meshes.h"
 
