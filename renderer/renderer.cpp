@@ -3,6 +3,9 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <map>
+#include <memory>
 #include <chrono>
 #include <deque>
 
@@ -88,6 +91,31 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     }
     resetAccumulation();
     return true;
+}
+
+void Renderer::setImageReader(ImageReader reader) {
+    struct Cached {
+        std::filesystem::file_time_type stamp;
+        std::shared_ptr<const ImageData> image;
+    };
+    auto cache = std::make_shared<std::map<std::string, Cached>>();
+    m_readImage = [reader = std::move(reader), cache](const std::string& path, ImageData* out, std::string* error) {
+        std::error_code ec;
+        const auto stamp = std::filesystem::last_write_time(path, ec);
+        if (!ec) {
+            if (auto it = cache->find(path); it != cache->end() && it->second.stamp == stamp) {
+                *out = *it->second.image;
+                return true;
+            }
+        }
+        if (!reader) {
+            *error = path + ": this build cannot read images";
+            return false;
+        }
+        if (!reader(path, out, error)) return false;
+        if (!ec) (*cache)[path] = {stamp, std::make_shared<const ImageData>(*out)};
+        return true;
+    };
 }
 
 bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* error) {

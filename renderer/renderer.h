@@ -26,7 +26,9 @@ public:
 
     // How files named by scenes (environment maps, textures) are read; without one, a scene
     // that names a file fails to compile with a clear message.
-    void setImageReader(ImageReader reader) { m_readImage = std::move(reader); }
+    // Reads are cached by path and file time, so an edit that recompiles the scene (a material
+    // slider, a transform drag) does not read its textures and environment map again.
+    void setImageReader(ImageReader reader);
 
     // Compiles and uploads the scene (resolution, seed, depth come from scene.render) and
     // restarts accumulation.
