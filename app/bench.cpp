@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
         const std::string name = file.substr(file.find_last_of('/') + 1);
         // llvmpipe answers timer queries with 0: print n/a rather than a made-up figure.
         char gpuText[16] = "n/a";
-        if (g > 0.0) std::snprintf(gpuText, sizeof gpuText, "%.3f", g);
+        if (g > 1e-3 * w) std::snprintf(gpuText, sizeof gpuText, "%.3f", g);
         std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.2f %12.2f %10.2f\n", name.c_str(), size, size, samples,
                     maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples);
     }
