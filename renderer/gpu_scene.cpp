@@ -102,13 +102,15 @@ float srgbToLinear(float c) {
 }
 
 struct Builder {
+    Builder(const Scene& s, const ImageReader& reader, CompiledScene& o, std::string* e, MeshCache* cache)
+        : scene(s), readImage(reader), out(o), error(e), meshCache(cache) {}
     const Scene& scene;
     const ImageReader& readImage;
     CompiledScene& out;
     std::string* error;
+    MeshCache* meshCache;                  // may be null
     std::vector<Aabb> primBounds;          // world bounds of each analytic primitive
     std::map<std::string, std::uint32_t> meshByFile;  // imported file -> BLAS index
-    MeshCache* meshCache;                  // may be null
 
     void growBounds(glm::vec3 p) {
         out.boundsMin = glm::min(out.boundsMin, p);
@@ -198,6 +200,52 @@ struct Builder {
     }
 
     // Imports a model file once (every object using it shares its BVH), merging its meshes.
+    std::map<std::pair<std::string, TextureEncoding>, std::uint32_t> textureIndex;
+
+    // Appends a material (and loads its textures, each file once per encoding, relative paths
+    // against baseDir) to the material table.
+    bool addMaterial(const Material& m, const std::string& where, const std::string& baseDir) {
+        gpu::GpuMaterial g = convertMaterial(m);
+        auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
+            if (name.empty()) return true;
+            std::filesystem::path file(name);
+            if (file.is_relative() && !baseDir.empty()) file = std::filesystem::path(baseDir) / file;
+            const auto cacheKey = std::make_pair(file.string(), enc);
+            if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
+                *slot = found->second + 1;
+                return true;
+            }
+            const std::string context = where + "." + key + " (material '" + m.name + "'): ";
+            ImageData image;
+            std::string why;
+            if (!readImage) {
+                *error = context + file.string() + ": this build cannot read images";
+                return false;
+            }
+            if (!readImage(file.string(), &image, &why)) {
+                // The reader's message names the file; make sure it does even if it did not.
+                *error = context + (why.find(file.string()) == std::string::npos ? file.string() + ": " : "") + why;
+                return false;
+            }
+            if (!addTexture(image, enc, &out, &why)) {
+                *error = context + file.string() + ": " + why;
+                return false;
+            }
+            *slot = static_cast<std::uint32_t>(out.textures.size());
+            textureIndex.emplace(cacheKey, *slot - 1);
+            return true;
+        };
+        const std::string ext = std::filesystem::path(m.albedoTexture).extension().string();
+        const bool hdr = ext == ".hdr" || ext == ".exr" || ext == ".HDR" || ext == ".EXR" || ext == ".pfm";
+        if (!texture(m.albedoTexture, "albedo_texture", hdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
+                     &g.textures.x) ||
+            !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
+            !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
+            return false;
+        out.materials.push_back(g);
+        return true;
+    }
+
     // Imports a file, merges its meshes and builds their BVH.
     bool loadMesh(const std::string& file, const std::string& where, MeshCacheEntry* entry) {
         MeshImportResult imported = importMeshFile(file);
@@ -206,8 +254,17 @@ struct Builder {
             return false;
         }
         entry->warnings = imported.warnings;
+        for (const ImportedMaterial& im : imported.materials) {
+            std::vector<std::string> unmapped;
+            entry->materials.push_back(mapImportedMaterial(im, &unmapped));
+            for (const std::string& u : unmapped) entry->warnings.push_back(file + ": " + u);
+        }
+        if (entry->materials.empty()) entry->materials.push_back(Material{});  // files without materials
         std::vector<glm::uvec3> tris;
         for (const Mesh& mesh : imported.meshes) {
+            const std::uint32_t slot = mesh.material >= 0 && std::size_t(mesh.material) < entry->materials.size()
+                                           ? std::uint32_t(mesh.material) : 0u;
+            entry->triangleSlot.insert(entry->triangleSlot.end(), mesh.triangles.size(), slot);
             const auto base = static_cast<std::uint32_t>(entry->positions.size());
             for (size_t v = 0; v < mesh.positions.size(); ++v) {
                 entry->positions.push_back(mesh.positions[v]);
@@ -253,6 +310,12 @@ struct Builder {
             if (meshCache) meshCache->entries[file] = entry;
         }
         for (const std::string& w : entry->warnings) out.warnings.push_back(w);
+        meshMaterialBase.push_back(static_cast<std::uint32_t>(out.materials.size()));
+        for (size_t k = 0; k < entry->materials.size(); ++k)
+            if (!addMaterial(entry->materials[k], where + ".file (" + file + ") material " + std::to_string(k), ""))
+                return false;
+        meshSlots.push_back(entry->triangleSlot);
+        meshMaterials.push_back(entry->materials);
         const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
         out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
         MeshBlas blas = entry->blas;
@@ -265,6 +328,10 @@ struct Builder {
         return true;
     }
     std::vector<std::uint32_t> meshVertexBase;
+    static constexpr std::uint32_t kFileMaterials = 0xffffffffu;  // addMeshInstance: use the file's
+    std::vector<std::uint32_t> meshMaterialBase;          // per BLAS: its first file material
+    std::vector<std::vector<std::uint32_t>> meshSlots;    // per BLAS: each triangle's file material
+    std::vector<std::vector<Material>> meshMaterials;     // per BLAS: the file's materials, mapped
 
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
                          const glm::vec3* emission, const std::string& where) {
@@ -289,8 +356,9 @@ struct Builder {
         gi.objectToWorld0 = o2wRows[0];
         gi.objectToWorld1 = o2wRows[1];
         gi.objectToWorld2 = o2wRows[2];
-        gi.info = glm::uvec4(0, 0, material, 0);   // node and triangle offsets: set in finishGeometry
-        gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), 0, 0);
+        const bool fromFile = material == kFileMaterials;
+        gi.info = glm::uvec4(0, 0, fromFile ? meshMaterialBase[blas] : material, 0);  // offsets: finishGeometry
+        gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u, 0);
         out.instances.push_back(gi);
         const Aabb local = out.meshBvh.blases[blas].bvh.nodes.front().bounds();
         for (int c = 0; c < 8; ++c) {
@@ -298,20 +366,33 @@ struct Builder {
                                    (c & 4) ? local.max.z : local.min.z);
             growBounds(glm::vec3(m * glm::vec4(corner, 1.0f)));
         }
-        if (emission) {
-            // An emissive mesh is a light: triangles chosen by world area, then a uniform point.
-            const MeshBlas& b = out.meshBvh.blases[blas];
+        // An emissive mesh is a light: triangles chosen by world area times emitted luminance
+        // (only emitting triangles), then a uniform point; each triangle's radiance comes from
+        // its material in the shader.
+        const MeshBlas& meshBlas = out.meshBvh.blases[blas];
+        auto triangleEmission = [&](std::uint32_t k) -> glm::vec3 {
+            if (!fromFile) return emission ? *emission : glm::vec3(0.0f);
+            return meshMaterials[blas][meshSlots[blas][meshBlas.triangleIds[k]]].emission;
+        };
+        bool anyEmission = false;
+        for (std::uint32_t k = 0; k < meshBlas.triangles.size() && !anyEmission; ++k)
+            anyEmission = luminance(triangleEmission(k)) > 0.0f;
+        if (anyEmission) {
+            const MeshBlas& b = meshBlas;
             const std::vector<glm::vec3>& pos = out.meshPositions[blas];
             gpu::GpuLight l{};
             const auto cdfOffset = static_cast<std::uint32_t>(out.meshLightCdf.size());
-            double total = 0.0;
+            double total = 0.0, power = 0.0;
             std::vector<double> areas;
-            for (const glm::uvec3& t : b.triangles) {
+            for (std::uint32_t k = 0; k < b.triangles.size(); ++k) {
+                const glm::uvec3 t = b.triangles[k];
                 const glm::vec3 p0 = glm::vec3(m * glm::vec4(pos[t.x], 1)), p1 = glm::vec3(m * glm::vec4(pos[t.y], 1)),
                                 p2 = glm::vec3(m * glm::vec4(pos[t.z], 1));
                 const double a = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
-                areas.push_back(std::isfinite(a) ? a : 0.0);
+                const double y = luminance(triangleEmission(k));
+                areas.push_back(std::isfinite(a) && y > 0.0 ? a : 0.0);
                 total += areas.back();
+                power += areas.back() * y;
             }
             if (!(total > 0.0)) {
                 *error = where + ": an emissive mesh needs a non-zero area";
@@ -325,11 +406,11 @@ struct Builder {
             out.meshLightCdf.back() = 1.0f;
             const auto instance = static_cast<std::uint32_t>(out.instances.size() - 1);
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
-            l.color = glm::vec4(*emission, 0);
+            l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
             l.info = glm::uvec4(LIGHT_MESH, LIGHT_FLAG_TWO_SIDED, instance, cdfOffset);
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
-            out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * total * luminance(*emission)));
+            out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * power));
         }
         return true;
     }
@@ -371,7 +452,7 @@ struct Builder {
             for (size_t k = 0; k < blas.triangles.size(); ++k) {
                 const glm::uvec3 t = blas.triangles[k];
                 gpu::GpuTriangle gt{};
-                gt.p0 = glm::vec4(pos[t.x], 0);
+                gt.p0 = glm::vec4(pos[t.x], std::bit_cast<float>(meshSlots[b][blas.triangleIds[k]]));
                 gt.p1 = glm::vec4(pos[t.y], 0);
                 gt.p2 = glm::vec4(pos[t.z], 0);
                 gt.v = glm::uvec4(t + glm::uvec3(meshVertexBase[b]), blas.triangleIds[k]);
@@ -400,54 +481,18 @@ struct Builder {
         out = CompiledScene{};
         out.boundsMin = glm::vec3(std::numeric_limits<float>::max());
         out.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
-        std::map<std::pair<std::string, TextureEncoding>, std::uint32_t> textureIndex;
-        for (size_t i = 0; i < scene.materials.size(); ++i) {
-            const Material& m = scene.materials[i];
-            gpu::GpuMaterial g = convertMaterial(m);
-            const std::string where = "materials[" + std::to_string(i) + "]";
-            // Each texture file is loaded once per encoding, however many materials use it.
-            auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
-                if (name.empty()) return true;
-                std::filesystem::path file(name);
-                if (file.is_relative() && !scene.sourcePath.empty())
-                    file = std::filesystem::path(scene.sourcePath).parent_path() / file;
-                const auto cacheKey = std::make_pair(file.string(), enc);
-                if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
-                    *slot = found->second + 1;
-                    return true;
-                }
-                const std::string context = where + "." + key + " (material '" + m.name + "'): ";
-                ImageData image;
-                std::string why;
-                if (!readImage) {
-                    *error = context + file.string() + ": this build cannot read images";
-                    return false;
-                }
-                if (!readImage(file.string(), &image, &why)) {
-                    // The reader's message names the file; make sure it does even if it did not.
-                    *error = context + (why.find(file.string()) == std::string::npos ? file.string() + ": " : "") + why;
-                    return false;
-                }
-                if (!addTexture(image, enc, &out, &why)) {
-                    *error = context + file.string() + ": " + why;
-                    return false;
-                }
-                *slot = static_cast<std::uint32_t>(out.textures.size());
-                textureIndex.emplace(cacheKey, *slot - 1);
-                return true;
-            };
-            const std::string ext = std::filesystem::path(m.albedoTexture).extension().string();
-            const bool hdr = ext == ".hdr" || ext == ".exr" || ext == ".HDR" || ext == ".EXR" || ext == ".pfm";
-            if (!texture(m.albedoTexture, "albedo_texture", hdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
-                         &g.textures.x) ||
-                !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
-                !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
-                return false;
-            out.materials.push_back(g);
-        }
+        const std::string sceneDir =
+            scene.sourcePath.empty() ? std::string() : std::filesystem::path(scene.sourcePath).parent_path().string();
+        for (size_t i = 0; i < scene.materials.size(); ++i)
+            if (!addMaterial(scene.materials[i], "materials[" + std::to_string(i) + "]", sceneDir)) return false;
         for (size_t i = 0; i < scene.objects.size(); ++i) {
             const Object& o = scene.objects[i];
             const std::string where = "objects[" + std::to_string(i) + "]";
+            if (o.shape == Shape::Mesh && o.material.empty()) {  // the file's own materials
+                if (!addMeshInstance(o, static_cast<std::uint32_t>(i), o.transform.toMatrix(), kFileMaterials, nullptr, where))
+                    return false;
+                continue;
+            }
             auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
                                    [&](const Material& m) { return m.name == o.material; });
             if (it == scene.materials.end()) {
@@ -588,6 +633,50 @@ struct Builder {
 };
 
 }  // namespace
+
+Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped) {
+    Material m;
+    m.name = in.name;
+    m.emission = glm::max(in.emission, glm::vec3(0.0f));
+    const float alpha = std::clamp(in.roughness * in.roughness, 0.0f, 1.0f);  // glTF roughness is perceptual
+    const glm::vec3 base = glm::clamp(in.baseColor, glm::vec3(0.0f), glm::vec3(1.0f));
+    const std::string who = "material '" + in.name + "': ";
+    if (in.transmission > 0.5f) {
+        m.type = MaterialType::Dielectric;
+        m.ior = in.ior;
+        m.roughness = alpha;
+        m.tint = base;
+    } else if (in.metallic > 0.5f) {
+        // Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4), eqs. 6-7, with the
+        // reflectivity r and the edge tint g both the base colour.
+        m.type = MaterialType::Conductor;
+        m.metal = Metal::Custom;
+        m.roughness = alpha;
+        for (int c = 0; c < 3; ++c) {
+            const float r = std::clamp(base[c], 0.0f, 0.99f), g = r;
+            const float sr = std::sqrt(r);
+            const float n = g * (1.0f - r) / (1.0f + r) + (1.0f - g) * (1.0f + sr) / (1.0f - sr);
+            const float k2 = (r * (n + 1.0f) * (n + 1.0f) - (n - 1.0f) * (n - 1.0f)) / (1.0f - r);
+            m.eta[c] = std::max(n, 1e-3f);
+            m.k[c] = std::sqrt(std::max(k2, 0.0f));
+        }
+        if (in.metallic < 0.99f) unmapped->push_back(who + "metallic " + std::to_string(in.metallic) + " rounded to 1");
+    } else {
+        m.type = MaterialType::Diffuse;
+        m.albedo = base;
+        if (in.metallic > 0.01f) unmapped->push_back(who + "metallic " + std::to_string(in.metallic) + " rounded to 0");
+        unmapped->push_back(who + "the specular reflection of a non-metal is not modelled (diffuse only)");
+    }
+    if (in.transmission > 0.0f && in.transmission <= 0.5f)
+        unmapped->push_back(who + "transmission " + std::to_string(in.transmission) + " rounded to 0");
+    if (!in.baseColorTexture.empty() && in.baseColorTexture[0] != '*') m.albedoTexture = in.baseColorTexture;
+    if (!in.normalTexture.empty() && in.normalTexture[0] != '*') m.normalTexture = in.normalTexture;
+    if (!in.metallicRoughnessTexture.empty())
+        unmapped->push_back(who + "metallic-roughness texture not mapped (the factors are used)");
+    if (!in.emissionTexture.empty()) unmapped->push_back(who + "emission texture not mapped (the factor is used)");
+    if (in.opacity < 1.0f) unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
+    return m;
+}
 
 bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error) {
     const int w = image.width, h = image.height, ch = image.channels;
@@ -761,7 +850,7 @@ std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
 
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
                   MeshCache* meshCache) {
-    Builder b{scene, readImage, *out, error, {}, {}, meshCache, {}};
+    Builder b(scene, readImage, *out, error, meshCache);
     return b.run();
 }
 

@@ -64,6 +64,8 @@ struct MeshCacheEntry {
     MeshBlas blas;
     std::vector<glm::vec3> positions;
     std::vector<gpu::GpuVertex> vertices;
+    std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material
+    std::vector<Material> materials;           // the file's materials, mapped (mapImportedMaterial)
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
 };
@@ -88,6 +90,12 @@ const std::vector<float>& ggxAlbedoTable();
 // (environment maps; later textures), relative paths resolved against scene.sourcePath.
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
                   MeshCache* meshCache = nullptr);
+// A model file's material (glTF metallic-roughness terms) as a caustic material, as well as it
+// maps: transmission -> dielectric (ior, alpha = roughness^2), metallic -> conductor (complex IOR
+// from the base colour as both reflectivity and edge tint, Gulbrandsen 2014), otherwise diffuse;
+// base colour and normal textures, emission. What does not map is appended to *unmapped.
+Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped);
+
 // The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
 // selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
 std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr);

@@ -106,7 +106,8 @@ enum class Shape { Sphere, Quad, Box, Mesh };
 struct Object {
     std::string name;
     Shape shape = Shape::Sphere;
-    std::string material;              // name of an entry of Scene::materials
+    std::string material;              // name of an entry of Scene::materials; meshes: empty means
+                                       // the model file's own materials (mapImportedMaterial)
     Transform transform;
     std::string file;                  // mesh: the model file, relative to the scene file
     bool operator==(const Object&) const = default;

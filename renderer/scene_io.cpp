@@ -900,6 +900,7 @@ void readScene(const Json& root, Scene& scene) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const std::string& ref = scene.objects[i].material;
         const std::string path = member(element("objects", i), "material");
+        if (ref.empty() && scene.objects[i].shape == Shape::Mesh) continue;  // the file's own materials
         if (ref.empty()) fail(path, "missing; every object needs a material (" + known + ")");
         if (!scene.findMaterial(ref)) fail(path, "unknown material '" + ref + "' (" + known + ")");
     }

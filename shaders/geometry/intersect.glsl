@@ -96,7 +96,7 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
         GpuInstance inst = instances[th.ref & ~TLAS_REF_INSTANCE];
         GpuTriangle tri = triangles[th.triangle];
         hit.ng = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
-        hit.material = inst.info.z;
+        hit.material = triangleMaterial(inst, tri);
         hit.light = inst.info.w;
         hit.flags = 0u;
         hit.surface = triangleSurface(inst, tri, th.bary, hit.ng, hit.ns);

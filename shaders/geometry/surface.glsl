@@ -43,6 +43,12 @@ SurfacePoint primitiveSurface(GpuPrimitive prim, vec3 p) {
     return s;
 }
 
+// The material of a mesh triangle: the object's, or (info2.z != 0) the model file's own, whose
+// slot the triangle carries in p0.w.
+uint triangleMaterial(GpuInstance inst, GpuTriangle tri) {
+    return inst.info.z + (inst.info2.z != 0u ? floatBitsToUint(tri.p0.w) : 0u);
+}
+
 vec3 instanceDirectionToWorld(GpuInstance inst, vec3 v) {
     return vec3(dot(inst.objectToWorld0.xyz, v), dot(inst.objectToWorld1.xyz, v), dot(inst.objectToWorld2.xyz, v));
 }

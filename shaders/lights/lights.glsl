@@ -14,8 +14,9 @@
 //         angle. Emits from both faces, as every emissive material does.
 // point:  a delta light, L_i = I / r^2.
 // spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2).
-// mesh:   an emissive mesh instance: a triangle chosen in proportion to its world area, a
-//         uniform point on it; p_omega = r^2 / (|cos theta_l| A_total). Emits from both faces.
+// mesh:   an emissive mesh instance: a triangle chosen in proportion to its world area (emitting
+//         triangles only), a uniform point on it; p_omega = r^2 / (|cos theta_l| A_emitting); the
+//         radiance is that triangle's material's. Emits from both faces.
 // env:    a map is importance-sampled by its luminance table (environment.glsl); the constant
 //         colour and the smooth sky use uniform directions on the sphere, p_omega = 1/(4 pi).
 #ifndef LIGHTS_LIGHTS_GLSL
@@ -151,7 +152,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.wi = d / s.dist;
         s.nl = n;
         s.pdf = areaToSolidAngle(1.0 / l.p0.x, p, q, n);
-        s.Li = l.color.rgb;
+        s.Li = materials[triangleMaterial(inst, tri)].emission.rgb;
     } else if (type == LIGHT_ENV) {
         if (frame.envInfo.x == ENV_MAP) {
             s.wi = sampleEnvironmentMap(u, s.pdf);

@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <random>
 
 using namespace caustic;
@@ -213,4 +214,66 @@ TEST_CASE("moving instances (top level refit path) gives the same hits as a fres
     Agreement a = compare(renderer->compiled(), rays, incremental, 1e30f);
     CHECK(a.hitMismatch <= 2);
     CHECK(a.tMismatch == 0);
+}
+
+TEST_CASE("a mesh without a scene material uses its file's materials, emitters included", "[gpu][geometry]") {
+    // An OBJ with two quads and two MTL materials: a red diffuse one and an emitting one. The
+    // object names no material, so the file's are mapped (red -> diffuse albedo, Ke -> emission)
+    // and the emitting quad becomes a light sampled over its own triangles only.
+    auto renderer = test::makeRenderer();
+    test::TempDir dir;
+    {
+        std::ofstream mtl(dir.file("two.mtl"));
+        mtl << "newmtl red\nKd 0.8 0 0\nnewmtl glow\nKd 0 0 0\nKe 2 1 0.5\n";
+        std::ofstream obj(dir.file("two.obj"));
+        obj << "mtllib two.mtl\n"
+               "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"          // red, z = 0, facing +z
+               "v -1 -1 2\nv -1 1 2\nv 1 1 2\nv 1 -1 2\n"          // glow, z = 2, facing -z
+               "usemtl red\nf 1 2 3\nf 1 3 4\nusemtl glow\nf 5 6 7\nf 5 7 8\n";
+    }
+    Scene s;
+    s.render.width = s.render.height = 8;
+    Object o;
+    o.shape = Shape::Mesh;
+    o.file = dir.file("two.obj");
+    s.objects.push_back(o);
+    std::string error;
+    REQUIRE(renderer->setScene(s, &error));
+    const CompiledScene& c = renderer->compiled();
+    // (Assimp's OBJ reader adds a default material of its own.)
+    int red = 0, glowing = 0;
+    for (const gpu::GpuMaterial& m : c.materials) {
+        red += m.albedo.r == Approx(0.8f) && m.albedo.g == 0.0f && m.info.x == MAT_DIFFUSE;
+        glowing += m.emission.r == Approx(2.0f) && m.emission.g == Approx(1.0f) && m.emission.b == Approx(0.5f);
+    }
+    CHECK(red == 1);
+    CHECK(glowing == 1);
+    REQUIRE(c.lights.size() == 1);
+    CHECK(c.lights[0].info.x == LIGHT_MESH);
+    CHECK(c.lights[0].p0.x == Approx(4.0f));  // the emitting area only: one 2 x 2 quad
+    bool reported = false;
+    for (const std::string& w : c.warnings) reported |= w.find("not modelled") != std::string::npos;
+    CHECK(reported);  // what was approximated is reported
+    // Looking at the emitter from between the quads: exactly its radiance.
+    s.render.maxDepth = 0;
+    s.camera.position = glm::vec3(0.0f, 0.0f, 1.0f);
+    s.camera.lookAt = glm::vec3(0.0f, 0.0f, 2.0f);
+    s.camera.fovDegrees = 30.0f;
+    test::ImageStats glow = test::imageStats(test::renderFilm(*renderer, s, 2));
+    CHECK(glow.mean.r == Approx(2.0));
+    CHECK(glow.mean.b == Approx(0.5));
+    // Looking at the red quad, lit by the emitter: red only, and the light-sampled and
+    // BSDF-sampled estimates agree (the emitter's pdf is right).
+    s.render.maxDepth = 1;
+    s.camera.lookAt = glm::vec3(0.0f, 0.0f, 0.0f);
+    Film mis = test::renderFilm(*renderer, s, 64);
+    renderer->setStrategy(STRATEGY_BSDF_ONLY);
+    Film bsdf = test::renderFilm(*renderer, s, 256);
+    renderer->setStrategy(STRATEGY_MIS);
+    test::ImageStats a = test::imageStats(mis), b = test::imageStats(bsdf);
+    CHECK(a.mean.r > 0.05);
+    CHECK(a.mean.g == Approx(0.0).margin(1e-6));
+    const double se = std::hypot(a.standardError.r, b.standardError.r);
+    INFO("MIS " << a.mean.r << " BSDF " << b.mean.r << " se " << se);
+    CHECK(std::abs(a.mean.r - b.mean.r) < 4.0 * se);
 }
