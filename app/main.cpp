@@ -201,6 +201,8 @@ int runBatch(const CliOptions& o) {
     for (size_t vi = 0; vi < variants.size(); ++vi) {
         const Scene& scene = scenes[vi];
         if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
+        if (vi == 0)  // what mesh import repaired or could not map: the same for every variant
+            for (const std::string& w : renderer->compiled().warnings) std::cerr << "caustic: warning: " << w << "\n";
 
         // Render, with progress on a terminal; a time budget renders in steps until it is spent.
         const int total = scene.render.samples;

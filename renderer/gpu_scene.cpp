@@ -257,7 +257,7 @@ struct Builder {
         for (const ImportedMaterial& im : imported.materials) {
             std::vector<std::string> unmapped;
             entry->materials.push_back(mapImportedMaterial(im, &unmapped));
-            for (const std::string& u : unmapped) entry->warnings.push_back(file + ": " + u);
+            for (const std::string& u : unmapped) entry->mappingWarnings.push_back(file + ": " + u);
         }
         if (entry->materials.empty()) entry->materials.push_back(Material{});  // files without materials
         std::vector<glm::uvec3> tris;
@@ -316,6 +316,7 @@ struct Builder {
                 return false;
         meshSlots.push_back(entry->triangleSlot);
         meshMaterials.push_back(entry->materials);
+        meshMappingWarnings.push_back(entry->mappingWarnings);
         const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
         out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
         MeshBlas blas = entry->blas;
@@ -332,6 +333,7 @@ struct Builder {
     std::vector<std::uint32_t> meshMaterialBase;          // per BLAS: its first file material
     std::vector<std::vector<std::uint32_t>> meshSlots;    // per BLAS: each triangle's file material
     std::vector<std::vector<Material>> meshMaterials;     // per BLAS: the file's materials, mapped
+    std::vector<std::vector<std::string>> meshMappingWarnings;  // reported once an object uses them
 
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
                          const glm::vec3* emission, const std::string& where) {
@@ -357,6 +359,10 @@ struct Builder {
         gi.objectToWorld1 = o2wRows[1];
         gi.objectToWorld2 = o2wRows[2];
         const bool fromFile = material == kFileMaterials;
+        if (fromFile) {
+            for (const std::string& w : meshMappingWarnings[blas]) out.warnings.push_back(w);
+            meshMappingWarnings[blas].clear();  // once per file
+        }
         gi.info = glm::uvec4(0, 0, fromFile ? meshMaterialBase[blas] : material, 0);  // offsets: finishGeometry
         gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u, 0);
         out.instances.push_back(gi);

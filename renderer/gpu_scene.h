@@ -66,6 +66,7 @@ struct MeshCacheEntry {
     std::vector<gpu::GpuVertex> vertices;
     std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material
     std::vector<Material> materials;           // the file's materials, mapped (mapImportedMaterial)
+    std::vector<std::string> mappingWarnings;  // what of them could not be mapped
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
 };
