@@ -152,6 +152,9 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
                                          compiled.bvhNodes.data());
             }
             if (dirty & kDirtyMaterials) {
+                // Emission lives in the lights too (radiance, selection probabilities).
+                uploadBuffer(m_lights, compiled.lights);
+                uploadBuffer(m_lightCdf, packTables(compiled));
                 uploadBuffer(m_materials, compiled.materials);
                 uploadBuffer(m_texels, compiled.texels);
                 uploadBuffer(m_textures, compiled.textures);
