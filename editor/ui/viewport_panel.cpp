@@ -14,6 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 
 namespace caustic::editor {
@@ -232,12 +233,29 @@ void drawViewportPanel(EditorUi& ui) {
 
     ImGuiIO& io = ImGui::GetIO();
     const bool gizmoBusy = ImGuizmo::IsOver() || ImGuizmo::IsUsing();
-    // Clicks (not drags) select what is under the cursor.
+    // Clicks (not drags) select what is under the cursor; Shift+click focuses the lens there.
     if (hovered && !gizmoBusy && !io.KeyAlt && !io.KeyCtrl && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
-        auto hit = pick(ui.state.scene, cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel));
-        ui.state.selection = hit ? hit->ref : EntityRef{};
+        const Ray ray = cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel);
+        std::optional<PickHit> hit = pick(ui.state.scene, ray);
+        // Meshes: the renderer's own CPU copy of their BVHs (the canonical shapes know no
+        // triangles).
+        if (ui.renderer) {
+            const CompiledScene& c = ui.renderer->compiled();
+            const RayHit mh = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{ray.origin, ray.direction});
+            if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance))
+                hit = PickHit{{EntityKind::Object, static_cast<int>(c.instanceObject[mh.instance])}, mh.t};
+        }
+        if (io.KeyShift) {
+            if (hit) {
+                Camera cam = ui.state.scene.camera;
+                cam.focusPoint = ray.origin + hit->distance * ray.direction;
+                ui.state.apply(makeSetCamera(ui.state, cam));
+            }
+        } else {
+            ui.state.selection = hit ? hit->ref : EntityRef{};
+        }
     }
     if (hovered && !gizmoBusy) navigate(ui, size);
     if (ui.navigating && !ImGui::IsMouseDown(ImGuiMouseButton_Middle) && !ImGui::IsMouseDown(ImGuiMouseButton_Left) &&
