@@ -4,6 +4,7 @@
 // small enough to carry to the GPU machine.
 //   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [scene.json ...]
 #include "renderer/gl_context.h"
+#include "renderer/hdr_file.h"
 #include "renderer/renderer.h"
 #include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
     if (!context) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
+    renderer->setImageReader(readRadianceHdr);  // environment maps without OpenImageIO
     std::printf("# %s | %s | %s\n", context->info().vendor.c_str(), context->info().renderer.c_str(),
                 context->info().version.c_str());
     std::printf("%-24s %10s %6s %5s %9s %9s %12s %12s %10s\n", "scene", "size", "spp", "depth", "wall s", "gpu s",
