@@ -3,11 +3,11 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <chrono>
+#include <deque>
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <chrono>
-#include <deque>
 
 namespace caustic {
 namespace {
@@ -45,7 +45,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_primitives = buffers[1];
     r->m_materials = buffers[2];
     r->m_lights = buffers[3];
-    r->m_lightCdf = buffers[4];
+    r->m_tables = buffers[4];
     r->m_counters = buffers[5];
     std::uint32_t zero[4] = {0, 0, 0, 0};
     glNamedBufferData(r->m_counters, sizeof zero, zero, GL_DYNAMIC_COPY);
@@ -61,7 +61,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
 }
 
 Renderer::~Renderer() {
-    unsigned buffers[6] = {m_frameUbo, m_primitives, m_materials, m_lights, m_lightCdf, m_counters};
+    unsigned buffers[6] = {m_frameUbo, m_primitives, m_materials, m_lights, m_tables, m_counters};
     glDeleteBuffers(6, buffers);
     glDeleteBuffers(kGeometryBuffers, m_geometry);
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
@@ -144,7 +144,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
             if (dirty & kDirtyTransforms) {
                 uploadBuffer(m_primitives, compiled.primitives);
                 uploadBuffer(m_lights, compiled.lights);
-                uploadBuffer(m_lightCdf, packTables(compiled));
+                uploadBuffer(m_tables, packTables(compiled));
                 uploadBuffer(m_geometry[1], compiled.tlasRefs);
                 uploadBuffer(m_geometry[2], compiled.instances);
                 if (compiled.tlasNodeCount > 0)
@@ -154,7 +154,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
             if (dirty & kDirtyMaterials) {
                 // Emission lives in the lights too (radiance, selection probabilities).
                 uploadBuffer(m_lights, compiled.lights);
-                uploadBuffer(m_lightCdf, packTables(compiled));
+                uploadBuffer(m_tables, packTables(compiled));
                 uploadBuffer(m_materials, compiled.materials);
                 uploadBuffer(m_texels, compiled.texels);
                 uploadBuffer(m_textures, compiled.textures);
@@ -171,7 +171,7 @@ void Renderer::upload() {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
-    uploadBuffer(m_lightCdf, packTables(m_compiled));
+    uploadBuffer(m_tables, packTables(m_compiled));
     // The environment map (a 1x1 black texture when there is none, so the sampler is always
     // complete). Mipmaps are not needed: the map is looked up at level 0 only.
     const EnvironmentMap& env = m_compiled.envMap;
@@ -222,7 +222,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TABLES, m_lightCdf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TABLES, m_tables);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
     const unsigned geometryBindings[kGeometryBuffers] = {BINDING_BVH_NODES, BINDING_TLAS_REFS, BINDING_INSTANCES,
                                                          BINDING_TRIANGLES, BINDING_VERTICES};
