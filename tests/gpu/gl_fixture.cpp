@@ -42,6 +42,23 @@ unsigned kernel(const std::string& name) {
     return program;
 }
 
+Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission) {
+    Scene s;
+    s.render.width = s.render.height = 16;
+    s.render.maxDepth = 100;  // truncation a^101: negligible for the albedos the tests use
+    s.render.seed = 7;
+    s.materials.push_back({"shell", MaterialType::Diffuse, albedo, emission});
+    Object sphere;
+    sphere.shape = Shape::Sphere;
+    sphere.material = "shell";
+    sphere.transform.scale = glm::vec3(2.0f);
+    s.objects.push_back(sphere);
+    s.camera.position = glm::vec3(0.3f, -0.2f, 0.5f);
+    s.camera.lookAt = glm::vec3(1.0f, 0.0f, 0.0f);
+    s.camera.fovDegrees = 90.0f;
+    return s;
+}
+
 Film renderFilm(Renderer& renderer, const Scene& scene, int samples) {
     std::string error;
     bool ok = renderer.setScene(scene, &error);

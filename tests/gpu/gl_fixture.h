@@ -19,6 +19,10 @@ unsigned kernel(const std::string& name);
 // Renders `samples` spp of `scene` (REQUIREs setScene to succeed) and returns the film.
 Film renderFilm(Renderer& renderer, const Scene& scene, int samples);
 
+// The analytic test scene: a camera inside a closed diffuse sphere (radius 2) of albedo a whose
+// surface emits Le, so that every pixel sees L = Le / (1 - a). 16 x 16, max depth 100.
+Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission);
+
 // Mean over all pixels and its standard error (from the per-pixel variances), per channel.
 struct ImageStats { glm::dvec3 mean{0.0}; glm::dvec3 standardError{0.0}; };
 ImageStats imageStats(const Film& film);

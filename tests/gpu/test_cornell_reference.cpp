@@ -136,19 +136,8 @@ TEST_CASE("the CPU reference tracer reproduces closed forms", "[gpu][cornell][cp
     test::reference::TracerSettings settings;
     settings.seed = 777;
     SECTION("inside a closed emitting sphere L = Le / (1 - a)") {
-        Scene s;
-        s.render.width = s.render.height = 16;
-        s.render.maxDepth = 100;  // truncation a^101 < 1e-12
         const glm::vec3 albedo(0.5f, 0.25f, 0.75f), Le(1.0f, 2.0f, 0.5f);
-        s.materials.push_back({"shell", MaterialType::Diffuse, albedo, Le});
-        Object sphere;
-        sphere.shape = Shape::Sphere;
-        sphere.material = "shell";
-        sphere.transform.scale = glm::vec3(2.0f);
-        s.objects.push_back(sphere);
-        s.camera.position = glm::vec3(0.3f, -0.2f, 0.5f);
-        s.camera.lookAt = glm::vec3(1.0f, 0.0f, 0.0f);
-        s.camera.fovDegrees = 90.0f;
+        Scene s = test::closedEmittingSphere(albedo, Le);
         CompiledScene compiled;
         std::string error;
         REQUIRE(compileScene(s, &compiled, &error));

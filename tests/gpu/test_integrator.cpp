@@ -40,19 +40,9 @@ TEST_CASE("inside a closed emitting diffuse sphere L = Le / (1 - a), with every 
     // Every path bounces forever inside; each vertex adds Le, so L = Le (1 + a + a^2 + ...).
     // max depth 100 leaves a truncation of a^101 < 1e-30; Russian roulette keeps it unbiased.
     auto renderer = test::makeRenderer();
-    Scene s = baseScene(16);
-    s.render.maxDepth = 100;
     const glm::vec3 albedo(0.5f, 0.25f, 0.75f);
     const glm::vec3 Le(1.0f, 2.0f, 0.5f);
-    s.materials.push_back({"shell", MaterialType::Diffuse, albedo, Le});
-    Object sphere;
-    sphere.shape = Shape::Sphere;
-    sphere.material = "shell";
-    sphere.transform.scale = glm::vec3(2.0f);
-    s.objects.push_back(sphere);
-    s.camera.position = glm::vec3(0.3f, -0.2f, 0.5f);
-    s.camera.lookAt = glm::vec3(1.0f, 0.0f, 0.0f);
-    s.camera.fovDegrees = 90.0f;
+    Scene s = test::closedEmittingSphere(albedo, Le);
     const glm::dvec3 expected = glm::dvec3(Le) / (1.0 - glm::dvec3(albedo));
     for (std::uint32_t strategy : {STRATEGY_MIS, STRATEGY_LIGHT_ONLY, STRATEGY_BSDF_ONLY}) {
         INFO("strategy " << strategy);
