@@ -2,12 +2,19 @@
 // settings after a warm-up and prints samples and rays per second, timed both by the wall clock
 // and by a GL_TIME_ELAPSED query around the same work. Links no OpenImageIO, so the binary is
 // small enough to carry to the GPU machine.
-//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [scene.json ...]
+//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [scene.json ...]
+// --rays: also traversal alone (shaders/bench/rays.comp): primary rays, then one cosine-
+//   distributed bounce from their hits, in M rays/s (timer queries, median of --repeat runs).
+// --out DIR: writes each render as DIR/<scene>.ppm (ACES, sRGB), to look at what was measured.
+// --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
+#include "renderer/denoise.h"
+#include "renderer/file_util.h"
 #include "renderer/gl_context.h"
 #include "renderer/hdr_file.h"
 #include "renderer/renderer.h"
 #include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
+#include "renderer/tonemap.h"
 
 #include <glad/gl.h>
 
@@ -20,9 +27,90 @@
 
 using namespace caustic;
 
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// Primary rays, then one diffuse bounce from their hits, each pass timed by a GL_TIME_ELAPSED
+// query (median of `repeat`); returns a table row. Rays that miss everything still count as
+// traced; the hit fraction is printed so a scene that is mostly sky is visible as such.
+std::string traceRays(Renderer& renderer, unsigned program, GLuint query, const std::string& name, int size, int repeat) {
+    const size_t pixels = size_t(size) * size;
+    GLuint hits = 0;
+    glCreateBuffers(1, &hits);
+    glNamedBufferData(hits, GLsizeiptr(pixels * 2 * sizeof(float) * 4), nullptr, GL_DYNAMIC_COPY);
+    double seconds[2] = {}, hitFraction[2] = {};
+    bool timerQueries = true;
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<double> gpuTimes, wallTimes;
+        for (int r = 0; r < repeat + 1; ++r) {  // the first run warms up
+            for (int p = 0; p <= pass; ++p) {
+                renderer.bindScene(0, 1);
+                const std::uint32_t zero[4] = {0, 0, 0, 0};
+                glNamedBufferSubData(renderer.countersBuffer(), 0, sizeof zero, zero);
+                glUseProgram(program);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, hits);
+                glUniform1ui(glGetUniformLocation(program, "u_pass"), GLuint(p));
+                glUniform1ui(glGetUniformLocation(program, "u_sample"), GLuint(r));
+                glFinish();
+                const auto t0 = std::chrono::steady_clock::now();
+                if (p == pass) glBeginQuery(GL_TIME_ELAPSED, query);
+                glDispatchCompute(GLuint(size + 7) / 8, GLuint(size + 7) / 8, 1);
+                if (p == pass) glEndQuery(GL_TIME_ELAPSED);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                glFinish();
+                if (p == pass && r > 0)
+                    wallTimes.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            }
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+            if (r > 0) gpuTimes.push_back(double(ns) * 1e-9);
+            std::uint32_t found = 0;
+            glGetNamedBufferSubData(renderer.countersBuffer(), 0, sizeof found, &found);
+            hitFraction[pass] = double(found) / double(pixels);
+        }
+        // llvmpipe answers timer queries with ~0: fall back to the wall clock there.
+        const double gpu = median(gpuTimes), wall = median(wallTimes);
+        if (gpu < 1e-3 * wall) timerQueries = false;
+        seconds[pass] = timerQueries ? gpu : wall;
+    }
+    glDeleteBuffers(1, &hits);
+    renderer.resetAccumulation();
+    char line[256];
+    // Diffuse rays start only from pixels whose primary ray hit something.
+    std::snprintf(line, sizeof line, "rays %-19s %4dx%-5d  primary %8.1f Mrays/s (hit %.2f)   diffuse %8.1f Mrays/s (hit %.2f)   timed by %s",
+                  name.c_str(), size, size, double(pixels) / seconds[0] * 1e-6, hitFraction[0],
+                  double(pixels) * hitFraction[0] / seconds[1] * 1e-6, hitFraction[1] / std::max(hitFraction[0], 1e-9),
+                  timerQueries ? "GL_TIME_ELAPSED" : "wall clock");
+    return line;
+}
+
+std::string denoiseOnce(const Film& film, const std::string& name) {
+    DenoiseResult result;
+    std::string error;
+    std::vector<double> times;
+    for (int r = 0; r < 4; ++r) {  // the first run creates the device and loads the weights
+        auto t0 = std::chrono::steady_clock::now();
+        if (!denoise(film, DenoiseOptions{}, &result, &error)) return "oidn " + name + ": " + error;
+        if (r > 0) times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "oidn %-19s %4dx%-5d  %.1f ms (median of 3, guides prefiltered) on %s", name.c_str(),
+                  film.width, film.height, median(times) * 1e3, result.device.c_str());
+    return line;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     int size = 256, samples = 64, maxDepth = 8, repeat = 3;
+    bool traceOnly = false, oidn = false;
+    std::string outDir;
     std::vector<std::string> scenes;
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each row as it is measured, even if the run is cut short
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         auto next = [&](int* v) {
@@ -35,8 +123,11 @@ int main(int argc, char** argv) {
         else if (a == "--samples") next(&samples);
         else if (a == "--max-depth") next(&maxDepth);
         else if (a == "--repeat") next(&repeat);
+        else if (a == "--rays") traceOnly = true;
+        else if (a == "--oidn") oidn = true;
+        else if (a == "--out" && i + 1 < argc) outDir = argv[++i];
         else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [scene.json ...]\n");
+            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [scene.json ...]\n");
             return a == "--help" ? 0 : 2;
         } else scenes.push_back(a);
     }
@@ -54,6 +145,17 @@ int main(int argc, char** argv) {
                 "Msamples/s", "Mrays/s", "rays/smp");
     GLuint query = 0;
     glGenQueries(1, &query);
+    unsigned raysProgram = 0;
+    if (traceOnly) {
+        ShaderLoader loader(defaultShaderDir());
+        ShaderSource source;
+        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", {}, &source, &error) ||
+            !(raysProgram = compileComputeProgram(source, "bench/rays.comp", &error))) {
+            std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
+            return 1;
+        }
+    }
+    std::vector<std::string> extra;  // the --rays and --oidn tables, printed after the main one
     for (const std::string& file : scenes) {
         SceneLoadResult loaded = loadScene(file);
         if (!loaded) { std::fprintf(stderr, "caustic-bench: %s\n", loaded.error.c_str()); return 1; }
@@ -75,16 +177,30 @@ int main(int argc, char** argv) {
             gpu.push_back(double(ns) * 1e-9);
             rays.push_back(double(renderer->raysTraced()));
         }
-        auto median = [](std::vector<double> v) { std::sort(v.begin(), v.end()); return v[v.size() / 2]; };
         const double w = median(wall), g = median(gpu), n = median(rays);
         const double pixelSamples = double(samples) * size * size;
         const std::string name = file.substr(file.find_last_of('/') + 1);
         // llvmpipe answers timer queries with 0: print n/a rather than a made-up figure.
         char gpuText[16] = "n/a";
         if (g > 1e-3 * w) std::snprintf(gpuText, sizeof gpuText, "%.3f", g);
-        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.2f %12.2f %10.2f\n", name.c_str(), size, size, samples,
-                    maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples);
+        // The GPU machine has been seen to drop queued work silently: check the image holds
+        // exactly the samples asked for before believing the rate.
+        const Film film = renderer->readFilm();
+        const float counted = film.count[film.index(size / 2, size / 2)] + 0.5f;
+        const char* complete = int(counted) == samples + 0 ? "" : "  INCOMPLETE: the image holds fewer samples";
+        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.2f %12.2f %10.2f%s\n", name.c_str(), size, size, samples,
+                    maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, complete);
+        if (!outDir.empty()) {
+            const std::vector<std::uint8_t> rgb = toSrgb8(film, ToneMap::Aces);
+            std::string ppm = "P6\n" + std::to_string(size) + " " + std::to_string(size) + "\n255\n";
+            ppm.append(rgb.begin(), rgb.end());
+            const std::string path = outDir + "/" + name.substr(0, name.rfind('.')) + ".ppm";
+            if (!writeFileAtomically(path, ppm, &error)) std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
+        }
+        if (traceOnly) extra.push_back(traceRays(*renderer, raysProgram, query, name, size, repeat));
+        if (oidn) extra.push_back(denoiseOnce(film, name));
     }
+    for (const std::string& line : extra) std::printf("%s\n", line.c_str());
     glDeleteQueries(1, &query);
     return 0;
 }

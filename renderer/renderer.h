@@ -62,6 +62,7 @@ public:
     void bindScene(std::uint32_t firstSample, std::uint32_t samples);
     Film readFilm() const;
     const CompiledScene& compiled() const { return m_compiled; }
+    unsigned countersBuffer() const { return m_counters; }  // bound at BINDING_COUNTERS by bindScene
     unsigned program() const { return m_program; }
 
 private:

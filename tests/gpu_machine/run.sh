@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Runs on the GPU machine (the device tool), from the repository root, with .gpu/ carried:
+# unpacks the payload, installs GLVND, then runs the whole benchmark and the GPU tests in one go
+# and leaves the results in $OUT (bench.txt, gpu-tests.txt, images). Never more than a few
+# seconds of GPU work queued at once: the renderer paces its dispatches.
+#   run.sh [quick]
+set -uo pipefail
+OUT=${OUT:-/tmp/caustic-gpu-out}
+mkdir -p "$OUT" /tmp/caustic-gpu
+tar -C /tmp/caustic-gpu -xJf .gpu/payload.tar.xz
+for f in .gpu/debs/*.deb; do dpkg -x "$f" /; done
+ldconfig
+export LD_LIBRARY_PATH=/tmp/caustic-gpu/lib
+export CAUSTIC_SHADER_DIR=$PWD/shaders
+if [ -f /usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json ]; then
+  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+fi
+# The test binary names its data by the path of the checkout it was built in.
+src=$(cat /tmp/caustic-gpu/source-dir.txt)
+if [ "$src" != "$PWD" ] && [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; fi
+B=/tmp/caustic-gpu/bin
+nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv > "$OUT/nvidia-smi.txt" 2>&1
+nproc > "$OUT/nproc.txt"
+mkdir -p "$OUT/images"
+scenes="scenes/cornell-box.json scenes/veach-mis.json scenes/materials-diffuse.json scenes/materials-metals.json
+  scenes/materials-rough-glass.json scenes/dof.json scenes/sky-spheres.json scenes/mesh-knot.json"
+{
+  echo "## caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn"
+  timeout 300 $B/caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn --out "$OUT/images" $scenes 2>&1
+  echo "rc=$?"
+} | tee "$OUT/bench.txt"
+if [ "${1:-}" != quick ]; then
+  { timeout 120 $B/caustic-bvh-bench 2>&1; echo "rc=$?"; } > "$OUT/bvh-bench.txt"
+  { timeout 200 $B/caustic_gpu_tests 2>&1; echo "rc=$?"; } > "$OUT/gpu-tests.txt"
+fi
+cat "$OUT/nvidia-smi.txt"
+tail -5 "$OUT/bvh-bench.txt" "$OUT/gpu-tests.txt" 2>/dev/null
