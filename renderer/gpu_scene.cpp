@@ -246,48 +246,12 @@ struct Builder {
         return true;
     }
 
-    // Imports a file, merges its meshes and builds their BVH.
+    // Imports a file, merges its meshes and builds their BVH (prepareMesh).
     bool loadMesh(const std::string& file, const std::string& where, MeshCacheEntry* entry) {
-        MeshImportResult imported = importMeshFile(file);
-        if (!imported.ok()) {
-            *error = where + ".file: " + imported.error;
-            return false;
-        }
-        entry->warnings = imported.warnings;
-        for (const ImportedMaterial& im : imported.materials) {
-            std::vector<std::string> unmapped;
-            entry->materials.push_back(mapImportedMaterial(im, &unmapped));
-            for (const std::string& u : unmapped) entry->mappingWarnings.push_back(file + ": " + u);
-        }
-        if (entry->materials.empty()) entry->materials.push_back(Material{});  // files without materials
-        std::vector<glm::uvec3> tris;
-        for (const Mesh& mesh : imported.meshes) {
-            const std::uint32_t slot = mesh.material >= 0 && std::size_t(mesh.material) < entry->materials.size()
-                                           ? std::uint32_t(mesh.material) : 0u;
-            entry->triangleSlot.insert(entry->triangleSlot.end(), mesh.triangles.size(), slot);
-            const auto base = static_cast<std::uint32_t>(entry->positions.size());
-            for (size_t v = 0; v < mesh.positions.size(); ++v) {
-                entry->positions.push_back(mesh.positions[v]);
-                gpu::GpuVertex gv{};
-                const glm::vec3 n = mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[v];
-                const glm::vec2 uv = mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[v];
-                const glm::vec3 t = mesh.tangents.empty() ? glm::vec3(0.0f) : glm::vec3(mesh.tangents[v]);
-                gv.normalU = glm::vec4(n, uv.x);
-                gv.tangentV = glm::vec4(t, uv.y);
-                entry->vertices.push_back(gv);
-            }
-            for (const glm::uvec3& t : mesh.triangles) tris.push_back(t + glm::uvec3(base));
-        }
-        if (tris.empty()) {
-            *error = where + ".file: " + file + ": the file has no triangles";
-            return false;
-        }
-        entry->blas = buildBlas(entry->positions, tris);
-        if (entry->blas.bvh.empty()) {
-            *error = where + ".file: " + file + ": no valid triangles (all are degenerate or not finite)";
-            return false;
-        }
-        return true;
+        std::string why;
+        if (prepareMesh(file, entry, &why)) return true;
+        *error = where + ".file: " + why;
+        return false;
     }
 
     bool importMesh(const std::string& file, const std::string& where, std::uint32_t* blasIndex) {
@@ -299,15 +263,14 @@ struct Builder {
         const auto stamp = std::filesystem::last_write_time(file, ec);
         std::shared_ptr<const MeshCacheEntry> entry;
         if (meshCache) {
-            auto it = meshCache->entries.find(file);
-            if (it != meshCache->entries.end() && !ec && it->second->stamp == stamp) entry = it->second;
+            entry = meshCache->find(file);
+            if (entry && (ec || entry->stamp != stamp)) entry = nullptr;
         }
         if (!entry) {
             auto made = std::make_shared<MeshCacheEntry>();
             if (!loadMesh(file, where, made.get())) return false;
-            made->stamp = stamp;
             entry = made;
-            if (meshCache) meshCache->entries[file] = entry;
+            if (meshCache) meshCache->insert(file, entry);
         }
         for (const std::string& w : entry->warnings) out.warnings.push_back(w);
         meshMaterialBase.push_back(static_cast<std::uint32_t>(out.materials.size()));
@@ -337,11 +300,8 @@ struct Builder {
 
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
                          const glm::vec3* emission, const std::string& where) {
-        std::filesystem::path file(o.file);
-        if (file.is_relative() && !scene.sourcePath.empty())
-            file = std::filesystem::path(scene.sourcePath).parent_path() / file;
         std::uint32_t blas = 0;
-        if (!importMesh(file.lexically_normal().string(), where, &blas)) return false;
+        if (!importMesh(meshCacheKey(scene, o.file), where, &blas)) return false;
         const glm::mat4 w2o = glm::inverse(m);
         if (!std::isfinite(glm::determinant(m)) || std::abs(glm::determinant(glm::mat3(m))) < 1e-30f) {
             *error = where + ".transform: not invertible";
@@ -907,6 +867,58 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);
     return f;
+}
+
+std::string meshCacheKey(const Scene& scene, const std::string& file) {
+    std::filesystem::path path(file);
+    if (path.is_relative() && !scene.sourcePath.empty())
+        path = std::filesystem::path(scene.sourcePath).parent_path() / path;
+    return path.lexically_normal().string();
+}
+
+bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* error) {
+    std::error_code ec;
+    entry->stamp = std::filesystem::last_write_time(file, ec);   // before: a later write invalidates it
+    MeshImportResult imported = importMeshFile(file);
+    if (!imported.ok()) {
+        *error = imported.error;
+        return false;
+    }
+    entry->warnings = imported.warnings;
+    for (const ImportedMaterial& im : imported.materials) {
+        std::vector<std::string> unmapped;
+        entry->materials.push_back(mapImportedMaterial(im, &unmapped));
+        for (const std::string& u : unmapped) entry->mappingWarnings.push_back(file + ": " + u);
+    }
+    if (entry->materials.empty()) entry->materials.push_back(Material{});  // files without materials
+    std::vector<glm::uvec3> tris;
+    for (const Mesh& mesh : imported.meshes) {
+        const std::uint32_t slot = mesh.material >= 0 && std::size_t(mesh.material) < entry->materials.size()
+                                       ? std::uint32_t(mesh.material) : 0u;
+        entry->triangleSlot.insert(entry->triangleSlot.end(), mesh.triangles.size(), slot);
+        const auto base = static_cast<std::uint32_t>(entry->positions.size());
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            entry->positions.push_back(mesh.positions[v]);
+            gpu::GpuVertex gv{};
+            const glm::vec3 n = mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[v];
+            const glm::vec2 uv = mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[v];
+            const glm::vec3 t = mesh.tangents.empty() ? glm::vec3(0.0f) : glm::vec3(mesh.tangents[v]);
+            gv.normalU = glm::vec4(n, uv.x);
+            gv.tangentV = glm::vec4(t, uv.y);
+            entry->vertices.push_back(gv);
+        }
+        for (const glm::uvec3& t : mesh.triangles) tris.push_back(t + glm::uvec3(base));
+    }
+    if (tris.empty()) {
+        *error = file + ": the file has no triangles";
+        return false;
+    }
+    entry->blas = buildBlas(entry->positions, tris);
+    if (entry->blas.bvh.empty()) {
+        *error = file + ": no valid triangles (all are degenerate or not finite)";
+        return false;
+    }
+    return true;
 }
 
 }  // namespace caustic

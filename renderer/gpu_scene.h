@@ -70,9 +70,31 @@ struct MeshCacheEntry {
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
 };
+// Keyed by meshCacheKey(). Not thread-safe: the renderer owns it and uses it on its GL thread;
+// the editor prepares entries off-thread (prepareMesh) and inserts them on that thread, before
+// the edit that uses them, so the compile that follows finds them and imports nothing.
 struct MeshCache {
     std::map<std::string, std::shared_ptr<const MeshCacheEntry>> entries;
+
+    // Adds or replaces the entry for key (compileScene uses it while entry->stamp matches the
+    // file's current time).
+    void insert(const std::string& key, std::shared_ptr<const MeshCacheEntry> entry) { entries[key] = std::move(entry); }
+    // The entry for key, or null.
+    std::shared_ptr<const MeshCacheEntry> find(const std::string& key) const {
+        auto it = entries.find(key);
+        return it == entries.end() ? nullptr : it->second;
+    }
 };
+
+// The cache key (and the path compileScene imports) of a mesh object's file: relative to the
+// scene file's folder when relative, lexically normalised.
+std::string meshCacheKey(const Scene& scene, const std::string& file);
+
+// Imports a model file (Assimp), merges its meshes, maps its materials and builds the BVH:
+// everything a MeshCacheEntry holds, stamped with the file's time as it was before the import.
+// Pure CPU work with no shared state, so it may run on any thread. On failure *error names the
+// file and the reason ("<file>: ...").
+bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* error);
 
 // How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
 enum class TextureEncoding { Srgb, Linear };

@@ -62,6 +62,9 @@ public:
     void bindScene(std::uint32_t firstSample, std::uint32_t samples);
     Film readFilm() const;
     const CompiledScene& compiled() const { return m_compiled; }
+    // The imported meshes and their BVHs kept between compiles: the editor inserts meshes it
+    // prepared off-thread (prepareMesh) before the edit that uses them. Same thread as update().
+    MeshCache& meshCache() { return m_meshCache; }
     unsigned countersBuffer() const { return m_counters; }  // bound at BINDING_COUNTERS by bindScene
     unsigned program() const { return m_program; }
 

@@ -52,6 +52,7 @@ void EditorState::newScene() {
     history.clear();
     path.clear();
     m_dirty = kDirtyAll;
+    ++m_generation;
 }
 
 bool EditorState::open(const std::string& file, std::string* error) {
@@ -65,6 +66,7 @@ bool EditorState::open(const std::string& file, std::string* error) {
     selection = {};
     history.clear();
     m_dirty = kDirtyAll;
+    ++m_generation;
     return true;
 }
 
@@ -92,6 +94,7 @@ void EditorState::adoptRecovered(Scene recovered, const std::string& file) {
     history.clear();
     history.markUnclean();
     m_dirty = kDirtyAll;
+    ++m_generation;
 }
 
 void EditorState::validateSelection() {
@@ -228,18 +231,28 @@ std::unique_ptr<Command> makeAddMaterial(const EditorState& s) {
     return std::make_unique<InsertCommand<Material>>(static_cast<int>(s.scene.materials.size()), std::move(m));
 }
 
+std::string meshFileForScene(const EditorState& s, const std::string& file) {
+    if (s.path.empty()) return file;
+    std::error_code ec;
+    fs::path rel = fs::absolute(file, ec).lexically_relative(fs::absolute(s.path, ec).parent_path());
+    return !ec && !rel.empty() ? rel.string() : file;
+}
+
 std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file) {
     Object o;
     o.shape = Shape::Mesh;
     o.name = uniqueName(fs::path(file).stem().string(), namesOf(s.scene.objects));
     o.material = s.scene.materials.empty() ? std::string() : s.scene.materials.front().name;
-    std::error_code ec;
-    o.file = file;
-    if (!s.path.empty()) {
-        fs::path rel = fs::absolute(file, ec).lexically_relative(fs::absolute(s.path, ec).parent_path());
-        if (!ec && !rel.empty()) o.file = rel.string();
-    }
+    o.file = meshFileForScene(s, file);
     return std::make_unique<InsertCommand<Object>>(static_cast<int>(s.scene.objects.size()), std::move(o), "Import");
+}
+
+std::unique_ptr<Command> makeSetMeshFile(const EditorState& s, int index, const std::string& file) {
+    if (index < 0 || static_cast<size_t>(index) >= s.scene.objects.size()) return nullptr;
+    Object o = s.scene.objects[static_cast<size_t>(index)];
+    if (o.shape != Shape::Mesh) return nullptr;
+    o.file = meshFileForScene(s, file);
+    return makeSetObject(s, index, std::move(o));
 }
 
 std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why) {

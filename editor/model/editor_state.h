@@ -46,6 +46,9 @@ public:
     std::uint32_t pendingDirty() const { return m_dirty; }
 
     bool modified() const { return !history.isClean(); }
+    // Which scene this is: changes when a scene is made new, opened or recovered (an edit
+    // prepared for one scene, e.g. a mesh imported in the background, is dropped in another).
+    std::uint64_t generation() const { return m_generation; }
     std::string displayName() const;   // file name or "untitled", for the title bar
 
     // Files. A failed open leaves everything as it was and returns the loader's message
@@ -62,6 +65,7 @@ public:
 
 private:
     std::uint32_t m_dirty = kDirtyAll;
+    std::uint64_t m_generation = 0;
 };
 
 // ---- Edits built from the current scene (the usual way to make a command) ---------------------
@@ -80,6 +84,11 @@ std::unique_ptr<Command> makeAddMaterial(const EditorState& s);
 // A mesh object for a model file (check the file first: the renderer would refuse a broken one).
 // The path is stored relative to the scene's folder when the scene has a file.
 std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file);
+// Object `index` (a mesh) with another model file; null when index is not a mesh object.
+std::unique_ptr<Command> makeSetMeshFile(const EditorState& s, int index, const std::string& file);
+// A model file's path as a mesh object of this scene stores it: relative to the scene's folder
+// when the scene has a file, else as given.
+std::string meshFileForScene(const EditorState& s, const std::string& file);
 // Duplicates / deletes the entity `ref` (objects, lights, materials). Returns null with *why set
 // when it cannot (e.g. deleting a material that objects use).
 std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why);

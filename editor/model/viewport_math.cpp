@@ -77,6 +77,18 @@ float hitSphere(glm::vec3 centre, float radius, const Ray& ray) {
 
 constexpr float kPointLightPickRadius = 0.05f;   // world units: a point light's clickable size
 
+// World bounds of the box [lo, hi] under m: its 8 corners transformed.
+std::pair<glm::vec3, glm::vec3> boundsOfBox(const glm::mat4& m, glm::vec3 boxLo, glm::vec3 boxHi) {
+    glm::vec3 lo(kInf), hi(-kInf);
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? boxHi.x : boxLo.x, (i & 2) ? boxHi.y : boxLo.y, (i & 4) ? boxHi.z : boxLo.z);
+        const glm::vec3 p = glm::vec3(m * glm::vec4(c, 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return {lo, hi};
+}
+
 std::pair<glm::vec3, glm::vec3> boundsOfUnitCube(const glm::mat4& m, bool flatZ) {
     glm::vec3 lo(kInf), hi(-kInf);
     for (int i = 0; i < 8; ++i) {
@@ -123,11 +135,16 @@ std::optional<PickHit> pick(const Scene& scene, const Ray& ray) {
     return best;
 }
 
-std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref) {
+std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref,
+                                                            const MeshBoundsLookup& meshBounds) {
     const size_t i = static_cast<size_t>(ref.index);
     if (ref.kind == EntityKind::Object && ref.index >= 0 && i < scene.objects.size()) {
         const Object& o = scene.objects[i];
-        if (o.shape == Shape::Mesh) return std::nullopt;   // its extent lives in the file
+        if (o.shape == Shape::Mesh) {   // its extent lives in the file: ask the lookup
+            const auto local = meshBounds ? meshBounds(o) : std::nullopt;
+            if (!local) return std::nullopt;
+            return boundsOfBox(o.transform.toMatrix(), local->first, local->second);
+        }
         return boundsOfUnitCube(o.transform.toMatrix(), o.shape == Shape::Quad);
     }
     if (ref.kind == EntityKind::Light && ref.index >= 0 && i < scene.lights.size()) {
@@ -139,10 +156,10 @@ std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, 
     return std::nullopt;
 }
 
-std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene) {
+std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene, const MeshBoundsLookup& meshBounds) {
     std::optional<std::pair<glm::vec3, glm::vec3>> all;
     auto add = [&](EntityRef ref) {
-        auto b = entityBounds(scene, ref);
+        auto b = entityBounds(scene, ref, meshBounds);
         if (!b || !std::isfinite(b->first.x) || !std::isfinite(b->second.x)) return;
         if (!all) all = b;
         else all = std::make_pair(glm::min(all->first, b->first), glm::max(all->second, b->second));

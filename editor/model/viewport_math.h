@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <optional>
 #include <utility>
 
@@ -31,10 +32,16 @@ struct PickHit {
 // The nearest object or light the ray hits (point and spot lights count as small spheres).
 std::optional<PickHit> pick(const Scene& scene, const Ray& ray);
 
-// World-space bounds of an entity (objects and lights); nullopt for the singletons.
-std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref);
+// A mesh object's bounds in its own space (before its transform), when known: the editor answers
+// from the renderer's imported copy (its BVH root); nullopt while the file is not imported.
+using MeshBoundsLookup = std::function<std::optional<std::pair<glm::vec3, glm::vec3>>(const Object&)>;
+
+// World-space bounds of an entity (objects and lights); nullopt for the singletons, and for a
+// mesh whose bounds meshBounds does not know (the 8 corners of its local box, transformed).
+std::optional<std::pair<glm::vec3, glm::vec3>> entityBounds(const Scene& scene, EntityRef ref,
+                                                            const MeshBoundsLookup& meshBounds = {});
 // Bounds of everything in the scene (for framing when nothing is selected).
-std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene);
+std::optional<std::pair<glm::vec3, glm::vec3>> sceneBounds(const Scene& scene, const MeshBoundsLookup& meshBounds = {});
 
 // Camera navigation. Angles in degrees; pan offsets in fractions of the view height.
 Camera orbit(const Camera& c, float yawDegrees, float pitchDegrees);

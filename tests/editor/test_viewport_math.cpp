@@ -5,6 +5,7 @@
 #include "editor/model/script.h"
 #include "editor/model/viewport_math.h"
 #include "renderer/gpu_scene.h"
+#include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
 
@@ -144,6 +145,57 @@ TEST_CASE("frame selected fits the selection's bounds", "[editor]") {
     checkNear(all->first, glm::vec3(-1.0f), 0.02f);   // the large box reaches 1 cm below the floor
     checkNear(all->second, glm::vec3(1.0f), 0.02f);
     CHECK_FALSE(entityBounds(s.scene, {EntityKind::Camera, -1}));
+}
+
+TEST_CASE("frame selection knows a mesh's bounds: its local box under the object's transform", "[editor]") {
+    Scene scene;
+    Object mesh;
+    mesh.name = "knot";
+    mesh.shape = Shape::Mesh;
+    mesh.file = "knot.obj";
+    mesh.transform.translate = glm::vec3(10.0f, 0.0f, 0.0f);
+    mesh.transform.rotate = glm::vec3(0.0f, 0.0f, 90.0f);   // x -> y
+    mesh.transform.scale = glm::vec3(2.0f);
+    scene.objects.push_back(mesh);
+    const EntityRef ref{EntityKind::Object, 0};
+
+    // Unknown extent (not imported yet): nothing to frame.
+    CHECK_FALSE(entityBounds(scene, ref));
+    CHECK_FALSE(sceneBounds(scene));
+
+    const MeshBoundsLookup lookup = [](const Object& o) -> std::optional<std::pair<glm::vec3, glm::vec3>> {
+        if (o.file != "knot.obj") return std::nullopt;
+        return std::make_pair(glm::vec3(-1.0f, -0.5f, -0.25f), glm::vec3(3.0f, 0.5f, 0.25f));
+    };
+    auto b = entityBounds(scene, ref, lookup);
+    REQUIRE(b);
+    // Rotated 90 degrees about z: local x [-1, 3] becomes world y [-2, 6] after the scale, local
+    // y [-0.5, 0.5] becomes world x [-1, 1] (around the translation), z is only scaled.
+    CHECK(b->first.x == Approx(9.0f).margin(1e-4));
+    CHECK(b->second.x == Approx(11.0f).margin(1e-4));
+    CHECK(b->first.y == Approx(-2.0f).margin(1e-4));
+    CHECK(b->second.y == Approx(6.0f).margin(1e-4));
+    CHECK(b->first.z == Approx(-0.5f).margin(1e-4));
+    CHECK(b->second.z == Approx(0.5f).margin(1e-4));
+    auto all = sceneBounds(scene, lookup);
+    REQUIRE(all);
+    CHECK(all->first.x == Approx(9.0f).margin(1e-4));
+
+    // Framing those bounds looks at their centre.
+    const Camera framed = frameBounds(scene.camera, b->first, b->second, 1.0f);
+    CHECK(framed.lookAt.x == Approx(10.0f).margin(1e-4));
+    CHECK(framed.lookAt.y == Approx(2.0f).margin(1e-4));
+
+    // The renderer's own copy gives the same box: prepareMesh's BVH root.
+    test::TempDir dir;
+    const std::string file = dir.file("quad.obj");
+    test::writeObjQuad(file);
+    MeshCacheEntry entry;
+    std::string error;
+    REQUIRE(prepareMesh(file, &entry, &error));
+    const Aabb root = entry.blas.bvh.nodes.front().bounds();
+    CHECK(root.min.x == Approx(-1.0f));
+    CHECK(root.max.y == Approx(1.0f));
 }
 
 TEST_CASE("snapping rounds to the step", "[editor]") {

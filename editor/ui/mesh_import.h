@@ -1,0 +1,54 @@
+// Mesh edits that wait for a background import (docs/editor.md, "Importing meshes"): "Import
+// mesh" and a change of a mesh object's file. The file is imported and its BVH built on the
+// MeshLoader's worker (editor/model/mesh_loader.h); once per frame, finish() takes what is ready,
+// inserts it into the renderer's MeshCache and only then applies the edit, so the viewport keeps
+// rendering the old scene meanwhile and the compile that follows imports nothing. A failed import
+// shows the importer's message (file and reason) and changes nothing.
+#pragma once
+
+#include "editor/model/mesh_loader.h"
+#include "editor/model/viewport_math.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace caustic::editor {
+
+struct EditorUi;
+
+class MeshImports {
+public:
+    MeshImports();   // the worker wakes the frame loop (glfwPostEmptyEvent) when a mesh is ready
+
+    // Adds a mesh object for file once it is imported.
+    void importFile(EditorUi& ui, const std::string& file);
+    // Gives object objectIndex (a mesh) the model file `file` once it is imported.
+    void setObjectFile(EditorUi& ui, int objectIndex, const std::string& file);
+    // Applies the edits whose meshes are ready (UI thread, once per frame, before rendering).
+    void finish(EditorUi& ui);
+    // An import is queued, running, or ready and not yet applied.
+    bool pending() const { return !m_edits.empty(); }
+    // "importing knot.obj..." (the files in progress), or "" when none.
+    std::string status() const;
+    // Worker seconds (import + BVH) of each import finished this session, for the script report.
+    const std::vector<double>& importSeconds() const { return m_seconds; }
+
+private:
+    struct Edit {
+        std::uint64_t id = 0;
+        std::uint64_t generation = 0;   // EditorState::generation() when requested
+        std::string file;               // as requested (absolute or relative to the working folder)
+        std::string objectName;         // setObjectFile: the object (by name: indices move)
+    };
+    void apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* result);
+
+    std::vector<Edit> m_edits;
+    std::vector<double> m_seconds;
+    MeshLoader m_loader;                // last: destroyed (joined) first
+};
+
+// Local bounds of a mesh object from the renderer's imported copy (for "frame selection").
+MeshBoundsLookup meshBoundsLookup(const EditorUi& ui);
+
+}  // namespace caustic::editor

@@ -1,0 +1,187 @@
+"""The real editor under Xvfb with Mesa: importing meshes in the background (docs/editor.md,
+"Importing meshes"). A scripted session on the Cornell box imports a large generated OBJ while the
+box keeps rendering, then checks that the mesh appears where it is, that undo/redo take it out and
+back, that F frames it (its bounds come from the renderer's copy of the mesh), that changing a mesh
+object's file goes through the same path, and that a broken file shows the importer's error and
+changes nothing.
+
+Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
+CAUSTIC_KEEP_E2E=1 keeps the session's folder (images, reports).
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from test_editor_e2e import BIN, CORNELL, diff_stats, read_png  # noqa: E402  (the suite's helpers)
+
+# The ball: a UV sphere of radius 0.3 centred above both boxes (their tops are at y = 0.21 and
+# y = -0.4), 2 * RINGS * SEGMENTS triangles, large enough that importing it takes a while.
+CENTRE, RADIUS = (0.0, 0.45, 0.2), 0.3
+RINGS, SEGMENTS = 500, 600
+
+SCRIPT = """
+# The box renders (no sample cap yet; the first frames, with the shader's first use, are done)
+# while the ball is imported in the background.
+frames 3
+import_mesh ball.obj
+wait_import 240
+report import.json
+expect_undo_steps 1
+# Undo takes it out, redo brings it back (from the renderer's cache: no second import).
+undo
+wait_samples 4
+write_image before.png
+redo
+wait_samples 4
+write_image after.png
+# F frames the ball: its bounds come from the renderer's copy of the mesh.
+select object ball
+frame
+save framed.json
+# The same path changes a mesh object's file.
+set_mesh_file small.obj
+wait_import 60
+wait_samples 4
+write_image replaced.png
+# A broken file shows the importer's error and changes nothing.
+import_mesh broken.obj
+wait_import 60
+expect_error broken.obj
+expect_undo_steps 3
+save final.json
+quit
+"""
+
+
+def write_sphere(path, rings, segments, centre, radius):
+    """A UV sphere as OBJ (as tests/support/meshes.h writeObjSphere, moved and scaled)."""
+    cx, cy, cz = centre
+    out = ["v %g %g %g" % (cx, cy + radius, cz)]
+    for r in range(1, rings):
+        t = math.pi * r / rings
+        st, ct = math.sin(t), math.cos(t)
+        for s in range(segments):
+            p = 2 * math.pi * s / segments
+            out.append("v %.6f %.6f %.6f" % (cx + radius * st * math.cos(p), cy + radius * ct,
+                                            cz - radius * st * math.sin(p)))
+    out.append("v %g %g %g" % (cx, cy - radius, cz))
+
+    def ring(r, s):
+        return 2 + (r - 1) * segments + s % segments
+    south = 2 + (rings - 1) * segments
+    for s in range(segments):
+        out.append("f 1 %d %d" % (ring(1, s), ring(1, s + 1)))
+    for r in range(1, rings - 1):
+        for s in range(segments):
+            a, b, c, d = ring(r, s), ring(r + 1, s), ring(r + 1, s + 1), ring(r, s + 1)
+            out.append("f %d %d %d" % (a, b, c))
+            out.append("f %d %d %d" % (a, c, d))
+    for s in range(segments):
+        out.append("f %d %d %d" % (south, ring(rings - 1, s + 1), ring(rings - 1, s)))
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def projected_disk():
+    """The ball's centre and radius in pixels in the Cornell box's 256 x 256 view (camera at
+    z = 3.9 looking down -z, vertical field of view 39.3077 degrees)."""
+    half = (3.9 - CENTRE[2]) * math.tan(math.radians(39.3077 / 2))
+    return 128 + CENTRE[0] / half * 128, 128 - CENTRE[1] / half * 128, RADIUS / half * 128
+
+
+class EditorMeshImport(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        if not BIN or not os.path.exists(BIN):
+            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")  # fail, never skip
+        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-mesh-e2e-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        write_sphere(os.path.join(cls.tmp, "ball.obj"), RINGS, SEGMENTS, CENTRE, RADIUS)
+        write_sphere(os.path.join(cls.tmp, "small.obj"), 16, 32, CENTRE, RADIUS / 2)
+        with open(os.path.join(cls.tmp, "broken.obj"), "w") as f:
+            f.write("v 0 0 0\nv 1 0 0\nf 1 2 7\n")   # an index past the vertices: no triangle
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(SCRIPT)
+        env = dict(os.environ)
+        env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "script.txt"),
+                   CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home"),
+                   CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
+        cls.editor = subprocess.run(
+            ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "scene.json")],
+            capture_output=True, text=True, env=env, timeout=400)
+
+    @classmethod
+    def tearDownClass(cls):
+        if os.environ.get("CAUSTIC_KEEP_E2E"):
+            print("kept", cls.tmp, file=sys.stderr)
+        else:
+            shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.tmp, name)
+
+    def load(self, name):
+        with open(self.path(name)) as f:
+            return json.load(f)
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_frames_kept_rendering_while_importing(self):
+        report = self.load("import.json")
+        self.assertEqual(len(report["import_seconds"]), 1, report)
+        import_ms = 1e3 * report["import_seconds"][0]
+        # The frame loop went on (and the box kept converging) while the worker imported the ball,
+        # and no frame waited for the whole import.
+        self.assertGreaterEqual(report["frames_during_import"], 2, report)
+        self.assertGreaterEqual(report["rendering_frames_during_import"], 1, report)
+        self.assertLess(report["frame_ms_max_during_import"], import_ms, report)
+
+    def test_3_the_ball_appears_where_it_is(self):
+        _, before = read_png(self.path("before.png"))
+        _, after = read_png(self.path("after.png"))
+        cx, cy, r = projected_disk()
+        inside, changed = 0, 0
+        for y in range(int(cy - r), int(cy + r) + 1):
+            for x in range(int(cx - r), int(cx + r) + 1):
+                if (x - cx) ** 2 + (y - cy) ** 2 > (0.7 * r) ** 2:
+                    continue
+                inside += 1
+                if sum(abs(p - q) for p, q in zip(before[y][x], after[y][x])) > 30:
+                    changed += 1
+        self.assertGreater(inside, 500)
+        self.assertGreater(changed / inside, 0.5, "the ball is not where it should be")
+        _, changed_all, _ = diff_stats(before, after)
+        self.assertLess(changed_all, 0.5, "too much of the image changed for one ball")
+
+    def test_4_frame_selection_frames_the_mesh(self):
+        camera = self.load("framed.json")["camera"]
+        for got, want in zip(camera["look_at"], CENTRE):
+            self.assertAlmostEqual(got, want, delta=0.01)
+        # Along the old view direction (+z towards the camera), far enough to see the whole ball.
+        offset = [p - q for p, q in zip(camera["position"], camera["look_at"])]
+        self.assertAlmostEqual(offset[0], 0.0, delta=1e-3)
+        self.assertAlmostEqual(offset[1], 0.0, delta=1e-3)
+        self.assertGreater(offset[2], RADIUS * 2)
+        self.assertLess(offset[2], 3.0)
+
+    def test_5_mesh_file_change_and_broken_import(self):
+        final = self.load("final.json")
+        balls = [o for o in final["objects"] if o["name"] == "ball"]
+        self.assertEqual(len(balls), 1)
+        self.assertEqual(balls[0]["file"], "small.obj")
+        self.assertEqual(len(final["objects"]), 8, "the broken file must not add an object")
+        # The importer's message names the file and why.
+        self.assertIn("broken.obj", self.editor.stderr)
+        self.assertIn("could not import the mesh", self.editor.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
