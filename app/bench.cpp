@@ -2,9 +2,11 @@
 // settings after a warm-up and prints samples and rays per second, timed both by the wall clock
 // and by a GL_TIME_ELAPSED query around the same work. Links no OpenImageIO, so the binary is
 // small enough to carry to the GPU machine.
-//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [scene.json ...]
+//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [scene.json ...]
 // --rays: also traversal alone (shaders/bench/rays.comp): primary rays, then one cosine-
 //   distributed bounce from their hits, in M rays/s (timer queries, median of --repeat runs).
+// --dump-program FILE: writes the driver's binary of the integrator program (NVIDIA's holds its
+//   assembly, with register and local-memory use: look with `strings`).
 // --out DIR: writes each render as DIR/<scene>.ppm (ACES, sRGB), to look at what was measured.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
@@ -108,7 +110,7 @@ std::string denoiseOnce(const Film& film, const std::string& name) {
 int main(int argc, char** argv) {
     int size = 256, samples = 64, maxDepth = 8, repeat = 3;
     bool traceOnly = false, oidn = false;
-    std::string outDir;
+    std::string outDir, dumpProgram;
     std::vector<std::string> scenes;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each row as it is measured, even if the run is cut short
     for (int i = 1; i < argc; ++i) {
@@ -126,8 +128,9 @@ int main(int argc, char** argv) {
         else if (a == "--rays") traceOnly = true;
         else if (a == "--oidn") oidn = true;
         else if (a == "--out" && i + 1 < argc) outDir = argv[++i];
+        else if (a == "--dump-program" && i + 1 < argc) dumpProgram = argv[++i];
         else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [scene.json ...]\n");
+            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [scene.json ...]\n");
             return a == "--help" ? 0 : 2;
         } else scenes.push_back(a);
     }
@@ -156,6 +159,16 @@ int main(int argc, char** argv) {
         }
     }
     std::vector<std::string> extra;  // the --rays and --oidn tables, printed after the main one
+    if (!dumpProgram.empty()) {
+        GLint length = 0;
+        glGetProgramiv(renderer->program(), GL_PROGRAM_BINARY_LENGTH, &length);
+        std::string binary(static_cast<size_t>(std::max(length, 0)), '\0');
+        GLenum format = 0;
+        if (length > 0) glGetProgramBinary(renderer->program(), length, &length, &format, binary.data());
+        binary.resize(static_cast<size_t>(std::max(length, 0)));
+        if (binary.empty() || !writeFileAtomically(dumpProgram, binary, &error))
+            std::fprintf(stderr, "caustic-bench: no program binary written (%s)\n", binary.empty() ? "the driver gave none" : error.c_str());
+    }
     for (const std::string& file : scenes) {
         SceneLoadResult loaded = loadScene(file);
         if (!loaded) { std::fprintf(stderr, "caustic-bench: %s\n", loaded.error.c_str()); return 1; }

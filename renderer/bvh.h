@@ -70,8 +70,11 @@ static_assert(offsetof(BvhNode, rightOrFirst) == 12 && offsetof(BvhNode, boundsM
 
 inline constexpr std::uint32_t kBvhMaxLeafCount = (1u << 30) - 1u;  // what countAndAxis can hold
 // The deepest tree the build makes: the traversal's fixed stack (CPU and GLSL) needs this many
-// entries. Deeper subtrees (only possible with pathological input) are made into larger leaves.
-inline constexpr int kBvhMaxDepth = 64;
+// entries per level. Deeper subtrees (only possible with pathological input: a binned SAH build of
+// a million-triangle mesh is 30 deep) are made into larger leaves. 32, not more: the GPU stack's
+// size (shaders/geometry/bvh.glsl, BVH_STACK_SIZE) follows from it, and on NVIDIA the integrator's
+// speed follows from the stack's size (docs/performance.md, "integrator profile").
+inline constexpr int kBvhMaxDepth = 32;
 
 struct BvhBuildOptions {
     int bins = 16;                 // SAH bins per axis (>= 2)

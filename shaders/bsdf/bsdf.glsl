@@ -48,6 +48,19 @@ float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {
     }
 }
 
+// Both at once, for light sampling: one switch instead of two keeps the integrator's code (and
+// its register use) smaller, since every call site inlines every model.
+vec3 bsdfEvalPdf(GpuMaterial m, vec3 wo, vec3 wi, out float pdf) {
+    switch (m.info.x) {
+    case MAT_DIFFUSE: pdf = lambertPdf(wo, wi); return lambertEval(m.albedo.rgb, wo, wi);
+    case MAT_OREN_NAYAR: pdf = orenNayarPdf(wo, wi); return orenNayarEval(m, wo, wi);
+    case MAT_EON: pdf = orenNayarPdf(wo, wi); return eonEval(m, wo, wi);
+    case MAT_ROUGH_DIELECTRIC: pdf = roughDielectricPdf(m, wo, wi); return roughDielectricEval(m, wo, wi);
+    case MAT_ROUGH_CONDUCTOR: pdf = roughConductorPdf(m, wo, wi); return roughConductorEval(m, wo, wi);
+    default: pdf = 0.0; return vec3(0.0);
+    }
+}
+
 // u.xy: the direction, u.z: the choice between lobes (dielectrics).
 BsdfSample bsdfSample(GpuMaterial m, vec3 wo, vec3 u) {
     BsdfSample s;

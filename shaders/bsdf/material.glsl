@@ -16,16 +16,21 @@
 #include "../geometry/surface.glsl"
 
 // The material with its albedo and roughness textures applied; coneWidth = the ray cone's width
-// at the hit divided by |cos| (world length).
-GpuMaterial materialAtSurface(GpuMaterial m, SurfacePoint s, float coneWidth) {
+// at the hit divided by |cos| (world length). The slots are visited by one loop with one texture
+// lookup in it, rather than one lookup per slot: the integrator inlines everything, and three
+// inlined trilinear lookups cost registers on NVIDIA (docs/performance.md, "integrator profile").
+// The normal map's value (slot y) is returned in `normalTexel` (tangent space, in [-1, 1]; z = 1
+// without a normal map) for shadingNormalAt.
+GpuMaterial materialAtSurface(GpuMaterial m, SurfacePoint s, float coneWidth, out vec3 normalTexel) {
     float uvWidth = coneWidth * s.uvPerLength;
-    if (m.textures.x != 0u) {
-        uint t = m.textures.x - 1u;
-        m.albedo.rgb = textureSampleLod(t, s.uv, materialTextureLod(t, uvWidth)).rgb;
-    }
-    if (m.textures.z != 0u) {
-        uint t = m.textures.z - 1u;
-        m.params.x = textureSampleLod(t, s.uv, materialTextureLod(t, uvWidth)).r;
+    normalTexel = vec3(0.0, 0.0, 1.0);
+    for (uint slot = 0u; slot < 3u; ++slot) {
+        uint tex = m.textures[slot];
+        if (tex == 0u) continue;
+        vec4 v = textureSampleLod(tex - 1u, s.uv, materialTextureLod(tex - 1u, uvWidth));
+        if (slot == 0u) m.albedo.rgb = v.rgb;
+        else if (slot == 1u) normalTexel = v.rgb * 2.0 - 1.0;
+        else m.params.x = v.r;
     }
     return m;
 }
@@ -44,11 +49,10 @@ vec3 applyNormalMap(vec3 ng, vec3 dpdu, vec3 dpdv, vec3 tangentNormal) {
     return dot(n, n) > 0.0 ? normalize(n) : ng;
 }
 
-vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, float coneWidth) {
+// normalTexel: from materialAtSurface.
+vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, vec3 normalTexel) {
     if (m.textures.y == 0u) return ng;
-    uint t = m.textures.y - 1u;
-    vec3 tn = textureSampleLod(t, s.uv, materialTextureLod(t, coneWidth * s.uvPerLength)).rgb * 2.0 - 1.0;
-    return applyNormalMap(ng, s.dpdu, s.dpdv, tn);
+    return applyNormalMap(ng, s.dpdu, s.dpdv, normalTexel);
 }
 
 #endif

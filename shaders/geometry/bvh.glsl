@@ -1,8 +1,9 @@
 // Two-level BVH traversal (renderer/bvh.h builds the trees): one loop walks the top level over
 // analytic primitives and mesh instances and, on reaching an instance, the instance's own BVH in
-// object space (the ray is transformed, t keeps its meaning). An explicit stack holds nodes with
-// their entry distance, so a node that starts beyond the closest hit so far is never visited;
-// children are visited nearer first. Closest hit and any hit (shadow rays, early exit) are the
+// object space (the ray is transformed, t keeps its meaning). An explicit stack holds the nodes
+// still to visit (the far child of each node whose children both hit; children are visited nearer
+// first; a popped node is slab-tested again against the closest hit so far by its parent's test of
+// its own children). Closest hit and any hit (shadow rays, early exit) are the
 // same routine with a flag.
 //   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
@@ -14,7 +15,10 @@
 #include "../lib/math.glsl"
 #include "../scene/buffers.glsl"
 
-#define BVH_STACK_SIZE 136          // 64 levels per tree (kBvhMaxDepth) plus leaf entries
+// The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32),
+// the instances of one top-level leaf (up to its maxLeafSize, 8), the marker for leaving an
+// instance, and the instance tree's pending siblings (fewer than 32).
+#define BVH_STACK_SIZE 76
 #define BVH_ENTRY_EXIT 0xffffffffu  // leaving an instance: back to the world ray
 #ifndef BVH_BRUTE_FORCE_MAX
 #define BVH_BRUTE_FORCE_MAX 32u     // scenes of at most this many analytic primitives skip the tree
@@ -91,6 +95,15 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, o
 // declaring it.
 bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
 
+// The traversal stack lives at file scope, not in traceScene: the integrator calls traceScene from
+// three places (the continuation ray, and two kinds of shadow ray), and NVIDIA's compiler inlines
+// each call with its own copy of a local array, so a function-local stack was three stacks (3.3 KB
+// of local memory per invocation); one shared array made the integrator 3x faster on an H100.
+// Its size matters as much: entries are node indices only (4 bytes), not (node, entry distance)
+// pairs; halving the stack's bytes doubled the speed again, more than culling popped nodes that
+// start beyond the closest hit ever saved (docs/performance.md, "integrator profile").
+uint g_bvhStack[BVH_STACK_SIZE];
+
 bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
     hit.t = tMax;
     hit.ref = 0xffffffffu;
@@ -116,7 +129,6 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     WatertightRay wr = makeWatertightRay(o, d);
     bool inInstance = false;
     uint instance = 0u, firstTriangle = 0u;
-    uvec2 stack[BVH_STACK_SIZE];
     int sp = 0;
     float tEnter;
     if (!slabTest(bvhNodes[0], o, invD, hit.t, tEnter)) return false;
@@ -133,7 +145,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
             bool hr = slabTest(bvhNodes[r], o, invD, hit.t, tr);
             if (hl && hr) {
                 bool leftFirst = tl <= tr;
-                if (sp < BVH_STACK_SIZE) stack[sp++] = uvec2(leftFirst ? r : l, floatBitsToUint(leftFirst ? tr : tl));
+                if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = leftFirst ? r : l;
                 node = leftFirst ? l : r;
                 descend = true;
             } else if (hl || hr) {
@@ -144,7 +156,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
             for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
                 uint ref = tlasRefs[k];
                 if ((ref & TLAS_REF_INSTANCE) != 0u) {
-                    if (sp < BVH_STACK_SIZE) stack[sp++] = uvec2(ref, floatBitsToUint(0.0));
+                    if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = ref;
                     continue;
                 }
                 float t;
@@ -174,17 +186,16 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         // Pop the next node worth visiting.
         bool next = false;
         while (sp > 0) {
-            uvec2 e = stack[--sp];
-            if (e.x == BVH_ENTRY_EXIT) {
+            uint e = g_bvhStack[--sp];
+            if (e == BVH_ENTRY_EXIT) {
                 inInstance = false;
                 o = rayO;
                 d = rayD;
                 invD = safeInverse(rayD);
                 continue;
             }
-            if (uintBitsToFloat(e.y) > hit.t) continue;  // starts beyond the closest hit
-            if ((e.x & TLAS_REF_INSTANCE) != 0u) {
-                instance = e.x & ~TLAS_REF_INSTANCE;
+            if ((e & TLAS_REF_INSTANCE) != 0u) {
+                instance = e & ~TLAS_REF_INSTANCE;
                 GpuInstance inst = instances[instance];
                 vec3 lo = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
                                dot(inst.worldToObject2, vec4(rayO, 1.0)));
@@ -199,12 +210,12 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
                 wr = makeWatertightRay(o, d);
                 firstTriangle = inst.info.y;
                 inInstance = true;
-                stack[sp++] = uvec2(BVH_ENTRY_EXIT, 0u);
+                g_bvhStack[sp++] = BVH_ENTRY_EXIT;
                 node = inst.info.x;
                 next = true;
                 break;
             }
-            node = e.x;
+            node = e;
             next = true;
             break;
         }

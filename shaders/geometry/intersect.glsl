@@ -118,16 +118,16 @@ vec3 offsetRayOrigin(vec3 p, vec3 ng, vec3 dir) {
     return p + (dot(ng, dir) >= 0.0 ? eps : -eps) * ng;
 }
 
-// A shadow ray between two surface points, each offset off its own surface, as a segment:
+// The shadow ray between two surface points, each offset off its own surface, as a segment:
 // d = target - origin unnormalised, so the segment ends at t = 1 whatever the offsets did to its
 // length (a fixed fraction of the distance is not safe: the offsets can shorten a grazing segment
 // by more than that and make the light occlude itself).
-bool segmentOccluded(vec3 p, vec3 ngP, vec3 q, vec3 ngQ) {
+Ray segmentRay(vec3 p, vec3 ngP, vec3 q, vec3 ngQ) {
     Ray r;
     vec3 dir = q - p;
     r.o = offsetRayOrigin(p, ngP, dir);
     vec3 target = dot(ngQ, ngQ) > 0.0 ? offsetRayOrigin(q, ngQ, -dir) : q;
     r.d = target - r.o;
-    return sceneOccluded(r, 1.0);
+    return r;
 }
 #endif

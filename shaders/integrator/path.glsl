@@ -96,8 +96,9 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
         float cosHit = abs(dot(hit.ng, wo));
         float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
         SurfacePoint sp = hit.surface;
-        mat = materialAtSurface(mat, sp, coneWidth);
-        vec3 ns = shadingNormalAt(mat, sp, hit.ns, coneWidth);
+        vec3 normalTexel;
+        mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
+        vec3 ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
         bool keepFront = bsdfHasTransmission(mat);
         float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
         vec3 n = side * ns;
@@ -121,23 +122,26 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
             LightSample ls = sampleLight(li, hit.p, uLight);
             if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
                 vec3 wiL = toLocal(f, ls.wi);
-                vec3 fv = bsdfEval(mat, woL, wiL);
+                float pdfBsdf;
+                vec3 fv = bsdfEvalPdf(mat, woL, wiL, pdfBsdf);
                 // Reflection and transmission as the geometry sees them must agree with the
                 // shading frame's (a shading normal must not leak light through the surface).
                 if ((woL.z * wiL.z > 0.0) != (ngWo * dot(hit.ng, ls.wi) > 0.0)) fv = vec3(0.0);
                 if (maxComponent(fv) > 0.0) {
-                    bool occluded;
+                    // One call site for both kinds of shadow ray: each call inlines the whole
+                    // traversal, and code size costs speed on the GPU (docs/performance.md).
+                    Ray shadow;
+                    float shadowTMax = FLT_MAX;
                     if (ls.dist >= FLT_MAX) {
-                        Ray shadow;
                         shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
                         shadow.d = ls.wi;
-                        occluded = sceneOccluded(shadow, FLT_MAX);
                     } else {
-                        occluded = segmentOccluded(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
+                        shadow = segmentRay(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
+                        shadowTMax = 1.0;
                     }
-                    if (!occluded) {
+                    if (!sceneOccluded(shadow, shadowTMax)) {
                         float pl = pmf * ls.pdf;
-                        float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, bsdfPdf(mat, woL, wiL));
+                        float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
                         L += beta * fv * abs(wiL.z) * ls.Li * (w / pl);
                     }
                 }

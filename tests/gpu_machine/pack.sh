@@ -23,4 +23,5 @@ rm -rf .gpu/stage
 if ! ls .gpu/debs/*.deb >/dev/null 2>&1; then
   (cd .gpu/debs && apt-get download libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2)
 fi
+python3 tests/gpu_machine/shader_variants.py .gpu/variants >/dev/null
 du -sh .gpu >&2

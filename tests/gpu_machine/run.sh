@@ -3,7 +3,9 @@
 # unpacks the payload, installs GLVND, then runs the whole benchmark and the GPU tests in one go
 # and leaves the results in $OUT (bench.txt, gpu-tests.txt, images). Never more than a few
 # seconds of GPU work queued at once: the renderer paces its dispatches.
-#   run.sh [quick]
+#   run.sh [quick|variants]
+# variants: only the integrator profile: caustic-bench on each copy of the shaders written by
+# shader_variants.py (pack.sh puts them in .gpu/variants), plus the driver's program binaries.
 set -uo pipefail
 OUT=${OUT:-/tmp/caustic-gpu-out}
 mkdir -p "$OUT" /tmp/caustic-gpu
@@ -24,6 +26,20 @@ nproc > "$OUT/nproc.txt"
 mkdir -p "$OUT/images"
 scenes="scenes/cornell-box.json scenes/veach-mis.json scenes/materials-diffuse.json scenes/materials-metals.json
   scenes/materials-rough-glass.json scenes/dof.json scenes/sky-spheres.json scenes/mesh-knot.json"
+if [ "${1:-}" = variants ]; then
+  mkdir -p "$OUT/programs"
+  for v in .gpu/variants/*; do
+    name=$(basename "$v")
+    echo "## variant $name"
+    CAUSTIC_SHADER_DIR=$PWD/$v timeout 60 $B/caustic-bench --size 1024 --samples 32 --repeat 3 \
+      --dump-program "$OUT/programs/$name.bin" scenes/cornell-box.json scenes/mesh-knot.json 2>&1 | tail -2
+  done | tee "$OUT/variants.txt"
+  for d in 1 2 4; do
+    echo "## base, max depth $d"
+    timeout 60 $B/caustic-bench --size 1024 --samples 32 --repeat 3 --max-depth $d scenes/cornell-box.json 2>&1 | tail -1
+  done | tee -a "$OUT/variants.txt"
+  exit 0
+fi
 {
   echo "## caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn"
   timeout 300 $B/caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn --out "$OUT/images" $scenes 2>&1

@@ -28,8 +28,9 @@ void main() {
         vec3 p = inputs[i].xyz;
         vec3 ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, p) : normalize(cross(prim.b.xyz, prim.c.xyz));
         SurfacePoint sp = primitiveSurface(prim, p);
-        GpuMaterial m = materialAtSurface(materials[u_material], sp, 0.0);
-        vec3 ns = shadingNormalAt(m, sp, ng, 0.0);
+        vec3 normalTexel;
+        GpuMaterial m = materialAtSurface(materials[u_material], sp, 0.0, normalTexel);
+        vec3 ns = shadingNormalAt(m, sp, ng, normalTexel);
         results[2u * i] = vec4(ns, sp.uv.x);
         results[2u * i + 1u] = vec4(ng, sp.uv.y);
     }

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Writes copies of shaders/ with one cost removed each, for profiling the integrator on the GPU
+machine (tests/gpu_machine/run.sh variants): each variant is rendered by caustic-bench with
+CAUSTIC_SHADER_DIR pointing at it, so the difference in samples/s is what that part costs.
+Variants change the image (they are not correct renderers); they exist only for measurement.
+
+    shader_variants.py OUT_DIR
+"""
+import os
+import shutil
+import sys
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shaders")
+
+LAMBERT_SAMPLE = ("BsdfSample s;\n    s.wi = lambertSample(wo, u.xy); s.pdf = lambertPdf(wo, s.wi);"
+                  " s.f = lambertEval(m.albedo.rgb, wo, s.wi); s.flags = 0u; return s;")
+
+# name -> [(file, old, new)]
+PATCHES = {
+    "no-nee": [("integrator/path.glsl", "bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;",
+                "bool useLights = false;")],
+    "lambert-only": [
+        ("bsdf/bsdf.glsl", "vec3 bsdfEval(GpuMaterial m, vec3 wo, vec3 wi) {",
+         "vec3 bsdfEval(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertEval(m.albedo.rgb, wo, wi);"),
+        ("bsdf/bsdf.glsl", "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {",
+         "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertPdf(wo, wi);"),
+        ("bsdf/bsdf.glsl", "BsdfSample s;\n    switch", LAMBERT_SAMPLE + "\n    switch"),
+    ],
+    "no-textures": [
+        ("bsdf/material.glsl", "    normalTexel = vec3(0.0, 0.0, 1.0);\n", "    normalTexel = vec3(0.0, 0.0, 1.0);\n    return m;\n"),
+        ("bsdf/material.glsl", "vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, vec3 normalTexel) {",
+         "vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, vec3 normalTexel) {\n    return ng;"),
+    ],
+    "no-aov-images": [
+        ("integrator/path.comp", "vec4 albedoSum = imageLoad(albedoImage, ip);", "vec4 albedoSum = vec4(0.0);"),
+        ("integrator/path.comp", "vec4 normalSum = imageLoad(normalImage, ip);", "vec4 normalSum = vec4(0.0);"),
+        ("integrator/path.comp", "imageStore(albedoImage, ip, albedoSum);", ""),
+        ("integrator/path.comp", "imageStore(normalImage, ip, normalSum);", ""),
+    ],
+    "small-stack": [("geometry/bvh.glsl", "#define BVH_STACK_SIZE 76", "#define BVH_STACK_SIZE 40")],
+}
+PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures", "no-aov-images", "small-stack"]
+                          for p in PATCHES[name]]
+
+
+def main():
+    out = sys.argv[1]
+    shutil.rmtree(out, ignore_errors=True)
+    for name, patches in [("base", [])] + list(PATCHES.items()):
+        target = os.path.join(out, name)
+        shutil.copytree(ROOT, target)
+        for rel, old, new in patches:
+            path = os.path.join(target, rel)
+            with open(path) as f:
+                text = f.read()
+            if old not in text:
+                sys.exit(f"shader_variants.py: {name}: '{old[:40]}...' not found in {rel}")
+            with open(path, "w") as f:
+                f.write(text.replace(old, new, 1))
+    print(out)
+
+
+if __name__ == "__main__":
+    main()
