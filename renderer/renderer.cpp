@@ -210,12 +210,17 @@ void Renderer::resetAccumulation() {
     std::uint32_t counters[4] = {0, 0, 0, 0};
     glNamedBufferSubData(m_counters, 0, sizeof counters, counters);
     m_samplesDone = 0;
+    m_bandRow = 0;
 }
 
-void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
+void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) { bindScene(firstSample, samples, 0, ~0u); }
+
+void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0, std::uint32_t row1) {
     gpu::GpuFrame frame = makeFrame(m_scene, m_compiled, m_strategy);
     frame.image.z = firstSample;
     frame.dispatch.x = samples;
+    frame.dispatch.z = row0;
+    frame.dispatch.w = std::min<std::uint32_t>(row1, static_cast<std::uint32_t>(m_height));
     // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
@@ -234,14 +239,16 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) {
     glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
 }
 
-void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples) {
-    bindScene(firstSample, samples);
+void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0, std::uint32_t row1) {
+    row1 = std::min<std::uint32_t>(row1, static_cast<std::uint32_t>(m_height));
+    if (row0 >= row1) return;
+    bindScene(firstSample, samples, row0, row1);
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ALBEDO_IMAGE, m_albedo, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_NORMAL_IMAGE, m_normal, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (static_cast<GLuint>(m_height) + 7) / 8, 1);
+    glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (row1 - row0 + 7) / 8, 1);
     // The next dispatch reads what this one wrote.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -251,6 +258,10 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
     using Clock = std::chrono::steady_clock;
     struct InFlight { GLsync fence; std::uint32_t samples; Clock::time_point issued; };
     std::deque<InFlight> inFlight;
+    if (count > 0 && m_bandRow > 0) {  // first the rest of a sample that renderFor started
+        finishBand();
+        --count;
+    }
     int issued = 0;
     const int firstSample = m_samplesDone;  // m_samplesDone counts retired samples only
     auto retireOldest = [&] {
@@ -275,6 +286,69 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
         if (inFlight.size() >= 2) retireOldest();
     }
     while (!inFlight.empty()) retireOldest();
+}
+
+double Renderer::finishBand() {
+    const auto t0 = std::chrono::steady_clock::now();
+    dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, static_cast<std::uint32_t>(m_bandRow), ~0u);
+    waitFence(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
+    ++m_samplesDone;
+    m_bandRow = 0;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
+    using Clock = std::chrono::steady_clock;
+    Progress p;
+    if (maxSamples <= 0 || m_width <= 0 || m_height <= 0) return p;
+    const auto start = Clock::now();
+    const long long pixels = static_cast<long long>(m_width) * m_height;
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    auto learn = [&](long long pixelSamples, double seconds) {
+        if (pixelSamples <= 0 || !(seconds > 0.0)) return;
+        const double v = seconds / double(pixelSamples);
+        // Quick to follow a heavier scene (an edit), smooth otherwise.
+        const double a = v > m_secondsPerPixelSample ? 0.6 : 0.3;
+        m_secondsPerPixelSample = m_secondsPerPixelSample == 0.0 ? v : (1.0 - a) * m_secondsPerPixelSample + a * v;
+    };
+    // Whole samples while one of the whole image fits what is left of the budget. Unmeasured (a
+    // new scene, a first call), the first band measures.
+    while (m_bandRow == 0 && m_secondsPerPixelSample > 0.0 && p.samplesCompleted < maxSamples) {
+        const double left = budgetSeconds - elapsed();
+        const double perSample = m_secondsPerPixelSample * double(pixels);
+        if (perSample > left) break;
+        const int n = std::clamp(static_cast<int>(left / perSample), 1, maxSamples - p.samplesCompleted);
+        const auto t0 = Clock::now();
+        render(n);
+        learn(pixels * n, std::chrono::duration<double>(Clock::now() - t0).count());
+        p.samplesCompleted += n;
+        p.pixelSamples += pixels * n;
+    }
+    // Then bands of rows (whole 8-row tiles of the kernel) of the next sample; at least one band
+    // per call, so progress never stops.
+    while (p.samplesCompleted < maxSamples) {
+        const double left = budgetSeconds - elapsed();
+        if (left <= 0.0 && p.pixelSamples > 0) break;
+        int rows = 8;
+        if (m_secondsPerPixelSample > 0.0)
+            rows = std::max(8, static_cast<int>(std::max(left, 0.0) / (m_secondsPerPixelSample * double(m_width))) / 8 * 8);
+        const int row1 = std::min(m_height, m_bandRow + rows);
+        const auto t0 = Clock::now();
+        dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, static_cast<std::uint32_t>(m_bandRow), static_cast<std::uint32_t>(row1));
+        waitFence(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
+        const long long bandPixels = static_cast<long long>(row1 - m_bandRow) * m_width;
+        learn(bandPixels, std::chrono::duration<double>(Clock::now() - t0).count());
+        p.pixelSamples += bandPixels;
+        if (row1 >= m_height) {
+            m_bandRow = 0;
+            ++m_samplesDone;
+            ++p.samplesCompleted;
+        } else {
+            m_bandRow = row1;
+        }
+    }
+    p.seconds = elapsed();
+    return p;
 }
 
 std::uint64_t Renderer::droppedSamples() const {

@@ -14,8 +14,9 @@ layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
 layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
 
 void main() {
-    uvec2 pixel = gl_GlobalInvocationID.xy;
-    if (pixel.x >= frame.image.x || pixel.y >= frame.image.y) return;
+    // A dispatch may cover a band of rows only (Renderer::renderFor): [dispatch.z, dispatch.w).
+    uvec2 pixel = gl_GlobalInvocationID.xy + uvec2(0u, frame.dispatch.z);
+    if (pixel.x >= frame.image.x || pixel.y >= min(frame.image.y, frame.dispatch.w)) return;
     ivec2 ip = ivec2(pixel);
     vec4 sum = imageLoad(accumImage, ip);
     vec4 sumSq = imageLoad(accumSqImage, ip);

@@ -136,6 +136,35 @@ TEST_CASE("the same seed gives the same bytes, however the samples are split", "
     Film b = renderer->readFilm();
     REQUIRE(a.mean.size() == b.mean.size());
     CHECK(std::memcmp(a.mean.data(), b.mean.data(), a.mean.size() * sizeof(glm::vec3)) == 0);
+    // The editor's time-budgeted rendering: a zero budget renders one band of 8 rows per call, so
+    // each sample is split into 4 bands (32 rows), and render() finishes a started sample first.
+    REQUIRE(renderer->setScene(s, &error));
+    int calls = 0, bandCalls = 0;
+    while (renderer->samplesDone() < 9) {
+        const Renderer::Progress p = renderer->renderFor(0.0, 9 - renderer->samplesDone());
+        ++calls;
+        CHECK(p.pixelSamples == 8 * 32);
+        if (p.samplesCompleted == 0) {
+            ++bandCalls;
+            CHECK(renderer->bandInProgress());
+        }
+    }
+    CHECK(calls == 36);
+    CHECK(bandCalls == 27);
+    renderer->renderFor(0.0, 1);   // rows 0-7 of sample 9
+    CHECK(renderer->samplesDone() == 9);
+    {
+        // Mid-sample, the image holds one more sample in the band's rows only.
+        const Film mid = renderer->readFilm();
+        CHECK(mid.count[mid.index(5, 7)] == 10.0f);
+        CHECK(mid.count[mid.index(5, 8)] == 9.0f);
+    }
+    renderer->render(2);           // finishes sample 9, then sample 10
+    CHECK_FALSE(renderer->bandInProgress());
+    renderer->renderFor(1e3, 1);   // a large budget: a whole sample (measured by now)
+    CHECK(renderer->samplesDone() == 12);
+    Film banded = renderer->readFilm();
+    CHECK(std::memcmp(a.mean.data(), banded.mean.data(), a.mean.size() * sizeof(glm::vec3)) == 0);
     // Another seed: different pixels, the same image mean within statistical error.
     s.render.seed = 2;
     Film c = test::renderFilm(*renderer, s, 12);
