@@ -13,12 +13,6 @@ void FramePacer::record(int samples, long long pixels, double seconds) {
     m_secondsPerSamplePixel = m_secondsPerSamplePixel == 0.0 ? v : (1.0 - alpha) * m_secondsPerSamplePixel + alpha * v;
 }
 
-int FramePacer::samplesForFrame(long long pixels, double budgetSeconds) const {
-    if (!measured()) return 1;
-    const double n = budgetSeconds / secondsPerSample(pixels);
-    return static_cast<int>(std::clamp(std::floor(n), 1.0, double(kMaxSamplesPerFrame)));
-}
-
 int FramePacer::previewDivisor(long long pixels, double budgetSeconds) const {
     if (!measured()) return 1;
     for (int d = 1; d < kMaxDivisor; ++d)

@@ -1,15 +1,13 @@
-// How much to render per UI frame so the editor stays responsive (>= 30 fps): the renderer is
-// synchronous (Renderer::render(n) returns when n samples per pixel are done), so each frame gets
-// a time budget and the pacer turns the measured cost of one sample into a sample count, or,
-// when even one full-resolution sample would blow the budget while the user drags something,
-// into a resolution divisor for a quick preview.
+// The preview size while the user drags something: each frame has a time budget (>= 30 fps);
+// converging frames spend it through Renderer::renderFor (whole samples, or a band of rows of one),
+// but a drag wants the whole image updated every frame, so when one full-resolution sample would
+// not fit the budget the pacer turns the measured cost into a resolution divisor for a preview.
 #pragma once
 
 namespace caustic::editor {
 
 class FramePacer {
 public:
-    static constexpr int kMaxSamplesPerFrame = 64;
     static constexpr int kMaxDivisor = 8;
 
     // The measured cost of `samples` samples per pixel at `pixels` pixels.
@@ -17,8 +15,6 @@ public:
     bool measured() const { return m_secondsPerSamplePixel > 0.0; }
     double secondsPerSample(long long pixels) const { return m_secondsPerSamplePixel * double(pixels); }
 
-    // Samples to render this frame within budgetSeconds (at least 1: progress never stops).
-    int samplesForFrame(long long pixels, double budgetSeconds) const;
     // The smallest divisor d (1 = full resolution) for which one sample of the image shrunk by
     // d in each direction fits in budgetSeconds.
     int previewDivisor(long long pixels, double budgetSeconds) const;

@@ -31,6 +31,22 @@ const std::map<std::string, Signature>& commands() {
         {"expect_error", {1, 1, ""}},         // the last error message contains the text
         {"expect_undo_steps", {1, 1, "n"}},
         {"report", {1, 1, ""}},               // frame-time and edit-latency figures as JSON
+        {"denoise", {0, 1, "n"}},             // denoise now and wait until the viewport shows it [timeout s]
+        {"wait_denoised", {0, 1, "n"}},       // wait until a denoised image is shown (auto) [timeout s]
+        {"denoise_auto", {1, 1, ""}},         // on | off: denoise when the target samples are reached
+        {"show_raw", {1, 1, ""}},             // on | off: show the raw render instead of the denoised one
+        {"expect_denoised", {1, 1, ""}},      // yes | no: the viewport shows a denoised image
+        {"autosave", {1, 1, ""}},             // on | off: periodic autosave (needs $CAUSTIC_EDITOR_HOME)
+        {"autosave_now", {0, 0, ""}},         // write the autosave now (needs $CAUSTIC_EDITOR_HOME)
+        {"wait_autosave", {0, 1, "n"}},       // wait for the next periodic autosave [timeout s]
+        {"crash", {0, 0, ""}},                // exit at once (status 3) without any clean-up
+        {"expect_recovery_offered", {0, 0, ""}},   // the recovery prompt is open
+        {"recover", {0, 0, ""}},              // answer the recovery prompt with "Recover"
+        {"expect_modified", {1, 1, ""}},      // yes | no: the scene has unsaved changes
+        {"import_mesh", {1, 1, ""}},          // import a model file in the background (the object appears when ready)
+        {"set_mesh_file", {1, 1, ""}},        // the selected mesh object's file, imported in the background
+        {"wait_import", {0, 1, "n"}},         // wait until every import finished and its edit applied [timeout s]
+        {"frame", {0, 0, ""}},                // frame the selection (F), or everything
         {"quit", {0, 0, ""}},
     };
     return table;

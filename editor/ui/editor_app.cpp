@@ -3,6 +3,7 @@
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/script_runner.h"
+#include "editor/ui/viewport_denoise.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/shader_loader.h"
@@ -23,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -30,7 +32,7 @@ namespace caustic::editor {
 namespace {
 
 constexpr double kFrameTarget = 1.0 / 30.0;    // the UI must keep >= 30 fps
-constexpr double kAutosaveSeconds = 30.0;
+constexpr double kAutosaveSeconds = 30.0;            // $CAUSTIC_EDITOR_AUTOSAVE_SECONDS overrides it
 constexpr double kInteractionHold = 0.25;      // preview resolution lasts this long after a drag
 
 double now() { return glfwGetTime(); }
@@ -122,7 +124,8 @@ void drawModals(EditorUi& ui) {
     if (ImGui::BeginPopupModal("Recover unsaved work?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("The editor did not close cleanly last time. An autosave exists");
         if (ui.recovered) ImGui::Text("of '%s'.", ui.recovered->second.empty() ? "an untitled scene" : ui.recovered->second.c_str());
-        if (ImGui::Button("Recover")) {
+        // A script's `recover` presses the same button.
+        if (ImGui::Button("Recover") || std::exchange(ui.scriptAnswersRecover, false)) {
             if (ui.recovered) ui.state.adoptRecovered(std::move(ui.recovered->first), ui.recovered->second);
             ui.recovered.reset();
             notify(ui, "recovered the autosave; save it to keep it");
@@ -176,6 +179,7 @@ void handleShortcuts(EditorUi& ui) {
         else if (!why.empty()) notify(ui, why, true);
     }
     if (ImGui::IsKeyPressed(ImGuiKey_F5, false)) reloadShaders(ui);
+    if (ImGui::IsKeyPressed(ImGuiKey_F6, false)) denoiseNow(ui);
 }
 
 // Applies pending edits to the renderer, renders this frame's samples and tone maps them.
@@ -199,6 +203,7 @@ void renderFrame(EditorUi& ui) {
         scene.render.height = std::max(1, rs.height / divisor);
         std::string error;
         const bool ok = ui.sceneUploaded ? ui.renderer->update(scene, dirty, &error) : ui.renderer->setScene(scene, &error);
+        ++ui.accumulationGeneration;   // accumulation restarted: older denoised images are stale
         if (ok) {
             ui.sceneUploaded = true;
             ui.previewDivisor = divisor;
@@ -215,16 +220,17 @@ void renderFrame(EditorUi& ui) {
     if (ui.sampleCap) target = std::min(target, *ui.sampleCap);
     const int done = ui.renderer->samplesDone();
     ui.samplesThisFrame = 0;
+    ui.renderedThisFrame = false;
     if (done < target) {
+        // Whole samples while one fits the frame's budget, else a band of rows of the next one
+        // (Renderer::renderFor), so the frame rate holds at full resolution however slow the GPU.
         const long long pixels = static_cast<long long>(width) * height;
-        const int n = std::min(ui.pacer.samplesForFrame(pixels, budget), target - done);
-        const double r0 = now();
-        ui.renderer->render(n);
-        const double seconds = now() - r0;
-        ui.pacer.record(n, pixels, seconds);
-        ui.renderSeconds = seconds;
-        ui.samplesThisFrame = n;
-        const double rate = n / std::max(seconds, 1e-6);
+        const Renderer::Progress p = ui.renderer->renderFor(budget, target - done);
+        ui.pacer.record(1, p.pixelSamples, p.seconds);
+        ui.renderSeconds = p.seconds;
+        ui.samplesThisFrame = p.samplesCompleted;
+        ui.renderedThisFrame = p.pixelSamples > 0;
+        const double rate = double(p.pixelSamples) / double(pixels) / std::max(p.seconds, 1e-6);
         ui.samplesPerSecond = ui.samplesPerSecond == 0.0 ? rate : 0.8 * ui.samplesPerSecond + 0.2 * rate;
     } else {
         ui.renderSeconds = 0.0;
@@ -247,11 +253,12 @@ void renderFrame(EditorUi& ui) {
 
 void autosaveTick(EditorUi& ui) {
     const double t = now();
-    if (t - ui.lastAutosave < kAutosaveSeconds) return;
+    if (t - ui.lastAutosave < autosaveIntervalSeconds()) return;
     ui.lastAutosave = t;
     if (!ui.state.modified() || ui.recovered) return;
     std::string error;
     if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) notify(ui, "autosave failed: " + error, true);
+    else ++ui.autosaveWrites;
 }
 
 void applyStyle() {
@@ -323,6 +330,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         if (ui->renderer) ui->renderer->setImageReader(readImage);
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         ui->display = Display::create(ui->shaderDir, &error);
+        ui->denoiser = std::make_unique<ViewportDenoiser>();
         if (!ui->display) showError(*ui, error);
 
         if (const char* scriptFile = std::getenv("CAUSTIC_EDITOR_SCRIPT"); scriptFile && *scriptFile) {
@@ -333,7 +341,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ui->quit = true;
             }
         }
-        if (ui->autosave.exists() && !ui->script) {
+        // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
+        if (ui->autosave.exists() && (!ui->script || scriptMayUseAutosave())) {
             ui->recovered = ui->autosave.read(&error);
             if (ui->recovered) ui->recoveryPromptRequested = true;
         }
@@ -357,6 +366,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ImGui_ImplGlfw_NewFrame();
                 ImGui::NewFrame();
                 ImGuizmo::BeginFrame();
+                ui->meshImports.finish(*ui);   // meshes imported in the background: their edits apply now
                 drawMenuBar(*ui);
                 drawDockSpace(*ui);
                 drawOutlinerPanel(*ui);
@@ -380,6 +390,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             ui->uiSeconds = 0.8 * ui->uiSeconds + 0.2 * (now() - uiStart);
             try {
                 renderFrame(*ui);
+                if (ui->denoiser) ui->denoiser->tick(*ui);
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -396,14 +407,15 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             frameStart = t;
             if (ui->script) ui->script->afterSwap(*ui, ui->frameSeconds);
             updateTitle(*ui);
-            if (!ui->script) autosaveTick(*ui);
+            if (!ui->script || ui->scriptAutosave) autosaveTick(*ui);
         }
         if (ui->script && ui->script->failed()) exitCode = 1;
         // A clean exit: nothing to recover next time (unless the offer was never answered, or a
-        // script ran, which never touches the user's autosave).
-        if (!ui->recovered && !ui->script) ui->autosave.remove();
+        // script ran without `autosave on`, which never touches the autosave).
+        if (!ui->recovered && (!ui->script || ui->scriptAutosave)) ui->autosave.remove();
         std::string recentError;
         ui->recent.save(ui->recentListPath, &recentError);
+        ui->denoiser.reset();   // joins the worker; deletes its texture while GL is current
         ui->display.reset();
         ui->renderer.reset();
         ImGui_ImplOpenGL3_Shutdown();
@@ -473,8 +485,8 @@ void guardUnsaved(EditorUi& ui, std::function<void()> action) {
 }
 
 void frameSelection(EditorUi& ui) {
-    auto b = entityBounds(ui.state.scene, ui.state.selection);
-    if (!b) b = sceneBounds(ui.state.scene);
+    auto b = entityBounds(ui.state.scene, ui.state.selection, meshBoundsLookup(ui));
+    if (!b) b = sceneBounds(ui.state.scene, meshBoundsLookup(ui));
     if (!b) return;
     const RenderSettings& rs = ui.state.scene.render;
     ui.state.apply(makeSetCamera(ui.state, frameBounds(ui.state.scene.camera, b->first, b->second,
@@ -489,6 +501,7 @@ void reloadShaders(EditorUi& ui) {
         return;
     }
     fresh->setImageReader(readImage);
+    if (ui.renderer) fresh->meshCache() = std::move(ui.renderer->meshCache());   // no re-import of meshes
     ui.renderer = std::move(fresh);
     ui.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
     notify(ui, "shaders reloaded");
@@ -513,6 +526,48 @@ bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error) {
         {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
     };
     return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
+}
+
+bool writeViewportImage(EditorUi& ui, const std::string& file, std::string* error) {
+    if (!ui.denoiser || !ui.denoiser->shown(ui)) return writeFilmImage(ui, file, error);
+    const Film film = ui.denoiser->shownFilm();
+    ImageMetadata meta = {
+        {"Software", "caustic editor"},
+        {"caustic:scene", ui.state.path},
+        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
+        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
+        {"caustic:denoiser", "Open Image Denoise " + denoiserVersion()},
+    };
+    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
+}
+
+void denoiseNow(EditorUi& ui) {
+    if (!ui.denoiser) return;
+    std::string why;
+    if (ui.denoiser->request(ui, true, &why)) {
+        ui.denoiser->settings.showDenoised = true;
+        notify(ui, "denoising " + std::to_string(ui.renderer->samplesDone()) + " spp");
+    } else {
+        notify(ui, "cannot denoise: " + why, true);
+    }
+}
+
+double autosaveIntervalSeconds() {
+    static const double seconds = [] {
+        if (const char* v = std::getenv("CAUSTIC_EDITOR_AUTOSAVE_SECONDS"); v && *v) {
+            char* end = nullptr;
+            const double s = std::strtod(v, &end);
+            if (end && *end == '\0' && s > 0.0) return s;
+            std::fprintf(stderr, "caustic: ignoring CAUSTIC_EDITOR_AUTOSAVE_SECONDS='%s' (not a positive number)\n", v);
+        }
+        return kAutosaveSeconds;
+    }();
+    return seconds;
+}
+
+bool scriptMayUseAutosave() {
+    const char* home = std::getenv("CAUSTIC_EDITOR_HOME");
+    return home && *home;
 }
 
 }  // namespace caustic::editor

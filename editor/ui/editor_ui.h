@@ -6,6 +6,7 @@
 #include "editor/model/editor_state.h"
 #include "editor/model/frame_pacer.h"
 #include "editor/ui/display.h"
+#include "editor/ui/mesh_import.h"
 #include "renderer/renderer.h"
 
 #include <functional>
@@ -19,11 +20,12 @@ struct GLFWwindow;
 namespace caustic::editor {
 
 class ScriptRunner;
+class ViewportDenoiser;
 
 enum class GizmoOp { Translate, Rotate, Scale };
 
 struct FileBrowserState {
-    enum class Mode { Open, SaveAs, RenderTo, ImportMesh };
+    enum class Mode { Open, SaveAs, RenderTo, ImportMesh, MeshFile };   // MeshFile: the selected mesh object's file
     bool open = false;
     bool justOpened = false;
     Mode mode = Mode::Open;
@@ -42,6 +44,8 @@ struct EditorUi {
     std::string recentListPath;
     Autosave autosave;
     double lastAutosave = 0.0;
+    std::uint64_t autosaveWrites = 0;   // autosaves written this session (scripts wait on it)
+    bool scriptAutosave = false;        // a script turned autosave on (`autosave on`)
 
     // Viewport interaction.
     GizmoOp gizmoOp = GizmoOp::Translate;
@@ -64,7 +68,12 @@ struct EditorUi {
     std::uint64_t droppedSamples = 0;
     double lastCounterRead = 0.0;
     double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
-    int samplesThisFrame = 0;
+    int samplesThisFrame = 0;         // whole samples finished this frame
+    bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
+    // Bumped whenever accumulation restarts (every scene upload or update): a denoised image
+    // is shown only for the generation it was read from.
+    std::uint64_t accumulationGeneration = 0;
+    std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
 
     // Lookdev.
     bool compare = false;
@@ -79,12 +88,16 @@ struct EditorUi {
     bool unsavedPromptRequested = false;
     bool recoveryPromptRequested = false;
     std::optional<std::pair<Scene, std::string>> recovered;
+    bool scriptAnswersRecover = false;   // the script's `recover`: pressed like the button
     std::string errorPopup;           // shown in a modal (bad scene, failed save ...)
     bool errorPopupRequested = false;
     bool quit = false;
     bool resetLayout = false;
 
     std::unique_ptr<ScriptRunner> script;
+
+    // Mesh imports in the background (mesh_import.h): the edit applies when the mesh is ready.
+    MeshImports meshImports;
 };
 
 // Panels (each begins with `if (!ImGui::Begin(...)) { ImGui::End(); return; }`).
@@ -108,5 +121,13 @@ void frameSelection(EditorUi& ui);
 void reloadShaders(EditorUi& ui);
 void startRenderToFile(EditorUi& ui, const std::string& file);
 bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error);   // tone mapped as in batch
+// What the viewport shows: the denoised image while it is shown, else the film (writeFilmImage).
+bool writeViewportImage(EditorUi& ui, const std::string& file, std::string* error);
+// "Denoise now" (menu, inspector, F6): denoises the current image and holds accumulation there.
+void denoiseNow(EditorUi& ui);
+// The autosave interval: $CAUSTIC_EDITOR_AUTOSAVE_SECONDS (> 0), else 30 s.
+double autosaveIntervalSeconds();
+// Scripts may touch the autosave only when $CAUSTIC_EDITOR_HOME names the config folder.
+bool scriptMayUseAutosave();
 
 }  // namespace caustic::editor

@@ -1,5 +1,6 @@
 // The in-app file browser (a modal): folders and .json scenes (or .png images when choosing a
-// render's output), a path field, Up, and OK/Cancel. Used for Open, Save As and Render to file.
+// render's output, or model files), a path field, Up, and OK/Cancel. Used for Open, Save As,
+// Render to file, Import mesh and a mesh object's file.
 #include "editor/ui/editor_ui.h"
 #include "renderer/mesh_import.h"
 
@@ -31,6 +32,7 @@ void drawFileBrowser(EditorUi& ui) {
     const char* title = b.mode == FileBrowserState::Mode::Open ? "Open scene###files"
                         : b.mode == FileBrowserState::Mode::SaveAs ? "Save scene as###files"
                         : b.mode == FileBrowserState::Mode::RenderTo ? "Render to file###files"
+                        : b.mode == FileBrowserState::Mode::MeshFile ? "Mesh file###files"
                                                                      : "Import mesh###files";
     if (b.justOpened) {
         ImGui::OpenPopup("###files");
@@ -38,7 +40,7 @@ void drawFileBrowser(EditorUi& ui) {
     }
     ImGui::SetNextWindowSize(ImVec2(640.0f, 440.0f), ImGuiCond_Appearing);
     if (!ImGui::BeginPopupModal(title, &b.open)) return;
-    const std::string wanted = b.mode == FileBrowserState::Mode::RenderTo ? ".png" : b.mode == FileBrowserState::Mode::ImportMesh ? "mesh" : ".json";
+    const std::string wanted = b.mode == FileBrowserState::Mode::RenderTo ? ".png" : (b.mode == FileBrowserState::Mode::ImportMesh || b.mode == FileBrowserState::Mode::MeshFile) ? "mesh" : ".json";
     auto listed = [&](const fs::path& p) { return wanted == "mesh" ? isMeshFileExtensionSupported(p.string()) : p.extension() == wanted; };
 
     char dir[1024];
@@ -86,7 +88,7 @@ void drawFileBrowser(EditorUi& ui) {
     if (ImGui::InputText("##name", nameBuf, sizeof nameBuf, ImGuiInputTextFlags_EnterReturnsTrue)) accept = true;
     b.fileName = nameBuf;
     ImGui::SameLine();
-    const char* okLabel = b.mode == FileBrowserState::Mode::Open ? "Open" : b.mode == FileBrowserState::Mode::SaveAs ? "Save" : b.mode == FileBrowserState::Mode::RenderTo ? "Render" : "Import";
+    const char* okLabel = b.mode == FileBrowserState::Mode::Open ? "Open" : b.mode == FileBrowserState::Mode::SaveAs ? "Save" : b.mode == FileBrowserState::Mode::RenderTo ? "Render" : b.mode == FileBrowserState::Mode::MeshFile ? "Use" : "Import";
     if (ImGui::Button(okLabel)) accept = true;
     ImGui::SameLine();
     if (ImGui::Button("Cancel")) {
@@ -110,18 +112,12 @@ void drawFileBrowser(EditorUi& ui) {
                 }
                 break;
             case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;
-            case FileBrowserState::Mode::ImportMesh: {
-                // Checked before it enters the scene: a broken file shows its error, nothing changes.
-                // (Synchronous: a worker thread for big files is future work, see docs/editor.md.)
-                MeshImportResult imported = importMeshFile(path);
-                if (!imported.ok()) {
-                    showError(ui, "could not import the mesh; the scene is unchanged.\n" + imported.error);
-                    ok = false;
-                } else {
-                    ui.state.apply(makeImportMesh(ui.state, path));
-                }
+            // Imported in the background; the edit applies when the mesh is ready, and a broken
+            // file shows its error then, changing nothing (mesh_import.h).
+            case FileBrowserState::Mode::ImportMesh: ui.meshImports.importFile(ui, path); break;
+            case FileBrowserState::Mode::MeshFile:
+                ui.meshImports.setObjectFile(ui, ui.state.selection.kind == EntityKind::Object ? ui.state.selection.index : -1, path);
                 break;
-            }
         }
         if (ok) b.open = false;
     }

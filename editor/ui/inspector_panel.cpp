@@ -4,6 +4,8 @@
 // the combo tables and the per-type sections below.
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/viewport_denoise.h"
+#include "renderer/denoise.h"
 
 #include <imgui.h>
 
@@ -92,7 +94,14 @@ void objectInspector(EditorUi& ui, int index) {
     int shape = static_cast<int>(o.shape);
     e.track(combo("Shape", &shape, shapes), true);
     o.shape = static_cast<Shape>(shape);
-    if (o.shape == Shape::Mesh) ImGui::TextDisabled("File: %s", o.file.empty() ? "(none)" : o.file.c_str());
+    if (o.shape == Shape::Mesh) {
+        ImGui::TextDisabled("File: %s", o.file.empty() ? "(none)" : o.file.c_str());
+        // Another file: imported in the background, applied when ready (mesh_import.h).
+        if (s.scene.objects[static_cast<size_t>(index)].shape == Shape::Mesh) {
+            ImGui::SameLine();
+            if (ImGui::SmallButton("Replace...")) openFileBrowser(ui, FileBrowserState::Mode::MeshFile);
+        }
+    }
     if (ImGui::BeginCombo("Material", o.material.c_str())) {
         for (const Material& m : s.scene.materials) {
             if (ImGui::Selectable(m.name.c_str(), m.name == o.material)) {
@@ -283,11 +292,28 @@ void renderInspector(EditorUi& ui) {
     int tone = static_cast<int>(s.view.toneMap);
     if (combo("Tone mapping", &tone, tones)) s.view.toneMap = static_cast<ToneMap>(tone);
     ImGui::DragFloat("Exposure", &s.view.exposure, 0.02f, -20.0f, 20.0f, "%.2f EV");
-    bool denoise = false;
-    ImGui::BeginDisabled();
-    ImGui::Checkbox("Denoise (OIDN)", &denoise);
-    ImGui::EndDisabled();
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Open Image Denoise is not in this build yet");
+    if (ui.denoiser) {
+        // Denoising (view state like the tone curve): viewport_denoise.h.
+        DenoiseSettings& d = ui.denoiser->settings;
+        const bool available = denoiserAvailable();
+        ImGui::BeginDisabled(!available);
+        ImGui::Checkbox("Denoise (OIDN) at target", &d.autoDenoise);
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip(available ? "Denoise with Open Image Denoise when the render reaches its target samples"
+                                        : "Open Image Denoise is not in this build");
+        if (ImGui::Button("Denoise now (F6)")) denoiseNow(ui);
+        ImGui::SameLine();
+        bool raw = !d.showDenoised;
+        if (ImGui::Checkbox("Show raw", &raw)) d.showDenoised = !raw;
+        if (ui.denoiser->holding()) {
+            ImGui::SameLine();
+            if (ImGui::Button("Resume")) ui.denoiser->resume(ui);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Denoise now paused the render at its sample count; continue it");
+        }
+        ImGui::Checkbox("Prefilter guides", &d.prefilterGuides);
+        ImGui::EndDisabled();
+        if (const std::string st = ui.denoiser->status(ui); !st.empty()) ImGui::TextDisabled("%s", st.c_str());
+    }
     ImGui::Separator();
     if (ImGui::Button("Restart render")) s.markDirty(kDirtySettings);
     ImGui::SameLine();

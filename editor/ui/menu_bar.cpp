@@ -1,7 +1,9 @@
 // The main menu: File (new, open, recent, save, save as, render to file, quit), Edit (undo,
-// redo, duplicate, delete), View (fit, snapshot, compare, layout), Render (restart, reload
+// redo, duplicate, delete), View (fit, snapshot, compare, denoise, layout), Render (restart, reload
 // shaders).
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/viewport_denoise.h"
+#include "renderer/denoise.h"
 
 #include <imgui.h>
 
@@ -58,6 +60,12 @@ void drawMenuBar(EditorUi& ui) {
             ui.compare = true;
         }
         ImGui::MenuItem("Compare with snapshot", nullptr, &ui.compare, ui.display && ui.display->hasSnapshot());
+        if (ui.denoiser) {
+            ImGui::Separator();
+            if (ImGui::MenuItem("Denoise now", "F6", false, denoiserAvailable())) denoiseNow(ui);
+            ImGui::MenuItem("Denoise at target samples", nullptr, &ui.denoiser->settings.autoDenoise, denoiserAvailable());
+            ImGui::MenuItem("Show denoised", nullptr, &ui.denoiser->settings.showDenoised);
+        }
         ImGui::Separator();
         if (ImGui::MenuItem("Reset layout")) ui.resetLayout = true;
         ImGui::EndMenu();

@@ -120,6 +120,8 @@ void drawOutlinerPanel(EditorUi& ui) {
         else notify(ui, why, true);
     }
     ImGui::EndDisabled();
+    // A mesh being imported in the background appears in the list once it is ready.
+    if (const std::string importing = ui.meshImports.status(); !importing.empty()) ImGui::TextDisabled("%s", importing.c_str());
     ImGui::Separator();
     entityRow(ui, {EntityKind::Camera, -1}, "[C]");
     entityRow(ui, {EntityKind::Render, -1}, "[R]");

@@ -2,15 +2,18 @@
 
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
 
 #include <glad/gl.h>
+#include <imgui.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -189,8 +192,8 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         return true;
     }
     if (op == "write_image") {
-        std::string error;
-        if (!writeFilmImage(ui, resolve(a[0]), &error)) fail(ui, line, error);
+        std::string error;   // what the viewport shows: the denoised image while it is shown
+        if (!writeViewportImage(ui, resolve(a[0]), &error)) fail(ui, line, error);
         return true;
     }
     if (op == "screenshot") {
@@ -247,17 +250,184 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"samples_per_frame_mean\": " << sppMean
           << ",\n  \"edit_to_frame_ms\": " << list(m_editLatencyMs)
           << ",\n  \"edit_to_frame_ms_median\": " << percentile(m_editLatencyMs, 0.5)
+          << ",\n  \"frames_during_import\": " << m_importFrameMs.size()
+          << ",\n  \"rendering_frames_during_import\": " << m_importRenderingFrames
+          << ",\n  \"frame_ms_median_during_import\": " << percentile(m_importFrameMs, 0.5)
+          << ",\n  \"frame_ms_max_during_import\": " << percentile(m_importFrameMs, 1.0)
+          << ",\n  \"import_seconds\": " << list(ui.meshImports.importSeconds())
           << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
         std::string error;
         if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
+        return true;
+    }
+    if (op == "import_mesh") {   // starts a background import; the object appears when it is ready
+        ui.meshImports.importFile(ui, resolve(a[0]));
+        return true;
+    }
+    if (op == "set_mesh_file") {   // the selected mesh object's file, through the same background import
+        const bool mesh = s.selection.kind == EntityKind::Object && s.selection.index >= 0 &&
+                          static_cast<size_t>(s.selection.index) < s.scene.objects.size() &&
+                          s.scene.objects[static_cast<size_t>(s.selection.index)].shape == Shape::Mesh;
+        if (!mesh) { fail(ui, line, "select a mesh object first"); return true; }
+        ui.meshImports.setObjectFile(ui, s.selection.index, resolve(a[0]));
+        return true;
+    }
+    if (op == "wait_import") {   // until every import has finished and its edit applied [timeout s]
+        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
+        if (!ui.meshImports.pending()) {
+            m_waitImportSince = -1.0;
+            markEdit();
+            return true;
+        }
+        if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
+        if (glfwGetTime() - m_waitImportSince > timeout) {
+            m_waitImportSince = -1.0;
+            fail(ui, line, "still importing after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
+            return true;
+        }
+        return false;
+    }
+    if (op == "frame") {   // F: frame the selection (or everything)
+        frameSelection(ui);
+        markEdit();
         return true;
     }
     if (op == "quit") {
         ui.quit = true;
         return true;
     }
+    bool finished = true;
+    if (runDenoiseOrAutosave(ui, line, &finished)) return finished;
     fail(ui, line, "not implemented");
     return true;
+}
+
+// The denoising and autosave/recovery commands. Returns false when `line` is not one of them;
+// else *finished is false while the command waits (it is called again next frame).
+bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bool* finished) {
+    const auto& a = line.args;
+    const std::string& op = line.op;
+    EditorState& s = ui.state;
+    const bool first = m_lineStarted != m_next;
+    if (first) {
+        m_lineStarted = m_next;
+        m_lineStartTime = glfwGetTime();
+        m_pressed = false;
+    }
+    const double waited = glfwGetTime() - m_lineStartTime;
+    auto onOff = [&](bool* out) {
+        if (a[0] != "on" && a[0] != "off" && a[0] != "yes" && a[0] != "no") {
+            fail(ui, line, "expected on or off, got '" + a[0] + "'");
+            return false;
+        }
+        *out = a[0] == "on" || a[0] == "yes";
+        return true;
+    };
+    ViewportDenoiser* dn = ui.denoiser.get();
+    if (op == "denoise" || op == "wait_denoised") {
+        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
+        if (!dn) { fail(ui, line, "no denoiser"); return true; }
+        if (first) m_countAtStart = dn->failures();
+        if (dn->shown(ui)) return true;
+        if (dn->failures() != m_countAtStart) { fail(ui, line, "the denoiser failed: " + dn->lastError()); return true; }
+        if (waited > timeout) {
+            fail(ui, line, "no denoised image after " + std::to_string(int(timeout)) + " s (" + dn->status(ui) + ")");
+            return true;
+        }
+        const bool settled = ui.renderer && ui.sceneUploaded && ui.previewDivisor == 1 && s.pendingDirty() == kDirtyNone && !ui.interacting;
+        // denoise: one request for the settled image (again if an edit made the first one stale).
+        if (op == "denoise" && settled && !dn->busy() && !dn->current(ui)) {
+            const std::pair<std::uint64_t, int> key(ui.accumulationGeneration, ui.renderer->samplesDone());
+            if (!m_pressed || m_denoiseKey != key) {
+                std::string why;
+                if (!dn->request(ui, false, &why)) { fail(ui, line, why); return true; }
+                dn->settings.showDenoised = true;
+                m_pressed = true;
+                m_denoiseKey = key;
+            }
+        }
+        *finished = false;
+        return true;
+    }
+    if (op == "denoise_auto" || op == "show_raw") {
+        bool on = false;
+        if (!onOff(&on)) return true;
+        if (!dn) { fail(ui, line, "no denoiser"); return true; }
+        if (op == "denoise_auto") dn->settings.autoDenoise = on;
+        else dn->settings.showDenoised = !on;
+        return true;
+    }
+    if (op == "expect_denoised") {
+        bool yes = false;
+        if (!onOff(&yes)) return true;
+        const bool shown = dn && dn->shown(ui);
+        if (shown != yes) fail(ui, line, std::string("the viewport ") + (shown ? "shows" : "does not show") + " a denoised image");
+        return true;
+    }
+    if (op == "autosave" || op == "autosave_now" || op == "wait_autosave") {
+        // Scripts never touch the user's autosave: only with $CAUSTIC_EDITOR_HOME (a test's folder).
+        if (!scriptMayUseAutosave()) {
+            fail(ui, line, "scripts use the autosave only when $CAUSTIC_EDITOR_HOME names the config folder");
+            return true;
+        }
+        if (op == "autosave") {
+            bool on = false;
+            if (!onOff(&on)) return true;
+            ui.scriptAutosave = on;
+            ui.lastAutosave = glfwGetTime();   // the interval counts from here
+            return true;
+        }
+        if (op == "autosave_now") {
+            if (!s.modified()) { fail(ui, line, "nothing to autosave: no unsaved changes"); return true; }
+            std::string error;
+            if (!ui.autosave.write(s.scene, s.path, &error)) { fail(ui, line, error); return true; }
+            ++ui.autosaveWrites;
+            return true;
+        }
+        // wait_autosave: the periodic autosave has written since this line started.
+        const double timeout = a.empty() ? 60.0 : double(num(a[0]));
+        if (!ui.scriptAutosave) { fail(ui, line, "autosave is off (autosave on)"); return true; }
+        if (first) m_countAtStart = ui.autosaveWrites;
+        if (ui.autosaveWrites > m_countAtStart) return true;
+        if (waited > timeout) { fail(ui, line, "no autosave within " + std::to_string(int(timeout)) + " s"); return true; }
+        *finished = false;
+        return true;
+    }
+    if (op == "crash") {
+        // A simulated crash: no destructors, no clean exit, so the autosave stays behind.
+        std::fprintf(stderr, "caustic: script %s:%d: crash: exiting without clean-up\n", m_file.c_str(), line.line);
+        std::_Exit(3);
+    }
+    if (op == "expect_recovery_offered") {
+        if (ui.recoveryPromptRequested) {   // the prompt opens during this frame's drawing
+            *finished = false;
+            return true;
+        }
+        if (!ui.recovered || !ImGui::IsPopupOpen("Recover unsaved work?"))
+            fail(ui, line, "no recovery was offered");
+        return true;
+    }
+    if (op == "recover") {
+        if (!m_pressed) {
+            if (!ui.recovered) { fail(ui, line, "no recovery was offered"); return true; }
+            ui.scriptAnswersRecover = true;   // the prompt's "Recover" button takes it next frame
+            m_pressed = true;
+            *finished = false;
+            return true;
+        }
+        if (ui.recovered) {
+            if (waited > 10.0) fail(ui, line, "the recovery prompt did not take the answer");
+            else *finished = false;
+        }
+        return true;
+    }
+    if (op == "expect_modified") {
+        bool yes = false;
+        if (!onOff(&yes)) return true;
+        if (s.modified() != yes) fail(ui, line, std::string("the scene is ") + (s.modified() ? "modified" : "not modified"));
+        return true;
+    }
+    return false;
 }
 
 void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
@@ -282,7 +452,11 @@ void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
 
 void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     m_allFrameMs.push_back(frameSeconds * 1e3);
-    if (ui.samplesThisFrame > 0) {
+    if (ui.meshImports.pending()) {
+        m_importFrameMs.push_back(frameSeconds * 1e3);
+        if (ui.renderedThisFrame) ++m_importRenderingFrames;
+    }
+    if (ui.renderedThisFrame) {
         m_frameMs.push_back(frameSeconds * 1e3);
         m_samplesPerFrame.push_back(ui.samplesThisFrame);
         if (m_editPending && ui.state.pendingDirty() == kDirtyNone) {

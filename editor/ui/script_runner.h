@@ -5,7 +5,9 @@
 
 #include "editor/model/script.h"
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace caustic::editor {
@@ -22,6 +24,7 @@ public:
 
 private:
     bool run(EditorUi& ui, const ScriptLine& line);   // false: wait, call again next frame
+    bool runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bool* finished);
     void fail(EditorUi& ui, const ScriptLine& line, const std::string& why);
     std::string resolve(const std::string& path) const;   // relative to the script's folder
 
@@ -34,6 +37,13 @@ private:
     bool m_renderStarted = false;
     float m_drag[3] = {0, 0, 0};
     std::string m_screenshotPending;
+    // Waiting commands (denoise, wait_denoised, wait_autosave, recover): when the current line
+    // started, and what it has done so far.
+    size_t m_lineStarted = static_cast<size_t>(-1);
+    double m_lineStartTime = 0.0;
+    std::uint64_t m_countAtStart = 0;
+    bool m_pressed = false;
+    std::pair<std::uint64_t, int> m_denoiseKey{0, 0};
 
     // Measurements.
     std::vector<double> m_frameMs;            // frames that rendered samples
@@ -42,6 +52,10 @@ private:
     std::vector<int> m_samplesPerFrame;
     double m_editTime = -1.0;
     bool m_editPending = false;
+    // Mesh imports (import_mesh, wait_import): frames while an import was pending.
+    std::vector<double> m_importFrameMs;      // every frame swapped while importing
+    int m_importRenderingFrames = 0;          // of those, frames that rendered samples
+    double m_waitImportSince = -1.0;          // wait_import: when it started waiting
 };
 
 }  // namespace caustic::editor

@@ -1,7 +1,8 @@
 // The status bar along the bottom: samples so far / target, samples per second, resolution
-// (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the latest
-// message.
+// (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the denoiser's
+// state, the latest message.
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/viewport_denoise.h"
 
 #include <imgui.h>
 
@@ -38,9 +39,17 @@ void drawStatusBar(EditorUi& ui) {
         else ImGui::TextDisabled("0 NaN");
         ImGui::SameLine(0.0f, 16.0f);
         ImGui::TextDisabled("%.1f ms/frame", ui.frameSeconds * 1e3);
+        if (const std::string dn = ui.denoiser ? ui.denoiser->status(ui) : std::string(); !dn.empty()) {
+            ImGui::SameLine(0.0f, 16.0f);
+            ImGui::TextColored(ImVec4(0.6f, 0.9f, 0.6f, 1.0f), "%s", dn.c_str());
+        }
         if (ui.renderToFile) {
             ImGui::SameLine(0.0f, 16.0f);
             ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "rendering to %s", ui.renderToFile->c_str());
+        }
+        if (const std::string importing = ui.meshImports.status(); !importing.empty()) {
+            ImGui::SameLine(0.0f, 16.0f);
+            ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "%s", importing.c_str());
         }
     }
     if (!ui.lastMessage.empty()) {

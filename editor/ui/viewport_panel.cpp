@@ -140,7 +140,7 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
         ui.navigating = true;
     } else if (flying) {
         // Fly speed: a tenth of the scene's size per second, faster with Shift.
-        auto b = sceneBounds(s.scene);
+        auto b = sceneBounds(s.scene, meshBoundsLookup(ui));
         const float size = b ? std::max(glm::length(b->second - b->first), 0.1f) : 1.0f;
         const float speed = size * 0.25f * io.DeltaTime * (io.KeyShift ? 4.0f : 1.0f);
         glm::vec3 move(0.0f);

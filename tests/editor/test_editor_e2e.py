@@ -3,6 +3,9 @@ Cornell box. Checks that frames render, that an object moved by a command appear
 image, that undo restores the first image exactly, that a gizmo-style drag is one undo step, that a
 broken scene is refused with its JSON path while the current scene stays, that the saved scene
 renders in batch mode to the same image, and that a screenshot of the whole window is written.
+EditorDenoise: viewport denoising (Open Image Denoise on a worker thread) makes flat walls smooth
+in the written image and in the window, keeps the brightness, and is never shown after an edit.
+EditorCrashRecovery: autosave, a simulated crash, and recovery in a second session.
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
@@ -149,6 +152,231 @@ class EditorEndToEnd(unittest.TestCase):
             report = json.load(f)
         self.assertGreater(report["rendering_frames"], 0)
         self.assertGreater(len(report["edit_to_frame_ms"]), 0)
+
+
+def run_editor(tmp, script_name, scene, extra_env=None, timeout=300):
+    """One scripted editor session under xvfb-run; config (recent files, autosave) in tmp/home."""
+    env = dict(os.environ)
+    env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(tmp, script_name),
+               CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"),
+               CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
+    env.update(extra_env or {})
+    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, scene],
+                          capture_output=True, text=True, env=env, timeout=timeout)
+
+
+def neighbour_noise(rows, x0, y0, x1, y1):
+    """Mean absolute difference between horizontal and vertical neighbours (8-bit, per channel)
+    over the box [x0, x1) x [y0, y1): high for a noisy flat region, low for a smooth one."""
+    total, n = 0, 0
+    for y in range(y0, y1):
+        for x in range(x0, x1):
+            p, r, d = rows[y][x], rows[y][x + 1], rows[y + 1][x]
+            total += sum(abs(a - b) for a, b in zip(p, r)) + sum(abs(a - b) for a, b in zip(p, d))
+            n += 6
+    return total / float(n)
+
+
+def mean_srgb_linear(rows):
+    """The image's mean linear value (sRGB decoded), over all pixels and channels."""
+    lut = [((v / 255.0) / 12.92) if v <= 10 else (((v / 255.0) + 0.055) / 1.055) ** 2.4 for v in range(256)]
+    total, n = 0.0, 0
+    for row in rows:
+        for px in row:
+            total += lut[px[0]] + lut[px[1]] + lut[px[2]]
+            n += 3
+    return total / n
+
+
+# Flat regions of the Cornell box at 256 x 256: the back wall above the boxes, and the left
+# (red) wall's lower part, away from the edges.
+BACK_WALL = (96, 40, 160, 80)
+RED_WALL = (14, 140, 34, 200)
+WINDOW_BACK_WALL = (560, 170, 700, 255)
+
+DENOISE_SCRIPT = """
+wait_samples 4
+expect_denoised no
+write_image raw.png
+# Denoise now: the worker runs OIDN; the viewport shows the result once it is back.
+denoise 180
+expect_denoised yes
+write_image denoised.png
+screenshot window_denoised.png
+# Show raw: the live render again (the same bytes as before).
+show_raw on
+expect_denoised no
+write_image raw_again.png
+screenshot window_raw.png
+show_raw off
+expect_denoised yes
+# More samples: the denoised image is out of date and the live render is shown.
+wait_samples 16
+expect_denoised no
+write_image raw16.png
+# Automatic: denoise when the target (here the script's sample cap) is reached.
+denoise_auto on
+wait_denoised 180
+write_image denoised16.png
+denoise_auto off
+# An edit restarts accumulation: the denoised image is never shown for the new one.
+select object "small box"
+translate -0.3 0 0
+wait_samples 4
+frames 3
+expect_denoised no
+write_image moved_raw.png
+screenshot window.png
+quit
+"""
+
+
+class EditorDenoise(unittest.TestCase):
+    """Viewport denoising (Open Image Denoise on a worker thread) in the real editor."""
+
+    @classmethod
+    def setUpClass(cls):
+        if not BIN or not os.path.exists(BIN):
+            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")
+        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-denoise-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(DENOISE_SCRIPT)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    @classmethod
+    def tearDownClass(cls):
+        if os.environ.get("CAUSTIC_KEEP_E2E"):
+            print("kept", cls.tmp, file=sys.stderr)
+        else:
+            shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def image(self, name):
+        return read_png(os.path.join(self.tmp, name))[1]
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_denoised_is_smoother_and_as_bright(self):
+        raw, den = self.image("raw.png"), self.image("denoised.png")
+        for region in (BACK_WALL, RED_WALL):
+            n_raw, n_den = neighbour_noise(raw, *region), neighbour_noise(den, *region)
+            # 4 spp on a flat wall: the raw neighbours differ a lot, the denoised ones hardly.
+            self.assertGreater(n_raw, 4.0, "the raw 4-spp render is not noisy? region %s" % (region,))
+            self.assertLess(n_den * 4.0, n_raw, "not denoised: region %s noise %.2f -> %.2f" % (region, n_raw, n_den))
+        # The brightness stays: against the raw image and against a 64-spp render.
+        m_raw, m_den, m_16 = mean_srgb_linear(raw), mean_srgb_linear(den), mean_srgb_linear(self.image("raw16.png"))
+        self.assertLess(abs(m_den / m_raw - 1.0), 0.05, "mean %.4f -> %.4f" % (m_raw, m_den))
+        self.assertLess(abs(m_den / m_16 - 1.0), 0.05, "mean %.4f vs 16 spp %.4f" % (m_den, m_16))
+
+    def test_3_the_viewport_shows_the_denoised_image(self):
+        # The window itself (not only write_image): the back wall in the viewport, where the
+        # default layout puts the fitted 256 x 256 image in a 1280 x 720 window.
+        den, raw = self.image("window_denoised.png"), self.image("window_raw.png")
+        n_den, n_raw = neighbour_noise(den, *WINDOW_BACK_WALL), neighbour_noise(raw, *WINDOW_BACK_WALL)
+        self.assertGreater(n_raw, 2.0, "the viewport's raw image is not noisy: is the region on the image?")
+        self.assertLess(n_den * 4.0, n_raw, "the viewport does not show the denoised image: %.2f vs raw %.2f" % (n_den, n_raw))
+
+    def test_4_show_raw_shows_the_live_render(self):
+        self.assertEqual(self.image("raw.png"), self.image("raw_again.png"))
+
+    def test_5_automatic_denoise_at_target(self):
+        raw16, den16 = self.image("raw16.png"), self.image("denoised16.png")
+        self.assertLess(neighbour_noise(den16, *BACK_WALL) * 3.0, neighbour_noise(raw16, *BACK_WALL))
+
+    def test_6_an_edit_shows_the_raw_render_again(self):
+        moved = self.image("moved_raw.png")
+        # Noisy again (4 spp, not denoised) and different from the unmoved render.
+        self.assertGreater(neighbour_noise(moved, *BACK_WALL), 4.0)
+        self.assertNotEqual(moved, self.image("raw.png"))
+
+
+SESSION_1 = """
+# Opened on the Cornell box: move the small box, let the periodic autosave write it, crash.
+select object "small box"
+translate -0.3 0 0
+wait_samples 4
+write_image moved.png
+expect_modified yes
+autosave on
+wait_autosave 60
+crash
+write_image never.png
+"""
+
+SESSION_2 = """
+# Started on the original file: the autosave is offered, recovered, rendered.
+expect_recovery_offered
+recover
+expect_modified yes
+wait_samples 4
+write_image recovered.png
+quit
+"""
+
+ORIGINAL = """
+wait_samples 4
+write_image original.png
+quit
+"""
+
+
+class EditorCrashRecovery(unittest.TestCase):
+    """Autosave and crash recovery through the real window: session 1 edits, autosaves (the
+    periodic timer, shortened with CAUSTIC_EDITOR_AUTOSAVE_SECONDS) and crashes; session 2 on
+    the same config folder is offered the autosave, recovers it, and renders the edited scene."""
+
+    @classmethod
+    def setUpClass(cls):
+        if not BIN or not os.path.exists(BIN):
+            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")
+        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-recovery-")
+        cls.scene = os.path.join(cls.tmp, "scene.json")
+        shutil.copy(CORNELL, cls.scene)
+        with open(cls.scene) as f:
+            cls.scene_text = f.read()
+        for name, text in (("session1.txt", SESSION_1), ("session2.txt", SESSION_2), ("original.txt", ORIGINAL)):
+            with open(os.path.join(cls.tmp, name), "w") as f:
+                f.write(text)
+        fast = {"CAUSTIC_EDITOR_AUTOSAVE_SECONDS": "0.5"}
+        cls.session1 = run_editor(cls.tmp, "session1.txt", cls.scene, fast)
+        autosave = os.path.join(cls.tmp, "home", "autosave.json")
+        cls.autosave_after_crash = os.path.exists(autosave)
+        cls.session2 = run_editor(cls.tmp, "session2.txt", cls.scene, fast)
+        # The original file, in a separate config folder (no autosave there).
+        cls.original = run_editor(cls.tmp, "original.txt", cls.scene, {"CAUSTIC_EDITOR_HOME": os.path.join(cls.tmp, "home-2")})
+
+    @classmethod
+    def tearDownClass(cls):
+        if os.environ.get("CAUSTIC_KEEP_E2E"):
+            print("kept", cls.tmp, file=sys.stderr)
+        else:
+            shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def image(self, name):
+        return read_png(os.path.join(self.tmp, name))[1]
+
+    def test_1_session_1_crashes_and_leaves_the_autosave(self):
+        self.assertEqual(self.session1.returncode, 3, self.session1.stderr)
+        self.assertIn("crash", self.session1.stderr)
+        self.assertTrue(self.autosave_after_crash, "no autosave.json after the crash")
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "never.png")), "the script went on after crash")
+        with open(os.path.join(self.tmp, "home", "autosave.owner")) as f:
+            self.assertEqual(f.read().strip(), self.scene)
+        with open(self.scene) as f:
+            self.assertEqual(f.read(), self.scene_text, "the crash changed the scene file")
+
+    def test_2_session_2_recovers_the_moved_scene(self):
+        self.assertEqual(self.session2.returncode, 0, self.session2.stderr)
+        self.assertEqual(self.original.returncode, 0, self.original.stderr)
+        moved, recovered, original = self.image("moved.png"), self.image("recovered.png"), self.image("original.png")
+        mean, changed, _ = diff_stats(moved, recovered)
+        self.assertLess(mean, 0.5, "the recovered scene renders differently from the moved one")
+        self.assertLess(changed, 0.001)
+        _, changed, _ = diff_stats(original, recovered)
+        self.assertGreater(changed, 0.02, "the recovered image is the original one: the move was lost")
+        with open(self.scene) as f:
+            self.assertEqual(f.read(), self.scene_text, "recovery wrote the scene file (it must stay unsaved)")
 
 
 if __name__ == "__main__":

@@ -203,13 +203,10 @@ TEST_CASE("snapping rounds to the step", "[editor]") {
     checkNear(snapTo(glm::vec3(0.26f), 0.0f), glm::vec3(0.26f));
 }
 
-TEST_CASE("the frame pacer turns measured speed into samples per frame and a preview size", "[editor]") {
+TEST_CASE("the frame pacer turns measured speed into a preview size", "[editor]") {
     FramePacer p;
-    CHECK(p.samplesForFrame(65536, 0.02) == 1);   // nothing measured yet
+    CHECK(p.previewDivisor(16 * 65536, 0.025) == 1);   // nothing measured yet
     p.record(2, 65536, 0.02);                     // 10 ms per sample at 256x256
-    CHECK(p.samplesForFrame(65536, 0.025) == 2);
-    CHECK(p.samplesForFrame(65536, 10.0) == FramePacer::kMaxSamplesPerFrame);
-    CHECK(p.samplesForFrame(4 * 65536, 0.025) == 1);   // never zero
     CHECK(p.previewDivisor(65536, 0.025) == 1);
     CHECK(p.previewDivisor(16 * 65536, 0.025) == 3);   // 160 ms / 9 < 25 ms
     p.record(1, 65536, 0.1);   // the scene became heavier: the estimate follows quickly
