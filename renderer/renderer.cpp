@@ -210,17 +210,21 @@ void Renderer::resetAccumulation() {
     std::uint32_t counters[4] = {0, 0, 0, 0};
     glNamedBufferSubData(m_counters, 0, sizeof counters, counters);
     m_samplesDone = 0;
-    m_bandRow = 0;
+    m_bandTile = 0;
 }
 
 void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples) { bindScene(firstSample, samples, 0, ~0u); }
 
-void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0, std::uint32_t row1) {
+std::uint32_t Renderer::tileCount() const {
+    return ((static_cast<std::uint32_t>(m_width) + 7) / 8) * ((static_cast<std::uint32_t>(m_height) + 7) / 8);
+}
+
+void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     gpu::GpuFrame frame = makeFrame(m_scene, m_compiled, m_strategy);
     frame.image.z = firstSample;
     frame.dispatch.x = samples;
-    frame.dispatch.z = row0;
-    frame.dispatch.w = std::min<std::uint32_t>(row1, static_cast<std::uint32_t>(m_height));
+    frame.dispatch.z = tile0;
+    frame.dispatch.w = std::min(tile1, tileCount());
     // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
@@ -239,16 +243,19 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
 }
 
-void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0, std::uint32_t row1) {
-    row1 = std::min<std::uint32_t>(row1, static_cast<std::uint32_t>(m_height));
-    if (row0 >= row1) return;
-    bindScene(firstSample, samples, row0, row1);
+void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
+    tile1 = std::min(tile1, tileCount());
+    if (tile0 >= tile1) return;
+    bindScene(firstSample, samples, tile0, tile1);
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ALBEDO_IMAGE, m_albedo, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_NORMAL_IMAGE, m_normal, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glDispatchCompute((static_cast<GLuint>(m_width) + 7) / 8, (row1 - row0 + 7) / 8, 1);
+    // One work group per 8x8 tile, numbered row by row; a grid of at most 65535 groups a side
+    // (the least GL guarantees), the kernel skipping the excess of its last row.
+    const std::uint32_t groups = tile1 - tile0, gx = std::min<std::uint32_t>(groups, 65535u);
+    glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
     // The next dispatch reads what this one wrote.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -258,7 +265,7 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
     using Clock = std::chrono::steady_clock;
     struct InFlight { GLsync fence; std::uint32_t samples; Clock::time_point issued; };
     std::deque<InFlight> inFlight;
-    if (count > 0 && m_bandRow > 0) {  // first the rest of a sample that renderFor started
+    if (count > 0 && m_bandTile > 0) {  // first the rest of a sample that renderFor started
         finishBand();
         --count;
     }
@@ -288,12 +295,23 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
     while (!inFlight.empty()) retireOldest();
 }
 
+long long Renderer::tilePixels(std::uint32_t tile0, std::uint32_t tile1) const {
+    // Tiles on the right and bottom edges may be partly outside the image.
+    const std::uint32_t tilesX = (static_cast<std::uint32_t>(m_width) + 7) / 8;
+    long long pixels = 0;
+    for (std::uint32_t t = tile0; t < tile1; ++t) {
+        const int x = static_cast<int>(t % tilesX) * 8, y = static_cast<int>(t / tilesX) * 8;
+        pixels += static_cast<long long>(std::min(8, m_width - x)) * std::min(8, m_height - y);
+    }
+    return pixels;
+}
+
 double Renderer::finishBand() {
     const auto t0 = std::chrono::steady_clock::now();
-    dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, static_cast<std::uint32_t>(m_bandRow), ~0u);
+    dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, m_bandTile, ~0u);
     waitFence(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
     ++m_samplesDone;
-    m_bandRow = 0;
+    m_bandTile = 0;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -313,7 +331,7 @@ Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
     };
     // Whole samples while one of the whole image fits what is left of the budget. Unmeasured (a
     // new scene, a first call), the first band measures.
-    while (m_bandRow == 0 && m_secondsPerPixelSample > 0.0 && p.samplesCompleted < maxSamples) {
+    while (m_bandTile == 0 && m_secondsPerPixelSample > 0.0 && p.samplesCompleted < maxSamples) {
         const double left = budgetSeconds - elapsed();
         const double perSample = m_secondsPerPixelSample * double(pixels);
         if (perSample > left) break;
@@ -324,27 +342,29 @@ Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
         p.samplesCompleted += n;
         p.pixelSamples += pixels * n;
     }
-    // Then bands of rows (whole 8-row tiles of the kernel) of the next sample; at least one band
-    // per call, so progress never stops.
+    // Then runs of 8x8 tiles (in rows of tiles) of the next sample; at least one tile per call,
+    // so progress never stops (a tile of 64 pixels is the smallest unit of work: on llvmpipe a
+    // row of tiles across a 512-pixel image took 20 ms, more than a frame's budget).
+    const std::uint32_t tiles = tileCount();
     while (p.samplesCompleted < maxSamples) {
         const double left = budgetSeconds - elapsed();
         if (left <= 0.0 && p.pixelSamples > 0) break;
-        int rows = 8;
+        // Tiles differ in cost (a wall, the sky) and the estimate lags: aim a little short.
+        std::uint32_t n = 1;
         if (m_secondsPerPixelSample > 0.0)
-            rows = std::max(8, static_cast<int>(std::max(left, 0.0) / (m_secondsPerPixelSample * double(m_width))) / 8 * 8);
-        const int row1 = std::min(m_height, m_bandRow + rows);
+            n = static_cast<std::uint32_t>(std::clamp(0.8 * left / (m_secondsPerPixelSample * 64.0), 1.0, double(tiles)));
+        const std::uint32_t tile1 = std::min(tiles, m_bandTile + n);
         const auto t0 = Clock::now();
-        dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, static_cast<std::uint32_t>(m_bandRow), static_cast<std::uint32_t>(row1));
+        dispatch(static_cast<std::uint32_t>(m_samplesDone), 1, m_bandTile, tile1);
         waitFence(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
-        const long long bandPixels = static_cast<long long>(row1 - m_bandRow) * m_width;
-        learn(bandPixels, std::chrono::duration<double>(Clock::now() - t0).count());
-        p.pixelSamples += bandPixels;
-        if (row1 >= m_height) {
-            m_bandRow = 0;
+        learn(64LL * (tile1 - m_bandTile), std::chrono::duration<double>(Clock::now() - t0).count());
+        p.pixelSamples += tilePixels(m_bandTile, tile1);
+        if (tile1 >= tiles) {
+            m_bandTile = 0;
             ++m_samplesDone;
             ++p.samplesCompleted;
         } else {
-            m_bandRow = row1;
+            m_bandTile = tile1;
         }
     }
     p.seconds = elapsed();

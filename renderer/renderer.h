@@ -56,19 +56,19 @@ public:
     // What renderFor did.
     struct Progress {
         int samplesCompleted = 0;       // whole samples of every pixel finished by this call
-        long long pixelSamples = 0;     // pixel-samples rendered (a band counts its pixels)
+        long long pixelSamples = 0;     // pixel-samples rendered (part of a sample counts its pixels)
         double seconds = 0.0;           // wall time, including waiting for the GPU
     };
     // Renders for about `budgetSeconds`, at most `maxSamples` whole samples, for an interactive
     // caller that must return in time (the editor's frame): whole samples of the image while one
-    // fits the budget, else one sample over a band of rows, continuing where the previous call
-    // stopped, sized from the measured cost so that the call takes about the budget. A sample
-    // counts in samplesDone() once every row has it; the accumulation image holds per-pixel
+    // fits the budget, else one sample over a run of the kernel's 8x8 tiles (row by row),
+    // continuing where the previous call stopped, sized from the measured cost so that the call
+    // takes about the budget. A sample counts in samplesDone() once every tile has it; the accumulation image holds per-pixel
     // counts (alpha), so a display of a half-finished sample is still correct. The same pixels,
     // sample indices and seed are rendered as by render(): the image does not depend on how the
     // work was split.
     Progress renderFor(double budgetSeconds, int maxSamples);
-    bool bandInProgress() const { return m_bandRow > 0; }
+    bool bandInProgress() const { return m_bandTile > 0; }
 
     int samplesDone() const { return m_samplesDone; }
     std::uint64_t droppedSamples() const;
@@ -77,9 +77,9 @@ public:
     // Binds the frame constants (for samples [firstSample, firstSample + samples)) and the scene
     // buffers at their shared binding points; the integrator and test kernels both use it.
     void bindScene(std::uint32_t firstSample, std::uint32_t samples);
-    // The same for rows [row0, row1) of the image only (frame.dispatch.z, w; the integrator's
-    // dispatch covers just those rows).
-    void bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0, std::uint32_t row1);
+    // The same for the integrator's 8x8 tiles [tile0, tile1) only, numbered row by row
+    // (frame.dispatch.z, w).
+    void bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1);
     Film readFilm() const;
     const CompiledScene& compiled() const { return m_compiled; }
     // The imported meshes and their BVHs kept between compiles: the editor inserts meshes it
@@ -91,8 +91,10 @@ public:
 private:
     Renderer() = default;
     void upload();
-    void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t row0 = 0, std::uint32_t row1 = ~0u);
-    double finishBand();   // renders the rest of a started band pass (one sample); returns seconds
+    void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0 = 0, std::uint32_t tile1 = ~0u);
+    double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
+    std::uint32_t tileCount() const;
+    long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
 
     unsigned m_program = 0;
     unsigned m_accum = 0, m_accumSq = 0;
@@ -111,8 +113,8 @@ private:
     std::uint32_t m_strategy = STRATEGY_MIS;
     int m_samplesDone = 0;
     double m_secondsPerSample = 0.0;   // measured, for sizing dispatches
-    double m_secondsPerPixelSample = 0.0;   // measured by renderFor, for sizing bands
-    int m_bandRow = 0;                 // > 0: rows [0, m_bandRow) have sample m_samplesDone already
+    double m_secondsPerPixelSample = 0.0;   // measured by renderFor, for sizing runs of tiles
+    std::uint32_t m_bandTile = 0;      // > 0: tiles [0, m_bandTile) have sample m_samplesDone already
 };
 
 }  // namespace caustic

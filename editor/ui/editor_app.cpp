@@ -189,7 +189,9 @@ void renderFrame(EditorUi& ui) {
     const RenderSettings& rs = ui.state.scene.render;
     const long long fullPixels = static_cast<long long>(rs.width) * rs.height;
     // While something is dragged, shrink the image if one full sample would not fit the budget.
-    const double budget = std::clamp(kFrameTarget - ui.uiSeconds - 0.002, 0.004, kFrameTarget);
+    // The path tracer gets what the rest of the frame (UI, display, swap; measured) leaves of it,
+    // less a margin for the spread of both.
+    const double budget = std::clamp(kFrameTarget - ui.overheadSeconds - 0.002, 0.004, kFrameTarget);
     std::uint32_t dirty = ui.state.takeDirty();
     // Any edit gets a quick first frame: it counts as interaction, so when one full-resolution
     // sample would not fit the frame budget, the first frames after it render at preview size.
@@ -405,6 +407,9 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             const double t = now();
             ui->frameSeconds = t - frameStart;
             frameStart = t;
+            // Frames that rendered only: an idle frame includes waiting for events.
+            if (ui->renderedThisFrame)
+                ui->overheadSeconds = 0.8 * ui->overheadSeconds + 0.2 * std::max(0.0, ui->frameSeconds - ui->renderSeconds);
             if (ui->script) ui->script->afterSwap(*ui, ui->frameSeconds);
             updateTitle(*ui);
             if (!ui->script || ui->scriptAutosave) autosaveTick(*ui);

@@ -68,6 +68,7 @@ struct EditorUi {
     std::uint64_t droppedSamples = 0;
     double lastCounterRead = 0.0;
     double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
+    double overheadSeconds = 0.01;    // a rendering frame's time outside the path tracer (smoothed)
     int samplesThisFrame = 0;         // whole samples finished this frame
     bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
     // Bumped whenever accumulation restarts (every scene upload or update): a denoised image

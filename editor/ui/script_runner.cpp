@@ -247,6 +247,7 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"frame_ms_p95\": " << percentile(m_frameMs, 0.95)
           << ",\n  \"frame_ms_max\": " << percentile(m_frameMs, 1.0)
           << ",\n  \"all_frames_ms_median\": " << percentile(m_allFrameMs, 0.5)
+          << ",\n  \"frame_overhead_ms_median\": " << percentile(m_overheadMs, 0.5)
           << ",\n  \"samples_per_frame_mean\": " << sppMean
           << ",\n  \"edit_to_frame_ms\": " << list(m_editLatencyMs)
           << ",\n  \"edit_to_frame_ms_median\": " << percentile(m_editLatencyMs, 0.5)
@@ -458,6 +459,7 @@ void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     }
     if (ui.renderedThisFrame) {
         m_frameMs.push_back(frameSeconds * 1e3);
+        m_overheadMs.push_back((frameSeconds - ui.renderSeconds) * 1e3);
         m_samplesPerFrame.push_back(ui.samplesThisFrame);
         if (m_editPending && ui.state.pendingDirty() == kDirtyNone) {
             m_editLatencyMs.push_back((glfwGetTime() - m_editTime) * 1e3);

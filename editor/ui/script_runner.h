@@ -48,6 +48,7 @@ private:
     // Measurements.
     std::vector<double> m_frameMs;            // frames that rendered samples
     std::vector<double> m_allFrameMs;
+    std::vector<double> m_overheadMs;         // rendering frames: all but the path tracing
     std::vector<double> m_editLatencyMs;      // edit -> end of the first frame showing it
     std::vector<int> m_samplesPerFrame;
     double m_editTime = -1.0;

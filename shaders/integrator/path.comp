@@ -14,9 +14,13 @@ layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
 layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
 
 void main() {
-    // A dispatch may cover a band of rows only (Renderer::renderFor): [dispatch.z, dispatch.w).
-    uvec2 pixel = gl_GlobalInvocationID.xy + uvec2(0u, frame.dispatch.z);
-    if (pixel.x >= frame.image.x || pixel.y >= min(frame.image.y, frame.dispatch.w)) return;
+    // One work group per 8x8 tile; a dispatch covers tiles [dispatch.z, dispatch.w), numbered row
+    // by row, on a grid of work groups that may have a few too many (Renderer::dispatch).
+    uint tile = frame.dispatch.z + gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (tile >= frame.dispatch.w) return;
+    uint tilesX = (frame.image.x + 7u) / 8u;
+    uvec2 pixel = uvec2(tile % tilesX, tile / tilesX) * 8u + gl_LocalInvocationID.xy;
+    if (pixel.x >= frame.image.x || pixel.y >= frame.image.y) return;
     ivec2 ip = ivec2(pixel);
     vec4 sum = imageLoad(accumImage, ip);
     vec4 sumSq = imageLoad(accumSqImage, ip);

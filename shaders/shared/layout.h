@@ -193,8 +193,8 @@ CAUSTIC_STRUCT(GpuFrame) {
     vec4 camForward;   // unit view direction
     uvec4 image;       // x: width, y: height, z: index of the first sample of this dispatch, w: seed
     uvec4 counts;      // x: primitives, y: lights, z: max depth, w: STRATEGY_*
-    uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: the rows
-                       // [z, w) this dispatch renders (its y = 0 is row z)
+    uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: the
+                       // integrator's 8x8 tiles [z, w) this dispatch renders (numbered row by row)
     uvec4 envInfo;     // x: ENV_*, y: map width, z: map height
     vec4 envRadiance;  // constant radiance (already times intensity)
     vec4 envHorizon;   // sky: radiance at the horizon (times intensity)

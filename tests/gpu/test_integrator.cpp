@@ -136,27 +136,30 @@ TEST_CASE("the same seed gives the same bytes, however the samples are split", "
     Film b = renderer->readFilm();
     REQUIRE(a.mean.size() == b.mean.size());
     CHECK(std::memcmp(a.mean.data(), b.mean.data(), a.mean.size() * sizeof(glm::vec3)) == 0);
-    // The editor's time-budgeted rendering: a zero budget renders one band of 8 rows per call, so
-    // each sample is split into 4 bands (32 rows), and render() finishes a started sample first.
+    // The editor's time-budgeted rendering: a zero budget renders one 8x8 tile per call, so each
+    // sample of the 32x32 image takes 16 calls, and render() finishes a started sample first.
     REQUIRE(renderer->setScene(s, &error));
-    int calls = 0, bandCalls = 0;
+    int calls = 0, partCalls = 0;
     while (renderer->samplesDone() < 9) {
         const Renderer::Progress p = renderer->renderFor(0.0, 9 - renderer->samplesDone());
         ++calls;
-        CHECK(p.pixelSamples == 8 * 32);
+        CHECK(p.pixelSamples == 64);
         if (p.samplesCompleted == 0) {
-            ++bandCalls;
+            ++partCalls;
             CHECK(renderer->bandInProgress());
         }
     }
-    CHECK(calls == 36);
-    CHECK(bandCalls == 27);
-    renderer->renderFor(0.0, 1);   // rows 0-7 of sample 9
+    CHECK(calls == 9 * 16);
+    CHECK(partCalls == 9 * 15);
+    renderer->renderFor(0.0, 1);   // tile 0 (x, y in [0, 8)) of sample 9
+    renderer->renderFor(0.0, 1);   // tile 1 (x in [8, 16))
     CHECK(renderer->samplesDone() == 9);
     {
-        // Mid-sample, the image holds one more sample in the band's rows only.
+        // Mid-sample, the image holds one more sample in those tiles only.
         const Film mid = renderer->readFilm();
         CHECK(mid.count[mid.index(5, 7)] == 10.0f);
+        CHECK(mid.count[mid.index(15, 0)] == 10.0f);
+        CHECK(mid.count[mid.index(16, 0)] == 9.0f);
         CHECK(mid.count[mid.index(5, 8)] == 9.0f);
     }
     renderer->render(2);           // finishes sample 9, then sample 10
