@@ -2,14 +2,18 @@
 // settings after a warm-up and prints samples and rays per second, timed both by the wall clock
 // and by a GL_TIME_ELAPSED query around the same work. Links no OpenImageIO, so the binary is
 // small enough to carry to the GPU machine.
-//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [scene.json ...]
+//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]
 // --rays: also traversal alone (shaders/bench/rays.comp): primary rays, then one cosine-
 //   distributed bounce from their hits, in M rays/s (timer queries, median of --repeat runs).
 // --dump-program FILE: writes the driver's binary of the integrator program (NVIDIA's holds its
 //   assembly, with register and local-memory use: look with `strings`).
+// --interactive N: also N frames as the editor renders them (Renderer::renderFor with the editor's
+//   budget of 1/30 s less 2 ms, nothing else in the frame), moving the first object every tenth
+//   frame (Renderer::update with kDirtyTransforms): frame times and edit -> finished frame times.
 // --out DIR: writes each render as DIR/<scene>.ppm (ACES, sRGB), to look at what was measured.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
+#include "renderer/dirty.h"
 #include "renderer/file_util.h"
 #include "renderer/gl_context.h"
 #include "renderer/hdr_file.h"
@@ -90,6 +94,41 @@ std::string traceRays(Renderer& renderer, unsigned program, GLuint query, const 
     return line;
 }
 
+std::string interactive(Renderer& renderer, Scene scene, int frames, const std::string& name) {
+    using Clock = std::chrono::steady_clock;
+    std::string error;
+    if (!renderer.setScene(scene, &error)) return "interactive " + name + ": " + error;
+    const double budget = 1.0 / 30.0 - 0.002;
+    std::vector<double> frameMs, editMs;
+    long long pixelSamples = 0;
+    const auto start = Clock::now();
+    for (int i = 0; i < frames; ++i) {
+        const bool edit = i % 10 == 5 && !scene.objects.empty();
+        const auto t0 = Clock::now();
+        if (edit) {
+            scene.objects[0].transform.translate.x += (i / 10) % 2 == 0 ? 0.01f : -0.01f;
+            if (!renderer.update(scene, kDirtyTransforms, &error)) return "interactive " + name + ": " + error;
+        }
+        pixelSamples += renderer.renderFor(budget, 1 << 20).pixelSamples;
+        glFinish();
+        const double ms = std::chrono::duration<double>(Clock::now() - t0).count() * 1e3;
+        (edit ? editMs : frameMs).push_back(ms);
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const double pixels = double(scene.render.width) * scene.render.height;
+    auto pct = [](std::vector<double> v, double q) {
+        if (v.empty()) return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+    };
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "interactive %-19s %4dx%-5d  frame ms median %.1f p95 %.1f max %.1f   edit->frame ms median %.1f max %.1f   %.1f spp/s",
+                  name.c_str(), scene.render.width, scene.render.height, pct(frameMs, 0.5), pct(frameMs, 0.95),
+                  pct(frameMs, 1.0), pct(editMs, 0.5), pct(editMs, 1.0), double(pixelSamples) / pixels / seconds);
+    return line;
+}
+
 std::string denoiseOnce(const Film& film, const std::string& name) {
     DenoiseResult result;
     std::string error;
@@ -111,6 +150,7 @@ int main(int argc, char** argv) {
     int size = 256, samples = 64, maxDepth = 8, repeat = 3;
     bool traceOnly = false, oidn = false;
     std::string outDir, dumpProgram;
+    int interactiveFrames = 0;
     std::vector<std::string> scenes;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each row as it is measured, even if the run is cut short
     for (int i = 1; i < argc; ++i) {
@@ -126,11 +166,12 @@ int main(int argc, char** argv) {
         else if (a == "--max-depth") next(&maxDepth);
         else if (a == "--repeat") next(&repeat);
         else if (a == "--rays") traceOnly = true;
+        else if (a == "--interactive") next(&interactiveFrames);
         else if (a == "--oidn") oidn = true;
         else if (a == "--out" && i + 1 < argc) outDir = argv[++i];
         else if (a == "--dump-program" && i + 1 < argc) dumpProgram = argv[++i];
         else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [scene.json ...]\n");
+            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]\n");
             return a == "--help" ? 0 : 2;
         } else scenes.push_back(a);
     }
@@ -210,6 +251,7 @@ int main(int argc, char** argv) {
             const std::string path = outDir + "/" + name.substr(0, name.rfind('.')) + ".ppm";
             if (!writeFileAtomically(path, ppm, &error)) std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
         }
+        if (interactiveFrames > 0) extra.push_back(interactive(*renderer, scene, interactiveFrames, name));
         if (traceOnly) extra.push_back(traceRays(*renderer, raysProgram, query, name, size, repeat));
         if (oidn) extra.push_back(denoiseOnce(film, name));
     }

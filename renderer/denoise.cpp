@@ -2,6 +2,8 @@
 
 #ifdef CAUSTIC_HAVE_OIDN
 #include <OpenImageDenoise/oidn.hpp>
+
+#include <mutex>
 #endif
 
 namespace caustic {
@@ -66,16 +68,31 @@ bool denoise(const Film& film, const DenoiseOptions& options, DenoiseResult* out
     // The default device is the fastest one present: CUDA on an NVIDIA machine, else the CPU
     // (without CUDA its module fails to load quietly). Buffers made by the device and filled
     // with write() work on every device type, host-visible or not.
-    oidn::DeviceRef device = oidn::newDevice(oidn::DeviceType::Default);
+    // The device is made once and kept: creating one (a CUDA context, thread pools) cost about a
+    // quarter of a second per call on the H100 (docs/performance.md). Calls are serialised by a
+    // mutex (the editor denoises on a worker thread, batch mode on the main thread).
+    // Never destroyed: releasing a CUDA device from a static destructor, after the driver may
+    // have shut down, is a crash at exit waiting to happen; the process's end frees it.
+    static std::mutex mutex;
+    static oidn::DeviceRef& device = *new oidn::DeviceRef();
+    static std::string deviceName;
+    std::lock_guard<std::mutex> lock(mutex);
     if (!device) {
-        *error = "Open Image Denoise: no device could be created";
-        return false;
+        device = oidn::newDevice(oidn::DeviceType::Default);
+        if (!device) {
+            *error = "Open Image Denoise: no device could be created";
+            return false;
+        }
+        device.commit();
+        if (!check(device, "device", error)) {
+            device = oidn::DeviceRef();
+            return false;
+        }
+        const int type = device.get<int>("type");
+        deviceName = deviceTypeName(type);
+        if (std::string name = physicalDeviceName(type); !name.empty()) deviceName += " (" + name + ")";
     }
-    device.commit();
-    if (!check(device, "device", error)) return false;
-    const int type = device.get<int>("type");
-    out->device = deviceTypeName(type);
-    if (std::string name = physicalDeviceName(type); !name.empty()) out->device += " (" + name + ")";
+    out->device = deviceName;
 
     oidn::BufferRef color = device.newBuffer(bytes), output = device.newBuffer(bytes);
     color.write(0, bytes, film.mean.data());

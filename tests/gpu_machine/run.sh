@@ -44,9 +44,12 @@ fi
   echo "## caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn"
   timeout 300 $B/caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn --out "$OUT/images" $scenes 2>&1
   echo "rc=$?"
+  echo "## the editor's frames: caustic-bench --size 1024 --interactive 300"
+  timeout 120 $B/caustic-bench --size 1024 --samples 16 --repeat 1 --interactive 300 scenes/cornell-box.json scenes/mesh-knot.json 2>&1 | grep "^interactive"
+  echo "## the editor's frames: caustic-bench --size 2048 --interactive 300"
+  timeout 120 $B/caustic-bench --size 2048 --samples 4 --repeat 1 --interactive 300 scenes/cornell-box.json 2>&1 | grep "^interactive"
 } | tee "$OUT/bench.txt"
 if [ "${1:-}" != quick ]; then
-  { timeout 120 $B/caustic-bvh-bench 2>&1; echo "rc=$?"; } > "$OUT/bvh-bench.txt"
   { timeout 200 $B/caustic_gpu_tests 2>&1; echo "rc=$?"; } > "$OUT/gpu-tests.txt"
 fi
 cat "$OUT/nvidia-smi.txt"
