@@ -58,14 +58,19 @@ vec3 instanceNormalToWorld(GpuInstance inst, vec3 n) {
     return inst.worldToObject0.xyz * n.x + inst.worldToObject1.xyz * n.y + inst.worldToObject2.xyz * n.z;
 }
 
-// The triangle's surface at barycentrics (b1, b2) (p = (1-b1-b2) p0 + b1 p1 + b2 p2); also the
-// interpolated shading normal (world, unit, on the side of the geometric normal ng).
-SurfacePoint triangleSurface(GpuInstance inst, GpuTriangle tri, vec2 b, vec3 ng, out vec3 ns) {
+// The interpolated shading normal at barycentrics (b1, b2) (world, unit, on the side of the
+// geometric normal ng), or ng where the mesh has no normals.
+vec3 triangleShadingNormal(GpuInstance inst, GpuTriangle tri, vec2 b, vec3 ng) {
+    GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
+    vec3 nObj = (1.0 - b.x - b.y) * v0.normalU.xyz + b.x * v1.normalU.xyz + b.y * v2.normalU.xyz;
+    vec3 ns = dot(nObj, nObj) > 0.0 ? normalize(instanceNormalToWorld(inst, nObj)) : ng;
+    return dot(ns, ng) < 0.0 ? -ns : ns;
+}
+
+// The triangle's surface at barycentrics (b1, b2) (p = (1-b1-b2) p0 + b1 p1 + b2 p2).
+SurfacePoint triangleSurface(GpuInstance inst, GpuTriangle tri, vec2 b) {
     GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
     float b0 = 1.0 - b.x - b.y;
-    vec3 nObj = b0 * v0.normalU.xyz + b.x * v1.normalU.xyz + b.y * v2.normalU.xyz;
-    ns = dot(nObj, nObj) > 0.0 ? normalize(instanceNormalToWorld(inst, nObj)) : ng;
-    if (dot(ns, ng) < 0.0) ns = -ns;
     vec2 uv0 = vec2(v0.normalU.w, v0.tangentV.w), uv1 = vec2(v1.normalU.w, v1.tangentV.w),
          uv2 = vec2(v2.normalU.w, v2.tangentV.w);
     SurfacePoint s;

@@ -95,10 +95,13 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
         pathLength += hit.t;
         float cosHit = abs(dot(hit.ng, wo));
         float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
-        SurfacePoint sp = hit.surface;
-        vec3 normalTexel;
-        mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
-        vec3 ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
+        vec3 ns = hit.ns;
+        if (any(notEqual(mat.textures.xyz, uvec3(0u)))) {
+            SurfacePoint sp = hitSurface(hit);
+            vec3 normalTexel;
+            mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
+            ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
+        }
         bool keepFront = bsdfHasTransmission(mat);
         float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
         vec3 n = side * ns;
