@@ -102,8 +102,9 @@ float srgbToLinear(float c) {
 }
 
 struct Builder {
-    Builder(const Scene& s, const ImageReader& reader, CompiledScene& o, std::string* e, MeshCache* cache)
-        : scene(s), readImage(reader), out(o), error(e), meshCache(cache) {}
+    Builder(const Scene& s, const ImageReader& reader, CompiledScene& o, std::string* e, MeshCache* cache,
+            CompiledScene* previous)
+        : scene(s), readImage(reader), out(o), error(e), meshCache(cache), reuse(previous) {}
     const Scene& scene;
     const ImageReader& readImage;
     CompiledScene& out;
@@ -111,6 +112,54 @@ struct Builder {
     MeshCache* meshCache;                  // may be null
     std::vector<Aabb> primBounds;          // world bounds of each analytic primitive
     std::map<std::string, std::uint32_t> meshByFile;  // imported file -> BLAS index
+    // Reuse of a previous compile's mesh data (compileScene's `reuse`): decided at the start,
+    // when every mesh file is the same cache entry in the same order.
+    CompiledScene* reuse;
+    bool reusing = false;
+    std::size_t reusedVertices = 0;   // the vertex count so far, while reusing (nothing is copied)
+    bool reusedLayout = false;        // the previous bvhNodes/triangles/vertices were moved in
+    std::vector<gpu::GpuBvhNode> previousTlas;   // the previous top level, to restore on failure
+
+    // The cache entry compileScene would use for a file: the cached one while the file's time
+    // still matches, else null.
+    std::shared_ptr<const MeshCacheEntry> cachedEntry(const std::string& file) const {
+        if (!meshCache) return nullptr;
+        std::error_code ec;
+        const auto stamp = std::filesystem::last_write_time(file, ec);
+        std::shared_ptr<const MeshCacheEntry> entry = meshCache->find(file);
+        return entry && !ec && entry->stamp == stamp ? entry : nullptr;
+    }
+
+    bool canReuse() const {
+        if (!reuse || !meshCache) return false;
+        std::vector<std::string> files;
+        for (const Object& o : scene.objects) {
+            if (o.shape != Shape::Mesh) continue;
+            const std::string key = meshCacheKey(scene, o.file);
+            if (std::find(files.begin(), files.end(), key) == files.end()) files.push_back(key);
+        }
+        if (files.empty() || files.size() != reuse->meshEntries.size() || files.size() != reuse->meshBvh.blases.size() ||
+            files.size() != reuse->meshPositions.size())
+            return false;
+        for (std::size_t i = 0; i < files.size(); ++i)
+            if (!reuse->meshEntries[i] || cachedEntry(files[i]) != reuse->meshEntries[i]) return false;
+        return true;
+    }
+
+    // After a failed compile: gives back what was moved out of *reuse.
+    void restoreReuse() {
+        if (!reusing) return;
+        for (std::size_t i = 0; i < out.meshBvh.blases.size(); ++i) {
+            reuse->meshBvh.blases[i] = std::move(out.meshBvh.blases[i]);
+            reuse->meshPositions[i] = std::move(out.meshPositions[i]);
+        }
+        if (reusedLayout) {
+            reuse->bvhNodes = std::move(out.bvhNodes);
+            std::copy(previousTlas.begin(), previousTlas.end(), reuse->bvhNodes.begin());
+            reuse->triangles = std::move(out.triangles);
+            reuse->vertices = std::move(out.vertices);
+        }
+    }
 
     void growBounds(glm::vec3 p) {
         out.boundsMin = glm::min(out.boundsMin, p);
@@ -259,13 +308,7 @@ struct Builder {
             *blasIndex = it->second;
             return true;
         }
-        std::error_code ec;
-        const auto stamp = std::filesystem::last_write_time(file, ec);
-        std::shared_ptr<const MeshCacheEntry> entry;
-        if (meshCache) {
-            entry = meshCache->find(file);
-            if (entry && (ec || entry->stamp != stamp)) entry = nullptr;
-        }
+        std::shared_ptr<const MeshCacheEntry> entry = cachedEntry(file);
         if (!entry) {
             auto made = std::make_shared<MeshCacheEntry>();
             if (!loadMesh(file, where, made.get())) return false;
@@ -280,12 +323,20 @@ struct Builder {
         meshSlots.push_back(entry->triangleSlot);
         meshMaterials.push_back(entry->materials);
         meshMappingWarnings.push_back(entry->mappingWarnings);
-        const auto vertexBase = static_cast<std::uint32_t>(out.vertices.size());
-        out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
-        MeshBlas blas = entry->blas;
-        std::vector<glm::vec3> positions = entry->positions;
-        out.meshBvh.blases.push_back(std::move(blas));
-        out.meshPositions.push_back(std::move(positions));
+        out.meshEntries.push_back(entry);
+        std::uint32_t vertexBase;
+        if (reusing) {  // the same entry as the previous compile's BLAS of this index: move it
+            const std::size_t index = out.meshBvh.blases.size();
+            out.meshBvh.blases.push_back(std::move(reuse->meshBvh.blases[index]));
+            out.meshPositions.push_back(std::move(reuse->meshPositions[index]));
+            vertexBase = static_cast<std::uint32_t>(reusedVertices);
+            reusedVertices += entry->vertices.size();
+        } else {
+            vertexBase = static_cast<std::uint32_t>(out.vertices.size());
+            out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
+            out.meshBvh.blases.push_back(entry->blas);
+            out.meshPositions.push_back(entry->positions);
+        }
         meshVertexBase.push_back(vertexBase);
         *blasIndex = static_cast<std::uint32_t>(out.meshBvh.blases.size() - 1);
         meshByFile.emplace(file, *blasIndex);
@@ -402,6 +453,39 @@ struct Builder {
         for (std::uint32_t id : tlas.primIndices) out.tlasRefs.push_back(refs[id]);
         // Each mesh's BVH after the top level, its triangles in leaf order.
         std::vector<std::uint32_t> rootOf, firstTriangleOf;
+        if (reusing && out.tlasNodeCount == reuse->tlasNodeCount) {
+            // The previous compile laid out the same meshes after a top level of the same size:
+            // take its arrays and write the new top level over the old one.
+            std::uint32_t root = out.tlasNodeCount, first = 0;
+            for (const MeshBlas& blas : out.meshBvh.blases) {
+                rootOf.push_back(root);
+                firstTriangleOf.push_back(first);
+                root += static_cast<std::uint32_t>(blas.bvh.nodes.size());
+                first += static_cast<std::uint32_t>(blas.triangles.size());
+            }
+            std::vector<gpu::GpuBvhNode> tlasNodes = std::move(out.bvhNodes);
+            previousTlas.assign(reuse->bvhNodes.begin(), reuse->bvhNodes.begin() + reuse->tlasNodeCount);
+            out.bvhNodes = std::move(reuse->bvhNodes);
+            std::copy(tlasNodes.begin(), tlasNodes.end(), out.bvhNodes.begin());
+            out.triangles = std::move(reuse->triangles);
+            out.vertices = std::move(reuse->vertices);
+            reusedLayout = true;
+        } else {
+            if (reusing)  // laid out again below; the vertices were not copied while importing
+                for (const auto& entry : out.meshEntries)
+                    out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
+            layOutMeshes(rootOf, firstTriangleOf);
+        }
+        for (size_t i = 0; i < out.instances.size(); ++i) {
+            const std::uint32_t b = out.meshBvh.instances[i].mesh;
+            out.instances[i].info.x = rootOf[b];
+            out.instances[i].info.y = firstTriangleOf[b];
+        }
+        out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
+        buildTlas(out.meshBvh);
+    }
+
+    void layOutMeshes(std::vector<std::uint32_t>& rootOf, std::vector<std::uint32_t>& firstTriangleOf) {
         for (size_t b = 0; b < out.meshBvh.blases.size(); ++b) {
             const MeshBlas& blas = out.meshBvh.blases[b];
             rootOf.push_back(static_cast<std::uint32_t>(out.bvhNodes.size()));
@@ -425,13 +509,6 @@ struct Builder {
                 out.triangles.push_back(gt);
             }
         }
-        for (size_t i = 0; i < out.instances.size(); ++i) {
-            const std::uint32_t b = out.meshBvh.instances[i].mesh;
-            out.instances[i].info.x = rootOf[b];
-            out.instances[i].info.y = firstTriangleOf[b];
-        }
-        out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
-        buildTlas(out.meshBvh);
     }
 
     std::uint32_t internalMaterial(glm::vec3 emission) {
@@ -445,6 +522,7 @@ struct Builder {
 
     bool run() {
         out = CompiledScene{};
+        reusing = canReuse();
         out.boundsMin = glm::vec3(std::numeric_limits<float>::max());
         out.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
         const std::string sceneDir =
@@ -815,9 +893,11 @@ std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
 }
 
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
-                  MeshCache* meshCache) {
-    Builder b(scene, readImage, *out, error, meshCache);
-    return b.run();
+                  MeshCache* meshCache, CompiledScene* reuse) {
+    Builder b(scene, readImage, *out, error, meshCache, reuse == out ? nullptr : reuse);
+    if (b.run()) return true;
+    b.restoreReuse();
+    return false;
 }
 
 gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::uint32_t strategy) {

@@ -130,12 +130,15 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         // level of the BVH (whose node count stays 2n - 1 for n entries, so it is rewritten in
         // place); materials: the material table and textures. Anything that changes the sizes of
         // the mesh data (an emission change alters the light list, for one) uploads everything.
+        // The mesh data moves from m_compiled into the new compile (nothing is copied; on failure
+        // it is moved back), so the sizes to compare are taken first.
+        const std::size_t nodes = m_compiled.bvhNodes.size(), triangles = m_compiled.triangles.size(),
+                          lights = m_compiled.lights.size();
+        const std::uint32_t tlasNodes = m_compiled.tlasNodeCount;
         CompiledScene compiled;
-        if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache)) return false;
-        const bool sameLayout = compiled.bvhNodes.size() == m_compiled.bvhNodes.size() &&
-                                compiled.tlasNodeCount == m_compiled.tlasNodeCount &&
-                                compiled.triangles.size() == m_compiled.triangles.size() &&
-                                compiled.lights.size() == m_compiled.lights.size();
+        if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache, &m_compiled)) return false;
+        const bool sameLayout = compiled.bvhNodes.size() == nodes && compiled.tlasNodeCount == tlasNodes &&
+                                compiled.triangles.size() == triangles && compiled.lights.size() == lights;
         m_scene = scene;
         if (!sameLayout) {
             m_compiled = std::move(compiled);

@@ -2,6 +2,7 @@
 // for llvmpipe on 2 cores; tolerances are in standard errors estimated from the render itself.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
 
@@ -197,6 +198,28 @@ TEST_CASE("incremental updates render the same bytes as a fresh upload", "[gpu][
     panel.transform.rotate = glm::vec3(0.0f, 90.0f, 0.0f);
     panel.transform.scale = glm::vec3(0.2f);
     s.objects.push_back(panel);
+    // Meshes: two instances of one file and an emissive one of another, so transform and material
+    // edits go through the reuse of the previous compile's mesh data (compileScene's `reuse`).
+    test::TempDir dir;
+    test::writeObjSphere(dir.file("ball.obj"), 12, 24);
+    test::writeObjTorus(dir.file("ring.obj"), 1.0, 0.3, 24, 12);
+    for (int i = 0; i < 2; ++i) {
+        Object ball;
+        ball.shape = Shape::Mesh;
+        ball.file = dir.file("ball.obj");
+        ball.material = "white";
+        ball.transform.translate = glm::vec3(-0.5f + 0.6f * float(i), -0.7f, 0.4f);
+        ball.transform.scale = glm::vec3(0.15f);
+        s.objects.push_back(ball);
+    }
+    Object ring;
+    ring.shape = Shape::Mesh;
+    ring.file = dir.file("ring.obj");
+    ring.material = "glow";
+    ring.transform.translate = glm::vec3(0.3f, 0.4f, 0.2f);
+    ring.transform.scale = glm::vec3(0.15f);
+    s.objects.push_back(ring);
+    const size_t firstBall = s.objects.size() - 3;
     std::string error;
     REQUIRE(incremental->setScene(s, &error));
     struct Edit { const char* what; std::uint32_t dirty; void (*apply)(Scene&); };
@@ -209,13 +232,32 @@ TEST_CASE("incremental updates render the same bytes as a fresh upload", "[gpu][
          }},
         {"transforms", kDirtyTransforms, [](Scene& sc) {
              sc.objects[5].transform.translate.x += 0.1f;
-             sc.objects.back().transform.translate.y -= 0.3f;
+             sc.objects[7].transform.translate.y -= 0.3f;   // the emissive quad
          }},
+        {"mesh transforms", kDirtyTransforms, [](Scene& sc) {
+             for (Object& o : sc.objects)
+                 if (o.shape == Shape::Mesh) {
+                     o.transform.translate.z -= 0.2f;
+                     o.transform.rotate.y += 30.0f;
+                 }
+         }},
+        {"mesh material", kDirtyMaterials, [](Scene& sc) { sc.materials.back().emission = glm::vec3(0.5f, 2.0f, 1.0f); }},
     };
     for (const Edit& e : edits) {
         INFO(e.what);
         e.apply(s);
         REQUIRE(incremental->update(s, e.dirty, &error));
+        if (std::string(e.what) == "mesh transforms") {
+            // An edit that cannot compile (a mesh scaled to nothing) fails and leaves the last
+            // scene intact: the mesh data moved out for reuse is moved back.
+            Scene broken = s;
+            broken.objects[firstBall].transform.scale = glm::vec3(0.0f);
+            CHECK_FALSE(incremental->update(broken, kDirtyTransforms, &error));
+            CHECK(error.find("not invertible") != std::string::npos);
+            CHECK(incremental->compiled().triangles.size() > 0);
+            CHECK(incremental->compiled().meshBvh.blases.size() == 2);
+            REQUIRE(incremental->update(s, kDirtyTransforms, &error));
+        }
         incremental->render(3);
         Film a = incremental->readFilm();
         Film b = test::renderFilm(*fresh, s, 3);
