@@ -16,8 +16,10 @@
 #include "../scene/buffers.glsl"
 
 // The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32),
-// the instances of one top-level leaf (up to its maxLeafSize, 8), the marker for leaving an
-// instance, and the instance tree's pending siblings (fewer than 32).
+// the instances of one top-level leaf (one: the top level is built with single-entry leaves; only
+// a leaf forced by the depth cap holds more, and up to 12 of those still fit), the marker for
+// leaving an instance, and the instance tree's pending siblings (fewer than 32). A push that would
+// overflow is dropped (the node is not visited) rather than written out of bounds.
 #define BVH_STACK_SIZE 76
 #define BVH_ENTRY_EXIT 0xffffffffu  // leaving an instance: back to the world ray
 #ifndef BVH_BRUTE_FORCE_MAX
