@@ -60,6 +60,10 @@ public:
     void markClean() { m_clean = topSerial(); }
     void markUnclean() { m_clean = ~std::uint64_t(0); }  // e.g. a recovered autosave
     bool isClean() const { return m_clean == topSerial(); }
+    // Identifies the state the history is in: changes with every edit, undo and redo (and comes
+    // back with an undo to an earlier state). A background open compares it to tell whether the
+    // scene it replaces was edited meanwhile.
+    std::uint64_t revision() const { return topSerial(); }
 
 private:
     struct Entry { std::unique_ptr<Command> command; std::uint64_t serial; };

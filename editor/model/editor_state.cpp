@@ -61,13 +61,18 @@ bool EditorState::open(const std::string& file, std::string* error) {
         if (error) *error = loaded.error;
         return false;
     }
-    scene = std::move(*loaded.scene);
+    adoptOpened(std::move(*loaded.scene), file);
+    return true;
+}
+
+void EditorState::adoptOpened(Scene opened, const std::string& file) {
+    scene = std::move(opened);
+    scene.sourcePath = file;
     path = file;
     selection = {};
     history.clear();
     m_dirty = kDirtyAll;
     ++m_generation;
-    return true;
 }
 
 bool EditorState::save(std::string* error) {

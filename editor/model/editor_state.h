@@ -55,6 +55,9 @@ public:
     // (file and JSON path). Saves are atomic (saveScene).
     void newScene();                   // an empty scene with a camera and defaults
     bool open(const std::string& file, std::string* error);
+    // The second half of open(): adopts a scene already loaded from `file` (the editor loads it
+    // first and imports its meshes in the background; docs/editor.md, "Opening scenes").
+    void adoptOpened(Scene opened, const std::string& file);
     bool save(std::string* error);     // to `path`; fails when untitled
     bool saveAs(const std::string& file, std::string* error);
     // Adopts a scene (e.g. a recovered autosave) as modified and unsaved, belonging to `file`.

@@ -1,5 +1,6 @@
 #include "editor/model/mesh_loader.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace caustic::editor {
@@ -62,6 +63,16 @@ void MeshLoader::cancel() {
     m_idle.notify_all();
 }
 
+void MeshLoader::cancel(const std::vector<std::uint64_t>& ids) {
+    auto listed = [&ids](std::uint64_t id) { return std::find(ids.begin(), ids.end(), id) != ids.end(); };
+    {
+        std::lock_guard lock(m_mutex);
+        m_queue.erase(std::remove_if(m_queue.begin(), m_queue.end(), [&](const Job& j) { return listed(j.id); }), m_queue.end());
+        if (!m_current.empty() && listed(m_currentId)) m_discardCurrent = true;
+    }
+    m_idle.notify_all();
+}
+
 void MeshLoader::work() {
     std::unique_lock lock(m_mutex);
     for (;;) {
@@ -70,6 +81,7 @@ void MeshLoader::work() {
         Job job = std::move(m_queue.front());
         m_queue.pop_front();
         m_current = job.file;
+        m_currentId = job.id;
         m_discardCurrent = false;
         lock.unlock();
 

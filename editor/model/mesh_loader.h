@@ -53,6 +53,9 @@ public:
     bool waitIdle(double timeoutSeconds) const;
     // Drops the queued requests and the result of the one in progress (no result for either).
     void cancel();
+    // Drops only the requests `ids` (queued or in progress); the others go on. Ids already
+    // finished but not yet polled still come out of poll().
+    void cancel(const std::vector<std::uint64_t>& ids);
     // Called on the worker after each result is ready (the editor wakes its frame loop with
     // glfwPostEmptyEvent). Set it before the first request.
     void setOnFinished(std::function<void()> onFinished) { m_onFinished = std::move(onFinished); }
@@ -66,6 +69,7 @@ private:
     std::deque<Job> m_queue;
     std::vector<MeshLoadResult> m_done;
     std::string m_current;             // the file being prepared ("" when none)
+    std::uint64_t m_currentId = 0;     // its request id
     bool m_discardCurrent = false;
     bool m_stop = false;
     std::uint64_t m_nextId = 1;

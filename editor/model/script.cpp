@@ -21,7 +21,9 @@ const std::map<std::string, Signature>& commands() {
         {"set_samples", {1, 1, "n"}},         // the render's target samples per pixel
         {"undo", {0, 0, ""}},
         {"redo", {0, 0, ""}},
-        {"open", {1, 1, ""}},
+        {"open", {1, 1, ""}},                 // open a scene (its meshes import in the background)
+        {"wait_open", {0, 1, "n"}},           // wait until the open finished: adopted, refused or dropped [timeout s]
+        {"uncap", {0, 0, ""}},                // lift wait_samples' cap: render on to the scene's target
         {"save", {0, 1, ""}},                 // save [as file]
         {"write_image", {1, 1, ""}},          // the film, tone mapped as in batch mode (PNG)
         {"screenshot", {1, 1, ""}},           // the whole window (PNG)

@@ -6,6 +6,7 @@
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
+#include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
 
 #include <glad/gl.h>
@@ -126,9 +127,9 @@ void drawModals(EditorUi& ui) {
         if (ui.recovered) ImGui::Text("of '%s'.", ui.recovered->second.empty() ? "an untitled scene" : ui.recovered->second.c_str());
         // A script's `recover` presses the same button.
         if (ImGui::Button("Recover") || std::exchange(ui.scriptAnswersRecover, false)) {
-            if (ui.recovered) ui.state.adoptRecovered(std::move(ui.recovered->first), ui.recovered->second);
+            // Its meshes import in the background first, as when opening (mesh_import.h).
+            if (ui.recovered) ui.meshImports.openScene(ui, std::move(ui.recovered->first), ui.recovered->second, true);
             ui.recovered.reset();
-            notify(ui, "recovered the autosave; save it to keep it");
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();
@@ -447,17 +448,16 @@ void showError(EditorUi& ui, const std::string& message) {
 }
 
 bool openFile(EditorUi& ui, const std::string& file) {
-    std::string error;
-    if (!ui.state.open(file, &error)) {
-        showError(ui, "could not open the scene; the current one is kept.\n" + error);
+    // The JSON is parsed and validated here (fast): a broken file is refused at once.
+    SceneLoadResult loaded = loadScene(file);
+    if (!loaded) {
+        showError(ui, "could not open the scene; the current one is kept.\n" + loaded.error);
         ui.recent.remove(file);
         return false;
     }
-    ui.recent.add(fs::absolute(file).lexically_normal().string());
-    std::string ignored;
-    ui.recent.save(ui.recentListPath, &ignored);
-    ui.renderToFile.reset();
-    notify(ui, "opened " + file);
+    // Its meshes import in the background; the scene is adopted when they are ready (at once
+    // when there is nothing to import). docs/editor.md, "Opening scenes".
+    ui.meshImports.openScene(ui, std::move(*loaded.scene), file, false);
     return true;
 }
 

@@ -25,6 +25,27 @@ bool cachedAndCurrent(const EditorUi& ui, const std::string& key) {
 
 std::string fileName(const std::string& file) { return fs::path(file).filename().string(); }
 
+// Replaces the current scene by an opened (or recovered) one whose meshes the renderer holds.
+void adopt(EditorUi& ui, PendingOpen& open) {
+    if (open.recovered) {
+        ui.state.adoptRecovered(std::move(open.scene), open.file);
+        notify(ui, "recovered the autosave; save it to keep it");
+        return;
+    }
+    ui.state.adoptOpened(std::move(open.scene), open.file);
+    ui.recent.add(fs::absolute(open.file).lexically_normal().string());
+    std::string ignored;
+    ui.recent.save(ui.recentListPath, &ignored);
+    ui.renderToFile.reset();
+    const std::vector<double> seconds = open.seconds();
+    double total = 0.0;
+    for (double t : seconds) total += t;
+    notify(ui, "opened " + open.file +
+                   (seconds.empty() ? std::string()
+                                    : " (" + std::to_string(seconds.size()) + " meshes imported, " +
+                                          std::to_string(int(total * 1e3 + 0.5)) + " ms in the background)"));
+}
+
 }  // namespace
 
 MeshImports::MeshImports() {
@@ -60,8 +81,70 @@ void MeshImports::setObjectFile(EditorUi& ui, int objectIndex, const std::string
     notify(ui, "importing " + file + " ...");
 }
 
+void MeshImports::openScene(EditorUi& ui, Scene scene, const std::string& file, bool recovered) {
+    if (m_open) dropOpen();   // superseded: its imports stop, its scene is never adopted
+    scene.sourcePath = file;  // mesh files resolve against the file's folder (as compileScene does)
+    auto open = std::make_shared<PendingOpen>(std::move(scene), file, recovered,
+                                              [&ui](const std::string& key) { return cachedAndCurrent(ui, key); });
+    open->generation = ui.state.generation();
+    open->revision = ui.state.history.revision();
+    if (open->ready()) {   // nothing to import (no meshes, or all held): as before, at once
+        adopt(ui, *open);
+        return;
+    }
+    const std::vector<std::string> keys = open->toImport();
+    for (std::size_t i = 0; i < keys.size(); ++i) open->requested(i, m_loader.request(keys[i]));
+    m_open = std::move(open);
+}
+
+void MeshImports::dropOpen() {
+    if (m_open) m_loader.cancel(m_open->ids());
+    m_open.reset();
+}
+
+void MeshImports::finishOpen(EditorUi& ui) {
+    if (!m_open) return;
+    if (m_open->generation != ui.state.generation()) {   // New meanwhile
+        notify(ui, "dropped the open of " + fileName(m_open->file) + ": another scene was made or opened meanwhile");
+        dropOpen();
+        return;
+    }
+    if (m_open->failed()) {
+        const bool recovered = m_open->recovered;
+        showError(ui, std::string(recovered ? "could not recover the autosave; the current scene and the autosave are kept"
+                                            : "could not open the scene; the current one is kept") +
+                          ".\n" + (m_open->file.empty() ? std::string("autosave") : m_open->file) + ": " + m_open->error());
+        // A recovery that failed keeps the autosave on disk: the clean exit removes it only
+        // when no recovered scene is left unanswered (it is offered again at the next start).
+        if (recovered) ui.recovered = std::make_pair(std::move(m_open->scene), m_open->file);
+        dropOpen();
+        return;
+    }
+    if (!m_open->ready()) return;
+    std::shared_ptr<PendingOpen> open = std::move(m_open);
+    m_open.reset();
+    // The renderer gets the meshes first, under the keys its compile looks up: the compile that
+    // the adoption triggers only uploads them.
+    if (ui.renderer)
+        for (auto& [key, mesh] : open->meshes()) ui.renderer->meshCache().insert(key, mesh);
+    // Edited while the meshes imported: the unsaved-changes prompt asks first (Cancel keeps it).
+    if (ui.state.modified() && ui.state.history.revision() != open->revision) {
+        ui.afterUnsavedPrompt = [&ui, open] {
+            if (ui.state.generation() == open->generation) adopt(ui, *open);
+        };
+        ui.unsavedPromptRequested = true;
+        notify(ui, fileName(open->file) + " is ready, but the current scene was edited meanwhile");
+        return;
+    }
+    adopt(ui, *open);
+}
+
 void MeshImports::finish(EditorUi& ui) {
     for (const MeshLoadResult& result : m_loader.poll()) {
+        if (m_open && m_open->take(result)) {
+            m_openSeconds.push_back(result.seconds);
+            continue;
+        }
         auto it = std::find_if(m_edits.begin(), m_edits.end(), [&](const Edit& e) { return e.id == result.id; });
         if (it == m_edits.end()) continue;
         const Edit edit = *it;
@@ -69,6 +152,7 @@ void MeshImports::finish(EditorUi& ui) {
         m_seconds.push_back(result.seconds);
         apply(ui, edit, &result);
     }
+    finishOpen(ui);
 }
 
 void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* result) {
@@ -103,10 +187,10 @@ void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* re
 }
 
 std::string MeshImports::status() const {
-    const std::vector<std::string> files = m_loader.pending();
-    if (files.empty()) return pending() ? "importing ..." : std::string();
-    std::string s = "importing ";
-    for (size_t i = 0; i < files.size(); ++i) s += (i ? ", " : "") + fileName(files[i]);
+    std::string s = m_open ? m_open->status() : std::string();
+    if (m_edits.empty()) return s;
+    s += s.empty() ? "importing " : "; importing ";
+    for (size_t i = 0; i < m_edits.size(); ++i) s += (i ? ", " : "") + fileName(m_edits[i].file);
     return s + " ...";
 }
 

@@ -4,12 +4,19 @@
 // inserts it into the renderer's MeshCache and only then applies the edit, so the viewport keeps
 // rendering the old scene meanwhile and the compile that follows imports nothing. A failed import
 // shows the importer's message (file and reason) and changes nothing.
+//
+// Opening a scene goes the same way (docs/editor.md, "Opening scenes"): openScene() takes a scene
+// already parsed and validated, imports the mesh files the renderer does not hold on the same
+// worker, and adopts the scene only when all are ready; a mesh that fails fails the open and the
+// current scene stays.
 #pragma once
 
 #include "editor/model/mesh_loader.h"
+#include "editor/model/scene_open.h"
 #include "editor/model/viewport_math.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,14 +32,26 @@ public:
     void importFile(EditorUi& ui, const std::string& file);
     // Gives object objectIndex (a mesh) the model file `file` once it is imported.
     void setObjectFile(EditorUi& ui, int objectIndex, const std::string& file);
-    // Applies the edits whose meshes are ready (UI thread, once per frame, before rendering).
+    // Opens `scene` (parsed from `file`; for a recovered autosave, `file` is the file it belongs
+    // to and the scene is adopted as unsaved): its mesh files that the renderer does not hold,
+    // unchanged, are imported in the background and the scene is adopted once all are ready (at
+    // once when none has to be). Replaces an open still in progress. If the current scene was
+    // edited meanwhile, the unsaved-changes prompt asks before it is replaced.
+    void openScene(EditorUi& ui, Scene scene, const std::string& file, bool recovered);
+    // Applies the edits whose meshes are ready and adopts an opened scene whose meshes are (UI
+    // thread, once per frame, before rendering).
     void finish(EditorUi& ui);
     // An import is queued, running, or ready and not yet applied.
     bool pending() const { return !m_edits.empty(); }
-    // "importing knot.obj..." (the files in progress), or "" when none.
+    // A scene is being opened (its meshes import).
+    bool opening() const { return m_open != nullptr; }
+    // "opening scene.json: importing 1 of 2 meshes ..." and/or "importing knot.obj ..." (the
+    // files in progress), or "" when none.
     std::string status() const;
     // Worker seconds (import + BVH) of each import finished this session, for the script report.
     const std::vector<double>& importSeconds() const { return m_seconds; }
+    // The same for the meshes of opened scenes.
+    const std::vector<double>& openSeconds() const { return m_openSeconds; }
 
 private:
     struct Edit {
@@ -42,9 +61,12 @@ private:
         std::string objectName;         // setObjectFile: the object (by name: indices move)
     };
     void apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* result);
+    void finishOpen(EditorUi& ui);
+    void dropOpen();
 
     std::vector<Edit> m_edits;
-    std::vector<double> m_seconds;
+    std::vector<double> m_seconds, m_openSeconds;
+    std::shared_ptr<PendingOpen> m_open;   // the scene being opened, or null
     MeshLoader m_loader;                // last: destroyed (joined) first
 };
 

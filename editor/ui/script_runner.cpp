@@ -256,6 +256,11 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"frame_ms_median_during_import\": " << percentile(m_importFrameMs, 0.5)
           << ",\n  \"frame_ms_max_during_import\": " << percentile(m_importFrameMs, 1.0)
           << ",\n  \"import_seconds\": " << list(ui.meshImports.importSeconds())
+          << ",\n  \"frames_during_open\": " << m_openFrameMs.size()
+          << ",\n  \"rendering_frames_during_open\": " << m_openRenderingFrames
+          << ",\n  \"frame_ms_median_during_open\": " << percentile(m_openFrameMs, 0.5)
+          << ",\n  \"frame_ms_max_during_open\": " << percentile(m_openFrameMs, 1.0)
+          << ",\n  \"open_seconds\": " << list(ui.meshImports.openSeconds())
           << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
         std::string error;
         if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
@@ -287,6 +292,25 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
             return true;
         }
         return false;
+    }
+    if (op == "wait_open") {   // until the scene being opened is adopted (or refused) [timeout s]
+        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
+        if (!ui.meshImports.opening()) {
+            m_waitImportSince = -1.0;
+            markEdit();
+            return true;
+        }
+        if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
+        if (glfwGetTime() - m_waitImportSince > timeout) {
+            m_waitImportSince = -1.0;
+            fail(ui, line, "still opening after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
+            return true;
+        }
+        return false;
+    }
+    if (op == "uncap") {
+        ui.sampleCap.reset();
+        return true;
     }
     if (op == "frame") {   // F: frame the selection (or everything)
         frameSelection(ui);
@@ -456,6 +480,10 @@ void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     if (ui.meshImports.pending()) {
         m_importFrameMs.push_back(frameSeconds * 1e3);
         if (ui.renderedThisFrame) ++m_importRenderingFrames;
+    }
+    if (ui.meshImports.opening()) {
+        m_openFrameMs.push_back(frameSeconds * 1e3);
+        if (ui.renderedThisFrame) ++m_openRenderingFrames;
     }
     if (ui.renderedThisFrame) {
         m_frameMs.push_back(frameSeconds * 1e3);

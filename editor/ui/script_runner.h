@@ -56,7 +56,10 @@ private:
     // Mesh imports (import_mesh, wait_import): frames while an import was pending.
     std::vector<double> m_importFrameMs;      // every frame swapped while importing
     int m_importRenderingFrames = 0;          // of those, frames that rendered samples
-    double m_waitImportSince = -1.0;          // wait_import: when it started waiting
+    double m_waitImportSince = -1.0;          // wait_import, wait_open: when it started waiting
+    // Opening a scene (open, wait_open): frames while its meshes imported.
+    std::vector<double> m_openFrameMs;
+    int m_openRenderingFrames = 0;
 };
 
 }  // namespace caustic::editor

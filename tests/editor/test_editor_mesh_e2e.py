@@ -3,7 +3,11 @@
 box keeps rendering, then checks that the mesh appears where it is, that undo/redo take it out and
 back, that F frames it (its bounds come from the renderer's copy of the mesh), that changing a mesh
 object's file goes through the same path, and that a broken file shows the importer's error and
-changes nothing.
+changes nothing. Then opening a scene (docs/editor.md, "Opening scenes"): `open` of a scene whose
+large mesh the renderer does not hold imports it in the background while the current scene keeps
+rendering, and adopts the scene once it is ready; a scene whose mesh is broken is refused with the
+importer's message and the current scene stays. A second session starts with that scene on the
+command line: the window runs at once (empty scene) and the scene appears when it is ready.
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 CAUSTIC_KEEP_E2E=1 keeps the session's folder (images, reports).
@@ -56,6 +60,35 @@ wait_import 60
 expect_error broken.obj
 expect_undo_steps 3
 save final.json
+# Opening a scene whose mesh the renderer does not hold (a copy of the ball under another name):
+# the mesh imports in the background while the current scene keeps rendering (uncapped), and the
+# scene replaces it only when the mesh is ready.
+uncap
+open sub/opened.json
+frames 3
+screenshot opening.png
+wait_open 240
+report open.json
+expect_undo_steps 0
+expect_modified no
+wait_samples 4
+write_image opened.png
+# A scene whose mesh file is broken: refused with the importer's message; the opened one stays.
+open broken-scene.json
+wait_open 60
+expect_error broken.obj
+expect_undo_steps 0
+save kept.json
+quit
+"""
+
+# The second session: the editor started with sub/opened.json (its mesh not imported yet).
+STARTUP_SCRIPT = """
+frames 2
+wait_open 240
+report startup.json
+wait_samples 4
+write_image startup.png
 quit
 """
 
@@ -107,14 +140,34 @@ class EditorMeshImport(unittest.TestCase):
         write_sphere(os.path.join(cls.tmp, "small.obj"), 16, 32, CENTRE, RADIUS / 2)
         with open(os.path.join(cls.tmp, "broken.obj"), "w") as f:
             f.write("v 0 0 0\nv 1 0 0\nf 1 2 7\n")   # an index past the vertices: no triangle
+        # Scenes to open: the Cornell box with the ball (a copy: not in the renderer's cache) as a
+        # mesh object, in a sub-folder (its file resolves against the scene's folder), and one
+        # with the broken file.
+        shutil.copy(os.path.join(cls.tmp, "ball.obj"), os.path.join(cls.tmp, "ball-copy.obj"))
+        os.makedirs(os.path.join(cls.tmp, "sub"))
+        with open(CORNELL) as f:
+            cornell = json.load(f)
+        for name, scene_file, mesh_file in (("big ball", "sub/opened.json", "../ball-copy.obj"),
+                                            ("broken", "broken-scene.json", "broken.obj")):
+            scene = json.loads(json.dumps(cornell))
+            scene["objects"].append({"name": name, "shape": "mesh", "file": mesh_file, "material": "white"})
+            with open(os.path.join(cls.tmp, scene_file), "w") as f:
+                json.dump(scene, f, indent=1)
         with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
             f.write(SCRIPT)
+        with open(os.path.join(cls.tmp, "startup-script.txt"), "w") as f:
+            f.write(STARTUP_SCRIPT)
         env = dict(os.environ)
         env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "script.txt"),
                    CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home"),
                    CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
         cls.editor = subprocess.run(
             ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "scene.json")],
+            capture_output=True, text=True, env=env, timeout=400)
+        env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "startup-script.txt"),
+                   CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home2"))
+        cls.startup = subprocess.run(
+            ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "sub", "opened.json")],
             capture_output=True, text=True, env=env, timeout=400)
 
     @classmethod
@@ -181,6 +234,56 @@ class EditorMeshImport(unittest.TestCase):
         # The importer's message names the file and why.
         self.assertIn("broken.obj", self.editor.stderr)
         self.assertIn("could not import the mesh", self.editor.stderr)
+
+
+    def ball_shown(self, image):
+        """The share of the ball's disk (its inner 70 %) that differs from the box without it."""
+        _, before = read_png(self.path("before.png"))
+        _, after = read_png(self.path(image))
+        cx, cy, r = projected_disk()
+        inside, changed = 0, 0
+        for y in range(int(cy - r), int(cy + r) + 1):
+            for x in range(int(cx - r), int(cx + r) + 1):
+                if (x - cx) ** 2 + (y - cy) ** 2 > (0.7 * r) ** 2:
+                    continue
+                inside += 1
+                if sum(abs(p - q) for p, q in zip(before[y][x], after[y][x])) > 30:
+                    changed += 1
+        return changed / inside
+
+    def test_6_open_imports_in_the_background(self):
+        report = self.load("open.json")
+        # The ball copy is the only mesh the renderer did not hold.
+        self.assertEqual(len(report["open_seconds"]), 1, report)
+        open_ms = 1e3 * report["open_seconds"][0]
+        # The current scene kept rendering while the opened scene's mesh imported, and no frame
+        # waited for the whole import.
+        self.assertGreaterEqual(report["frames_during_open"], 2, report)
+        self.assertGreaterEqual(report["rendering_frames_during_open"], 1, report)
+        self.assertLess(report["frame_ms_max_during_open"], open_ms, report)
+        # Once adopted, the opened scene shows its mesh.
+        self.assertGreater(self.ball_shown("opened.png"), 0.5, "the opened scene's ball is not shown")
+
+    def test_7_open_with_a_broken_mesh_is_refused(self):
+        self.assertIn("could not open the scene; the current one is kept.", self.editor.stderr)
+        self.assertIn("broken-scene.json: objects[7] ('broken').file:", self.editor.stderr)
+        # The scene opened before stays (kept.json is it, saved after the refused open).
+        kept = self.load("kept.json")
+        names = [o["name"] for o in kept["objects"]]
+        self.assertIn("big ball", names)
+        self.assertNotIn("broken", names)
+        self.assertEqual([o["file"] for o in kept["objects"] if o["name"] == "big ball"], ["../ball-copy.obj"])
+
+    def test_8_startup_scene_opens_in_the_background(self):
+        self.assertEqual(self.startup.returncode, 0, self.startup.stderr)
+        report = self.load("startup.json")
+        self.assertEqual(len(report["open_seconds"]), 1, report)
+        # The window was up (the empty scene rendering) before the scene's mesh was imported: a
+        # synchronous open would have swapped no frame while opening. (How many depends on the
+        # first frame, which compiles the path tracer on llvmpipe, about as long as the import.)
+        self.assertGreaterEqual(report["frames_during_open"], 1, report)
+        self.assertGreaterEqual(report["rendering_frames_during_open"], 1, report)
+        self.assertGreater(self.ball_shown("startup.png"), 0.5, "the start-up scene's ball is not shown")
 
 
 if __name__ == "__main__":
