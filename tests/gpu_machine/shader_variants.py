@@ -37,6 +37,12 @@ PATCHES = {
         ("integrator/path.comp", "imageStore(albedoImage, ip, albedoSum);", ""),
         ("integrator/path.comp", "imageStore(normalImage, ip, normalSum);", ""),
     ],
+    # The texture slots' loop kept a loop (a bound the compiler cannot see: frame.geometry.z is 0).
+    "texture-loop-not-unrolled": [("bsdf/material.glsl", "for (uint slot = 0u; slot < 3u; ++slot) {",
+                                   "for (uint slot = 0u; slot < 3u + frame.geometry.z; ++slot) {")],
+    # One bilinear lookup instead of two blended (no trilinear).
+    "texture-bilinear-only": [("bsdf/texture.glsl", "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n",
+                               "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n    return a;\n")],
     "small-stack": [("geometry/bvh.glsl", "#define BVH_STACK_SIZE 76", "#define BVH_STACK_SIZE 40")],
 }
 PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures", "no-aov-images", "small-stack"]
