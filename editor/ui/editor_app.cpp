@@ -242,7 +242,12 @@ void renderFrame(EditorUi& ui) {
         ui.droppedSamples = ui.renderer->droppedSamples();
         ui.lastCounterRead = t;
     }
-    if (ui.display) ui.display->update(ui.renderer->accumulationTexture(), width, height, ui.state.view.toneMap, ui.state.view.exposure);
+    // While the first sample after a restart is still being rendered tile by tile (leaving the
+    // preview for full resolution, say), the viewport keeps the last whole image instead of a
+    // partly black one; the very first image of a scene shows its tiles as they come.
+    const bool firstSampleInTiles = ui.renderer->samplesDone() == 0 && ui.renderer->bandInProgress();
+    if (ui.display && !(firstSampleInTiles && ui.display->texture() != 0))
+        ui.display->update(ui.renderer->accumulationTexture(), width, height, ui.state.view.toneMap, ui.state.view.exposure);
 
     // "Render to file": written once the full-resolution image has all its samples.
     if (ui.renderToFile && ui.previewDivisor == 1 && ui.renderer->samplesDone() >= rs.samples) {
