@@ -8,8 +8,9 @@
 // --dump-program FILE: writes the driver's binary of the integrator program (NVIDIA's holds its
 //   assembly, with register and local-memory use: look with `strings`).
 // --interactive N: also N frames as the editor renders them (Renderer::renderFor with the editor's
-//   budget of 1/30 s less 2 ms, nothing else in the frame), moving the first object every tenth
-//   frame (Renderer::update with kDirtyTransforms): frame times and edit -> finished frame times.
+//   budget of 1/30 s less 2 ms, nothing else in the frame), with an edit every tenth frame,
+//   alternately moving the first object (kDirtyTransforms) and adding or removing a small sphere
+//   (kDirtyGeometry): frame times and edit -> finished frame times.
 // --out DIR: writes each render as DIR/<scene>.ppm (ACES, sRGB), to look at what was measured.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
@@ -99,20 +100,31 @@ std::string interactive(Renderer& renderer, Scene scene, int frames, const std::
     std::string error;
     if (!renderer.setScene(scene, &error)) return "interactive " + name + ": " + error;
     const double budget = 1.0 / 30.0 - 0.002;
-    std::vector<double> frameMs, editMs;
+    std::vector<double> frameMs, moveMs, addMs;
     long long pixelSamples = 0;
     const auto start = Clock::now();
+    Object extra;   // what a geometry edit adds and removes: a small sphere
+    extra.name = "bench sphere";
+    extra.shape = Shape::Sphere;
+    extra.material = scene.materials.empty() ? std::string() : scene.materials.front().name;
+    extra.transform.scale = glm::vec3(0.05f);
     for (int i = 0; i < frames; ++i) {
-        const bool edit = i % 10 == 5 && !scene.objects.empty();
+        // Every tenth frame an edit: moving the first object (kDirtyTransforms), or every other
+        // time adding or removing a sphere (kDirtyGeometry).
+        const int kind = i % 10 != 5 || scene.objects.empty() ? 0 : ((i / 10) % 2 == 0 ? 1 : 2);
         const auto t0 = Clock::now();
-        if (edit) {
-            scene.objects[0].transform.translate.x += (i / 10) % 2 == 0 ? 0.01f : -0.01f;
+        if (kind == 1) {
+            scene.objects[0].transform.translate.x += (i / 20) % 2 == 0 ? 0.01f : -0.01f;
             if (!renderer.update(scene, kDirtyTransforms, &error)) return "interactive " + name + ": " + error;
+        } else if (kind == 2 && !extra.material.empty()) {
+            if (scene.objects.back().name == extra.name) scene.objects.pop_back();
+            else scene.objects.push_back(extra);
+            if (!renderer.update(scene, kDirtyGeometry, &error)) return "interactive " + name + ": " + error;
         }
         pixelSamples += renderer.renderFor(budget, 1 << 20).pixelSamples;
         glFinish();
         const double ms = std::chrono::duration<double>(Clock::now() - t0).count() * 1e3;
-        (edit ? editMs : frameMs).push_back(ms);
+        (kind == 0 ? frameMs : kind == 1 ? moveMs : addMs).push_back(ms);
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     const double pixels = double(scene.render.width) * scene.render.height;
@@ -121,11 +133,13 @@ std::string interactive(Renderer& renderer, Scene scene, int frames, const std::
         std::sort(v.begin(), v.end());
         return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
     };
-    char line[320];
+    char line[400];
     std::snprintf(line, sizeof line,
-                  "interactive %-19s %4dx%-5d  frame ms median %.1f p95 %.1f max %.1f   edit->frame ms median %.1f max %.1f   %.1f spp/s",
+                  "interactive %-19s %4dx%-5d  frame ms median %.1f p95 %.1f max %.1f   move->frame ms median %.1f max %.1f"
+                  "   add/remove->frame ms median %.1f max %.1f   %.1f spp/s",
                   name.c_str(), scene.render.width, scene.render.height, pct(frameMs, 0.5), pct(frameMs, 0.95),
-                  pct(frameMs, 1.0), pct(editMs, 0.5), pct(editMs, 1.0), double(pixelSamples) / pixels / seconds);
+                  pct(frameMs, 1.0), pct(moveMs, 0.5), pct(moveMs, 1.0), pct(addMs, 0.5), pct(addMs, 1.0),
+                  double(pixelSamples) / pixels / seconds);
     return line;
 }
 

@@ -146,6 +146,23 @@ struct Builder {
         return true;
     }
 
+    // Replaces the first `oldTop` nodes of `nodes` (a top level's reserved nodes followed by the
+    // meshes' BVHs) with `top` (the new reserved nodes), moving the meshes' nodes by the
+    // difference and their interior nodes' child links with them (only when the top level
+    // outgrew its reserve).
+    static void shiftMeshNodes(std::vector<gpu::GpuBvhNode>& nodes, std::uint32_t oldTop,
+                               const std::vector<gpu::GpuBvhNode>& top) {
+        const auto newTop = static_cast<std::uint32_t>(top.size());
+        if (newTop != oldTop) {
+            nodes.erase(nodes.begin(), nodes.begin() + oldTop);
+            nodes.insert(nodes.begin(), top.begin(), top.end());
+            for (std::size_t i = newTop; i < nodes.size(); ++i)
+                if ((nodes[i].countAndAxis >> 2) == 0) nodes[i].rightOrFirst = nodes[i].rightOrFirst - oldTop + newTop;
+        } else {
+            std::copy(top.begin(), top.end(), nodes.begin());
+        }
+    }
+
     // After a failed compile: gives back what was moved out of *reuse.
     void restoreReuse() {
         if (!reusing) return;
@@ -155,7 +172,7 @@ struct Builder {
         }
         if (reusedLayout) {
             reuse->bvhNodes = std::move(out.bvhNodes);
-            std::copy(previousTlas.begin(), previousTlas.end(), reuse->bvhNodes.begin());
+            shiftMeshNodes(reuse->bvhNodes, out.tlasNodeCapacity, previousTlas);
             reuse->triangles = std::move(out.triangles);
             reuse->vertices = std::move(out.vertices);
         }
@@ -449,14 +466,18 @@ struct Builder {
         out.bvhNodes.clear();
         for (const BvhNode& n : tlas.nodes) out.bvhNodes.push_back(std::bit_cast<gpu::GpuBvhNode>(n));
         out.tlasNodeCount = static_cast<std::uint32_t>(tlas.nodes.size());
+        out.tlasNodeCapacity = out.tlasNodeCount == 0 ? 0u : std::max(64u, std::bit_ceil(out.tlasNodeCount));
+        out.bvhNodes.resize(out.tlasNodeCapacity, gpu::GpuBvhNode{});
         out.tlasRefs.clear();
         for (std::uint32_t id : tlas.primIndices) out.tlasRefs.push_back(refs[id]);
         // Each mesh's BVH after the top level, its triangles in leaf order.
         std::vector<std::uint32_t> rootOf, firstTriangleOf;
-        if (reusing && out.tlasNodeCount == reuse->tlasNodeCount) {
-            // The previous compile laid out the same meshes after a top level of the same size:
-            // take its arrays and write the new top level over the old one.
-            std::uint32_t root = out.tlasNodeCount, first = 0;
+        if (reusing) {
+            // The previous compile laid out the same meshes after its top level: take its arrays
+            // and put the new top level in place of the old one (the same size after a transform
+            // edit; after adding or removing a primitive the meshes' nodes shift, and their
+            // child links with them).
+            std::uint32_t root = out.tlasNodeCapacity, first = 0;
             for (const MeshBlas& blas : out.meshBvh.blases) {
                 rootOf.push_back(root);
                 firstTriangleOf.push_back(first);
@@ -464,16 +485,13 @@ struct Builder {
                 first += static_cast<std::uint32_t>(blas.triangles.size());
             }
             std::vector<gpu::GpuBvhNode> tlasNodes = std::move(out.bvhNodes);
-            previousTlas.assign(reuse->bvhNodes.begin(), reuse->bvhNodes.begin() + reuse->tlasNodeCount);
+            previousTlas.assign(reuse->bvhNodes.begin(), reuse->bvhNodes.begin() + reuse->tlasNodeCapacity);
             out.bvhNodes = std::move(reuse->bvhNodes);
-            std::copy(tlasNodes.begin(), tlasNodes.end(), out.bvhNodes.begin());
+            shiftMeshNodes(out.bvhNodes, reuse->tlasNodeCapacity, tlasNodes);
             out.triangles = std::move(reuse->triangles);
             out.vertices = std::move(reuse->vertices);
             reusedLayout = true;
         } else {
-            if (reusing)  // laid out again below; the vertices were not copied while importing
-                for (const auto& entry : out.meshEntries)
-                    out.vertices.insert(out.vertices.end(), entry->vertices.begin(), entry->vertices.end());
             layOutMeshes(rootOf, firstTriangleOf);
         }
         for (size_t i = 0; i < out.instances.size(); ++i) {

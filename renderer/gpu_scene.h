@@ -46,6 +46,10 @@ struct CompiledScene {
     // primitive and every mesh instance, then one BVH per distinct mesh file.
     std::vector<gpu::GpuBvhNode> bvhNodes;        // top level at 0 (empty: nothing to hit)
     std::uint32_t tlasNodeCount = 0;
+    // Nodes reserved for the top level (a power of two >= tlasNodeCount, at least 64; the rest are
+    // empty): the meshes' BVHs follow, so they stay where they are, and stay uploaded, when an
+    // object is added or removed beside them.
+    std::uint32_t tlasNodeCapacity = 0;
     std::vector<std::uint32_t> tlasRefs;          // primitive index or TLAS_REF_INSTANCE | instance
     std::vector<gpu::GpuInstance> instances;
     std::vector<gpu::GpuTriangle> triangles;

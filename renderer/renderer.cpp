@@ -72,11 +72,21 @@ Renderer::~Renderer() {
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
+    // The meshes' laid-out data moves over from the last compile when the files are the same
+    // (an object added or removed beside a big mesh); everything is uploaded again.
+    // When the mesh data was reused in place (same files, the top level within its reserve), the
+    // meshes' triangles, vertices and nodes on the GPU are still right: only the rest is uploaded.
+    const auto previousMeshes = m_compiled.meshEntries;
+    const std::size_t previousNodes = m_compiled.bvhNodes.size();
+    const std::uint32_t previousReserve = m_compiled.tlasNodeCapacity;
     CompiledScene compiled;
-    if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache)) return false;
+    if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache, &m_compiled)) return false;
+    const bool meshesInPlace = m_uploaded && !compiled.meshEntries.empty() && compiled.meshEntries == previousMeshes &&
+                               compiled.bvhNodes.size() == previousNodes && compiled.tlasNodeCapacity == previousReserve;
     m_scene = scene;
     m_compiled = std::move(compiled);
-    upload();
+    upload(!meshesInPlace);
+    m_uploaded = true;
     if (m_width != scene.render.width || m_height != scene.render.height) {
         unsigned textures[4] = {m_accum, m_accumSq, m_albedo, m_normal};
         if (m_accum) glDeleteTextures(4, textures);
@@ -170,7 +180,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
     return true;
 }
 
-void Renderer::upload() {
+void Renderer::upload(bool meshes) {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
@@ -188,11 +198,16 @@ void Renderer::upload() {
     glTextureParameteri(m_envTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(m_envTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    uploadBuffer(m_geometry[0], m_compiled.bvhNodes);
+    if (meshes) {
+        uploadBuffer(m_geometry[0], m_compiled.bvhNodes);
+        uploadBuffer(m_geometry[3], m_compiled.triangles);
+        uploadBuffer(m_geometry[4], m_compiled.vertices);
+    } else {  // the top level's reserve only
+        glNamedBufferSubData(m_geometry[0], 0, GLsizeiptr(m_compiled.tlasNodeCapacity * sizeof(gpu::GpuBvhNode)),
+                             m_compiled.bvhNodes.data());
+    }
     uploadBuffer(m_geometry[1], m_compiled.tlasRefs);
     uploadBuffer(m_geometry[2], m_compiled.instances);
-    uploadBuffer(m_geometry[3], m_compiled.triangles);
-    uploadBuffer(m_geometry[4], m_compiled.vertices);
     uploadBuffer(m_texels, m_compiled.texels);
     uploadBuffer(m_textures, m_compiled.textures);
 }

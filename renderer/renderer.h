@@ -90,7 +90,7 @@ public:
 
 private:
     Renderer() = default;
-    void upload();
+    void upload(bool meshes = true);   // meshes = false: all but the meshes' data, already there
     void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0 = 0, std::uint32_t tile1 = ~0u);
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
     std::uint32_t tileCount() const;
@@ -112,6 +112,7 @@ private:
     CompiledScene m_compiled;
     std::uint32_t m_strategy = STRATEGY_MIS;
     int m_samplesDone = 0;
+    bool m_uploaded = false;           // a scene has been uploaded (the buffers hold its data)
     double m_secondsPerSample = 0.0;   // measured, for sizing dispatches
     double m_secondsPerPixelSample = 0.0;   // measured by renderFor, for sizing runs of tiles
     std::uint32_t m_bandTile = 0;      // > 0: tiles [0, m_bandTile) have sample m_samplesDone already

@@ -242,11 +242,41 @@ TEST_CASE("incremental updates render the same bytes as a fresh upload", "[gpu][
                  }
          }},
         {"mesh material", kDirtyMaterials, [](Scene& sc) { sc.materials.back().emission = glm::vec3(0.5f, 2.0f, 1.0f); }},
+        {"a primitive added beside the meshes", kDirtyGeometry, [](Scene& sc) {
+             Object ball;
+             ball.shape = Shape::Sphere;
+             ball.material = "red";
+             ball.transform.translate = glm::vec3(0.6f, 0.6f, -0.5f);
+             ball.transform.scale = glm::vec3(0.1f);
+             sc.objects.push_back(ball);
+         }},
+        // 24 more entries: the top level outgrows its reserve of nodes, and the meshes' nodes move.
+        {"primitives added past the top level's reserve", kDirtyGeometry, [](Scene& sc) {
+             for (int k = 0; k < 24; ++k) {
+                 Object ball;
+                 ball.shape = Shape::Sphere;
+                 ball.material = "green";
+                 ball.transform.translate = glm::vec3(-0.8f + 0.07f * float(k), 0.8f, -0.8f);
+                 ball.transform.scale = glm::vec3(0.03f);
+                 sc.objects.push_back(ball);
+             }
+         }},
+        {"and removed again", kDirtyGeometry, [](Scene& sc) { sc.objects.resize(sc.objects.size() - 24); }},
     };
     for (const Edit& e : edits) {
         INFO(e.what);
         e.apply(s);
         REQUIRE(incremental->update(s, e.dirty, &error));
+        if (std::string(e.what) == "primitives added past the top level's reserve") {
+            // A compile that fails after the meshes' data was moved and shifted (a missing
+            // environment map is read last) gives it all back.
+            Scene broken = s;
+            broken.objects.resize(broken.objects.size() - 24);
+            broken.environment.type = EnvironmentType::Map;
+            broken.environment.file = dir.file("no-such-map.hdr");
+            CHECK_FALSE(incremental->update(broken, kDirtyGeometry | kDirtyEnvironment, &error));
+            REQUIRE(incremental->update(s, kDirtyGeometry, &error));
+        }
         if (std::string(e.what) == "mesh transforms") {
             // An edit that cannot compile (a mesh scaled to nothing) fails and leaves the last
             // scene intact: the mesh data moved out for reuse is moved back.
@@ -260,6 +290,11 @@ TEST_CASE("incremental updates render the same bytes as a fresh upload", "[gpu][
         }
         incremental->render(3);
         Film a = incremental->readFilm();
+        // The reference compiles from nothing: a scene without meshes first, so that it cannot
+        // reuse mesh data of its own previous compile (the path under test).
+        Scene blank = s;
+        blank.objects.clear();
+        REQUIRE(fresh->setScene(blank, &error));
         Film b = test::renderFilm(*fresh, s, 3);
         REQUIRE(a.mean.size() == b.mean.size());
         CHECK(std::memcmp(a.mean.data(), b.mean.data(), a.mean.size() * sizeof(glm::vec3)) == 0);
