@@ -69,6 +69,9 @@ public:
     // work was split.
     Progress renderFor(double budgetSeconds, int maxSamples);
     bool bandInProgress() const { return m_bandTile > 0; }
+    std::uint32_t tileCount() const;   // the integrator's 8x8 tiles in the image
+    // How much of the next sample renderFor has done (0 when none is under way), in [0, 1).
+    float bandProgress() const { return m_bandTile > 0 ? float(m_bandTile) / float(tileCount()) : 0.0f; }
 
     int samplesDone() const { return m_samplesDone; }
     std::uint64_t droppedSamples() const;
@@ -93,7 +96,6 @@ private:
     void upload(bool meshes = true);   // meshes = false: all but the meshes' data, already there
     void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0 = 0, std::uint32_t tile1 = ~0u);
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
-    std::uint32_t tileCount() const;
     long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
 
     unsigned m_program = 0;

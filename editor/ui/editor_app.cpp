@@ -246,8 +246,11 @@ void renderFrame(EditorUi& ui) {
     // preview for full resolution, say), the viewport keeps the last whole image instead of a
     // partly black one; the very first image of a scene shows its tiles as they come.
     const bool firstSampleInTiles = ui.renderer->samplesDone() == 0 && ui.renderer->bandInProgress();
-    if (ui.display && !(firstSampleInTiles && ui.display->texture() != 0))
+    const bool wholeImageShown = ui.displayedWholeImageOf && *ui.displayedWholeImageOf == ui.state.generation();
+    if (ui.display && !(firstSampleInTiles && wholeImageShown)) {
         ui.display->update(ui.renderer->accumulationTexture(), width, height, ui.state.view.toneMap, ui.state.view.exposure);
+        if (!firstSampleInTiles) ui.displayedWholeImageOf = ui.state.generation();
+    }
 
     // "Render to file": written once the full-resolution image has all its samples.
     if (ui.renderToFile && ui.previewDivisor == 1 && ui.renderer->samplesDone() >= rs.samples) {

@@ -71,6 +71,8 @@ struct EditorUi {
     double overheadSeconds = 0.01;    // a rendering frame's time outside the path tracer (smoothed)
     int samplesThisFrame = 0;         // whole samples finished this frame
     bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
+    // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
+    std::optional<std::uint64_t> displayedWholeImageOf;
     // Bumped whenever accumulation restarts (every scene upload or update): a denoised image
     // is shown only for the generation it was read from.
     std::uint64_t accumulationGeneration = 0;

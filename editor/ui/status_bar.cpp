@@ -28,7 +28,11 @@ void drawStatusBar(EditorUi& ui) {
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "no renderer (shader error: see the message, fix, F5)");
     } else {
         const int done = ui.renderer->samplesDone();
-        ImGui::Text("%d / %d spp", done, rs.samples);
+        // On a slow GPU a sample takes many frames (tiles): say how far the next one is.
+        if (ui.renderer->bandInProgress() && done < rs.samples)
+            ImGui::Text("%d / %d spp (next %d%%)", done, rs.samples, static_cast<int>(ui.renderer->bandProgress() * 100.0f));
+        else
+            ImGui::Text("%d / %d spp", done, rs.samples);
         ImGui::SameLine(0.0f, 16.0f);
         ImGui::Text("%.1f spp/s", done >= rs.samples ? 0.0 : ui.samplesPerSecond);
         ImGui::SameLine(0.0f, 16.0f);
