@@ -7,6 +7,7 @@
 // refit tree degrade as instances move (the measurement behind kBvhRebuildFactor).
 //   caustic-bvh-bench [--tris N] [--repeat N] [--rays N] [--quick]
 #include "renderer/bvh.h"
+#include "renderer/mesh.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -56,26 +57,9 @@ MeshData displacedSphere(std::size_t targetTris, float phase) {
         }
         return r;
     };
-    constexpr float kPi = 3.14159265358979f;
-    m.positions.push_back({0.0f, radius(0.0f, 0.0f), 0.0f});
-    for (std::uint32_t i = 1; i < rings; ++i) {
-        float th = kPi * static_cast<float>(i) / static_cast<float>(rings);
-        for (std::uint32_t j = 0; j < segs; ++j) {
-            float ph = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segs);
-            float r = radius(th, ph);
-            m.positions.push_back({r * std::sin(th) * std::cos(ph), r * std::cos(th), r * std::sin(th) * std::sin(ph)});
-        }
-    }
-    const auto south = static_cast<std::uint32_t>(m.positions.size());
-    m.positions.push_back({0.0f, -radius(kPi, 0.0f), 0.0f});
-    auto ring = [segs](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * segs + (j % segs); };
-    for (std::uint32_t j = 0; j < segs; ++j) m.triangles.push_back({0u, ring(1, j + 1), ring(1, j)});
-    for (std::uint32_t i = 1; i + 1 < rings; ++i)
-        for (std::uint32_t j = 0; j < segs; ++j) {
-            m.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-            m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-        }
-    for (std::uint32_t j = 0; j < segs; ++j) m.triangles.push_back({south, ring(rings - 1, j), ring(rings - 1, j + 1)});
+    Mesh sphere = makeUvSphere(rings, segs, radius);
+    m.positions = std::move(sphere.positions);
+    m.triangles = std::move(sphere.triangles);
     return m;
 }
 

@@ -119,4 +119,31 @@ MeshValidation validateMesh(Mesh& mesh) {
     return r;
 }
 
+Mesh makeUvSphere(std::uint32_t rings, std::uint32_t segments, const std::function<float(float, float)>& radius) {
+    constexpr float kPi = 3.14159265358979f;
+    auto r = [&](float theta, float phi) { return radius ? radius(theta, phi) : 1.0f; };
+    Mesh m;
+    m.name = "uv sphere";
+    m.positions.push_back({0.0f, r(0.0f, 0.0f), 0.0f});
+    for (std::uint32_t i = 1; i < rings; ++i) {
+        const float th = kPi * static_cast<float>(i) / static_cast<float>(rings);
+        for (std::uint32_t j = 0; j < segments; ++j) {
+            const float ph = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
+            const float rr = r(th, ph);
+            m.positions.push_back({rr * std::sin(th) * std::cos(ph), rr * std::cos(th), rr * std::sin(th) * std::sin(ph)});
+        }
+    }
+    const auto south = static_cast<std::uint32_t>(m.positions.size());
+    m.positions.push_back({0.0f, -r(kPi, 0.0f), 0.0f});
+    auto v = [segments](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * segments + (j % segments); };
+    for (std::uint32_t j = 0; j < segments; ++j) m.triangles.push_back({0u, v(1, j + 1), v(1, j)});
+    for (std::uint32_t i = 1; i + 1 < rings; ++i)
+        for (std::uint32_t j = 0; j < segments; ++j) {
+            m.triangles.push_back({v(i, j), v(i, j + 1), v(i + 1, j + 1)});
+            m.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i + 1, j)});
+        }
+    for (std::uint32_t j = 0; j < segments; ++j) m.triangles.push_back({south, v(rings - 1, j), v(rings - 1, j + 1)});
+    return m;
+}
+
 }  // namespace caustic

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -71,5 +72,12 @@ MeshValidation validateMesh(Mesh& mesh);
 // Area-weighted smooth vertex normals from the triangles (+z for vertices no triangle uses).
 std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::vec3>& positions,
                                             const std::vector<glm::uvec3>& triangles);
+
+// A closed UV sphere (for tests and benchmarks): single-vertex poles on +-y, `rings` bands of
+// `segments` vertices between them (rings >= 2, segments >= 3), shared vertices, triangles
+// counter-clockwise seen from outside. The radius towards polar angle theta (from +y) and azimuth
+// phi (from +x towards +z) is radius(theta, phi); without one, 1.
+Mesh makeUvSphere(std::uint32_t rings, std::uint32_t segments,
+                  const std::function<float(float theta, float phi)>& radius = {});
 
 }  // namespace caustic

@@ -2,6 +2,7 @@
 // ties), any-hit agreement, refit against a fresh build, watertightness of the ray/triangle test
 // through the hierarchy, robustness to broken input, and the SAH doing better than a median split.
 #include "renderer/bvh.h"
+#include "renderer/mesh.h"
 
 #include <catch2/catch.hpp>
 
@@ -41,29 +42,10 @@ TestMesh randomSoup(std::size_t n, std::uint32_t seed) {
     return m;
 }
 
-// A closed UV sphere of radius r: shared vertices, single-vertex poles, consistent winding.
+// A closed UV sphere of radius r (renderer/mesh.h).
 TestMesh uvSphere(std::uint32_t rings, std::uint32_t segs, float r = 1.0f) {
-    TestMesh m;
-    constexpr float kPi = 3.14159265358979f;
-    m.positions.push_back({0.0f, r, 0.0f});
-    for (std::uint32_t i = 1; i < rings; ++i) {
-        const float th = kPi * static_cast<float>(i) / static_cast<float>(rings);
-        for (std::uint32_t j = 0; j < segs; ++j) {
-            const float ph = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segs);
-            m.positions.push_back({r * std::sin(th) * std::cos(ph), r * std::cos(th), r * std::sin(th) * std::sin(ph)});
-        }
-    }
-    const auto south = static_cast<std::uint32_t>(m.positions.size());
-    m.positions.push_back({0.0f, -r, 0.0f});
-    auto v = [segs](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * segs + (j % segs); };
-    for (std::uint32_t j = 0; j < segs; ++j) m.triangles.push_back({0u, v(1, j + 1), v(1, j)});
-    for (std::uint32_t i = 1; i + 1 < rings; ++i)
-        for (std::uint32_t j = 0; j < segs; ++j) {
-            m.triangles.push_back({v(i, j), v(i, j + 1), v(i + 1, j + 1)});
-            m.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i + 1, j)});
-        }
-    for (std::uint32_t j = 0; j < segs; ++j) m.triangles.push_back({south, v(rings - 1, j), v(rings - 1, j + 1)});
-    return m;
+    Mesh sphere = makeUvSphere(rings, segs, [r](float, float) { return r; });
+    return TestMesh{std::move(sphere.positions), std::move(sphere.triangles)};
 }
 
 // A closed torus around the y axis (major radius R, minor radius r), shared vertices.

@@ -2,6 +2,8 @@
 // normals), and a temporary folder that cleans up after itself.
 #pragma once
 
+#include "renderer/mesh.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -25,29 +27,12 @@ struct TempDir {
     std::string file(const std::string& name) const { return (path / name).string(); }
 };
 
-// A UV sphere of radius 1: poles as single vertices, rings of `segments` shared vertices.
+// A UV sphere of radius 1 (renderer/mesh.h's makeUvSphere) as an OBJ file.
 inline void writeObjSphere(const std::string& path, int rings, int segments) {
+    const Mesh m = makeUvSphere(static_cast<std::uint32_t>(rings), static_cast<std::uint32_t>(segments));
     std::ofstream f(path);
-    const double pi = std::numbers::pi;
-    f << "v 0 1 0\n";
-    for (int r = 1; r < rings; ++r) {
-        const double theta = pi * r / rings;
-        for (int s = 0; s < segments; ++s) {
-            const double phi = 2.0 * pi * s / segments;
-            f << "v " << std::sin(theta) * std::cos(phi) << " " << std::cos(theta) << " "
-              << -std::sin(theta) * std::sin(phi) << "\n";
-        }
-    }
-    f << "v 0 -1 0\n";
-    auto ring = [&](int r, int s) { return 2 + (r - 1) * segments + ((s % segments) + segments) % segments; };
-    const int south = 2 + (rings - 1) * segments;
-    for (int s = 0; s < segments; ++s) f << "f 1 " << ring(1, s) << " " << ring(1, s + 1) << "\n";
-    for (int r = 1; r < rings - 1; ++r)
-        for (int s = 0; s < segments; ++s) {
-            f << "f " << ring(r, s) << " " << ring(r + 1, s) << " " << ring(r + 1, s + 1) << "\n";
-            f << "f " << ring(r, s) << " " << ring(r + 1, s + 1) << " " << ring(r, s + 1) << "\n";
-        }
-    for (int s = 0; s < segments; ++s) f << "f " << south << " " << ring(rings - 1, s + 1) << " " << ring(rings - 1, s) << "\n";
+    for (const glm::vec3& p : m.positions) f << "v " << p.x << " " << p.y << " " << p.z << "\n";
+    for (const glm::uvec3& t : m.triangles) f << "f " << t.x + 1 << " " << t.y + 1 << " " << t.z + 1 << "\n";
 }
 
 // A torus around +y with radii R (ring) and r (tube).
