@@ -72,10 +72,10 @@ Renderer::~Renderer() {
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
-    // The meshes' laid-out data moves over from the last compile when the files are the same
-    // (an object added or removed beside a big mesh); everything is uploaded again.
-    // When the mesh data was reused in place (same files, the top level within its reserve), the
-    // meshes' triangles, vertices and nodes on the GPU are still right: only the rest is uploaded.
+    // The meshes' laid-out data moves over from the last compile when the files are the same (an
+    // object added or removed beside a big mesh). When it stayed in place (the top level within its
+    // reserve of nodes), the meshes' triangles, vertices and nodes on the GPU are still right and
+    // only the rest is uploaded; otherwise everything is.
     const auto previousMeshes = m_compiled.meshEntries;
     const std::size_t previousNodes = m_compiled.bvhNodes.size();
     const std::uint32_t previousReserve = m_compiled.tlasNodeCapacity;
