@@ -49,6 +49,7 @@ const std::map<std::string, Signature>& commands() {
         {"set_mesh_file", {1, 1, ""}},        // the selected mesh object's file, imported in the background
         {"wait_import", {0, 1, "n"}},         // wait until every import finished and its edit applied [timeout s]
         {"frame", {0, 0, ""}},                // frame the selection (F), or everything
+        {"touch", {1, 1, ""}},                // set a file's modification time to now (as an outside edit would)
         {"quit", {0, 0, ""}},
     };
     return table;

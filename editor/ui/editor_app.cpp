@@ -193,13 +193,21 @@ void renderFrame(EditorUi& ui) {
     // The path tracer gets what the rest of the frame (UI, display, swap; measured) leaves of it,
     // less a margin for the spread of both.
     const double budget = std::clamp(kFrameTarget - ui.overheadSeconds - 0.002, 0.004, kFrameTarget);
-    std::uint32_t dirty = ui.state.takeDirty();
+    std::uint32_t dirty = ui.state.takeDirty() | std::exchange(ui.heldDirty, kDirtyNone);
+    // A mesh the scene uses changed on disk: it is imported again in the background, and the
+    // scene's updates wait for it (the renderer keeps rendering what it has), since a compile
+    // now would import it here, freezing the window.
+    const bool holding = ui.sceneUploaded && ui.meshImports.refreshing(ui);
+    if (holding) {
+        ui.heldDirty = dirty;
+        dirty = kDirtyNone;
+    }
     // Any edit gets a quick first frame: it counts as interaction, so when one full-resolution
     // sample would not fit the frame budget, the first frames after it render at preview size.
     if (dirty != kDirtyNone && ui.sceneUploaded) ui.lastInteraction = t;
     const bool recentlyInteracting = ui.interacting || (t - ui.lastInteraction) < kInteractionHold;
     const int divisor = recentlyInteracting ? std::max(ui.previewDivisor, ui.pacer.previewDivisor(fullPixels, budget)) : 1;
-    if (divisor != ui.previewDivisor) dirty |= kDirtySettings;
+    if (divisor != ui.previewDivisor && !holding) dirty |= kDirtySettings;
     if (dirty != kDirtyNone || !ui.sceneUploaded) {
         Scene scene = ui.state.scene;
         scene.render.width = std::max(1, rs.width / divisor);

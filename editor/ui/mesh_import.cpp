@@ -139,10 +139,47 @@ void MeshImports::finishOpen(EditorUi& ui) {
     adopt(ui, *open);
 }
 
+bool MeshImports::refreshing(EditorUi& ui) {
+    if (!ui.renderer) return false;
+    bool waiting = false;
+    for (const SceneMeshFile& f : sceneMeshFiles(ui.state.scene)) {
+        if (m_refresh.count(f.key)) {
+            waiting = true;
+            continue;
+        }
+        if (cachedAndCurrent(ui, f.key)) continue;
+        std::error_code ec;
+        const auto stamp = fs::last_write_time(f.key, ec);
+        if (auto it = m_refreshFailed.find(f.key); it != m_refreshFailed.end() && it->second == stamp) continue;
+        m_refresh[f.key] = m_loader.request(f.key);
+        notify(ui, "importing " + fileName(f.key) + " again (it changed on disk) ...");
+        waiting = true;
+    }
+    return waiting;
+}
+
 void MeshImports::finish(EditorUi& ui) {
     for (const MeshLoadResult& result : m_loader.poll()) {
         if (m_open && m_open->take(result)) {
             m_openSeconds.push_back(result.seconds);
+            continue;
+        }
+        if (auto r = std::find_if(m_refresh.begin(), m_refresh.end(), [&](const auto& e) { return e.second == result.id; });
+            r != m_refresh.end()) {
+            const std::string key = r->first;
+            m_refresh.erase(r);
+            m_seconds.push_back(result.seconds);
+            if (result.ok() && ui.renderer) {
+                m_refreshFailed.erase(key);
+                ui.renderer->meshCache().insert(key, result.mesh);
+                ui.heldDirty |= kDirtyGeometry;   // the new contents replace the old on screen
+                notify(ui, "imported " + fileName(key) + " again (" + std::to_string(int(result.seconds * 1e3 + 0.5)) +
+                               " ms in the background)");
+            } else {
+                std::error_code ec;
+                m_refreshFailed[key] = fs::last_write_time(key, ec);
+                notify(ui, result.error, true);
+            }
             continue;
         }
         auto it = std::find_if(m_edits.begin(), m_edits.end(), [&](const Edit& e) { return e.id == result.id; });
@@ -188,6 +225,7 @@ void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* re
 
 std::string MeshImports::status() const {
     std::string s = m_open ? m_open->status() : std::string();
+    for (const auto& [key, id] : m_refresh) s += (s.empty() ? "importing " : "; importing ") + fileName(key) + " again ...";
     if (m_edits.empty()) return s;
     s += s.empty() ? "importing " : "; importing ";
     for (size_t i = 0; i < m_edits.size(); ++i) s += (i ? ", " : "") + fileName(m_edits[i].file);

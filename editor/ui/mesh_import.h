@@ -16,6 +16,8 @@
 #include "editor/model/viewport_math.h"
 
 #include <cstdint>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,8 +43,14 @@ public:
     // Applies the edits whose meshes are ready and adopts an opened scene whose meshes are (UI
     // thread, once per frame, before rendering).
     void finish(EditorUi& ui);
+    // Mesh files the current scene uses that the renderer does not hold as they are on disk (a
+    // file changed on disk since it was imported, say) are imported again in the background;
+    // true while any is, and the caller holds its scene updates meanwhile (renderFrame), so that
+    // no compile ever imports on the UI thread. A file that fails is not retried until it changes
+    // again: the compile then reports it.
+    bool refreshing(EditorUi& ui);
     // An import is queued, running, or ready and not yet applied.
-    bool pending() const { return !m_edits.empty(); }
+    bool pending() const { return !m_edits.empty() || !m_refresh.empty(); }
     // A scene is being opened (its meshes import).
     bool opening() const { return m_open != nullptr; }
     // "opening scene.json: importing 1 of 2 meshes ..." and/or "importing knot.obj ..." (the
@@ -65,6 +73,8 @@ private:
     void dropOpen();
 
     std::vector<Edit> m_edits;
+    std::map<std::string, std::uint64_t> m_refresh;   // refreshing(): key -> loader request
+    std::map<std::string, std::filesystem::file_time_type> m_refreshFailed;   // key -> the file time that failed
     std::vector<double> m_seconds, m_openSeconds;
     std::shared_ptr<PendingOpen> m_open;   // the scene being opened, or null
     MeshLoader m_loader;                // last: destroyed (joined) first

@@ -312,6 +312,12 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         ui.sampleCap.reset();
         return true;
     }
+    if (op == "touch") {   // as if another program had written the file
+        std::error_code ec;
+        std::filesystem::last_write_time(resolve(a[0]), std::filesystem::file_time_type::clock::now(), ec);
+        if (ec) fail(ui, line, resolve(a[0]) + ": " + ec.message());
+        return true;
+    }
     if (op == "frame") {   // F: frame the selection (or everything)
         frameSelection(ui);
         markEdit();

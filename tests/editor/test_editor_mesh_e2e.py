@@ -45,6 +45,12 @@ write_image before.png
 redo
 wait_samples 4
 write_image after.png
+# The ball's file changes on disk (as another program would write it): it is imported again in
+# the background while the scene keeps rendering, then replaces the old one.
+touch ball.obj
+frames 2
+wait_import 240
+report refresh.json
 # F frames the ball: its bounds come from the renderer's copy of the mesh.
 select object ball
 frame
@@ -196,6 +202,16 @@ class EditorMeshImport(unittest.TestCase):
         self.assertGreaterEqual(report["frames_during_import"], 2, report)
         self.assertGreaterEqual(report["rendering_frames_during_import"], 1, report)
         self.assertLess(report["frame_ms_max_during_import"], import_ms, report)
+
+    def test_2b_a_mesh_changed_on_disk_is_imported_again_in_the_background(self):
+        report = self.load("refresh.json")
+        # The first import, then the one the file's new time caused; the window kept drawing frames
+        # meanwhile (the image was complete at its sample cap, so they did not render samples),
+        # none of them as long as the import.
+        self.assertEqual(len(report["import_seconds"]), 2, report)
+        imported = self.load("import.json")
+        self.assertGreaterEqual(report["frames_during_import"] - imported["frames_during_import"], 5, report)
+        self.assertLess(report["frame_ms_max_during_import"], 1e3 * report["import_seconds"][1], report)
 
     def test_3_the_ball_appears_where_it_is(self):
         _, before = read_png(self.path("before.png"))
