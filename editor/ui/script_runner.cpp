@@ -110,6 +110,24 @@ void ScriptRunner::step(EditorUi& ui) {
     if (m_next >= m_lines.size()) ui.quit = true;   // a script always ends the session
 }
 
+// A wait on the background imports: true (the line is done) once `done`, or, failing the script,
+// after `timeout` seconds of waiting; false to be called again next frame.
+bool ScriptRunner::waitFor(EditorUi& ui, const ScriptLine& line, bool done, double timeout, const char* what) {
+    if (done) {
+        m_waitImportSince = -1.0;
+        if (ui.state.pendingDirty() != kDirtyNone) {   // as markEdit(): the frame showing it is timed
+            m_editTime = glfwGetTime();
+            m_editPending = true;
+        }
+        return true;
+    }
+    if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
+    if (glfwGetTime() - m_waitImportSince <= timeout) return false;
+    m_waitImportSince = -1.0;
+    fail(ui, line, std::string(what) + " after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
+    return true;
+}
+
 bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     const auto& a = line.args;
     const std::string& op = line.op;
@@ -278,36 +296,10 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         ui.meshImports.setObjectFile(ui, s.selection.index, resolve(a[0]));
         return true;
     }
-    if (op == "wait_import") {   // until every import has finished and its edit applied [timeout s]
-        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
-        if (!ui.meshImports.pending()) {
-            m_waitImportSince = -1.0;
-            markEdit();
-            return true;
-        }
-        if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
-        if (glfwGetTime() - m_waitImportSince > timeout) {
-            m_waitImportSince = -1.0;
-            fail(ui, line, "still importing after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
-            return true;
-        }
-        return false;
-    }
-    if (op == "wait_open") {   // until the scene being opened is adopted (or refused) [timeout s]
-        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
-        if (!ui.meshImports.opening()) {
-            m_waitImportSince = -1.0;
-            markEdit();
-            return true;
-        }
-        if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
-        if (glfwGetTime() - m_waitImportSince > timeout) {
-            m_waitImportSince = -1.0;
-            fail(ui, line, "still opening after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
-            return true;
-        }
-        return false;
-    }
+    if (op == "wait_import")   // until every import has finished and its edit applied [timeout s]
+        return waitFor(ui, line, !ui.meshImports.pending(), a.empty() ? 120.0 : double(num(a[0])), "still importing");
+    if (op == "wait_open")   // until the scene being opened is adopted (or refused) [timeout s]
+        return waitFor(ui, line, !ui.meshImports.opening(), a.empty() ? 120.0 : double(num(a[0])), "still opening");
     if (op == "uncap") {
         ui.sampleCap.reset();
         return true;

@@ -26,6 +26,7 @@ private:
     bool run(EditorUi& ui, const ScriptLine& line);   // false: wait, call again next frame
     bool runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bool* finished);
     void fail(EditorUi& ui, const ScriptLine& line, const std::string& why);
+    bool waitFor(EditorUi& ui, const ScriptLine& line, bool done, double timeout, const char* what);
     std::string resolve(const std::string& path) const;   // relative to the script's folder
 
     std::string m_file, m_dir;

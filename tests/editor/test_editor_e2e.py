@@ -77,24 +77,26 @@ def diff_stats(rows_a, rows_b):
     return total / (3.0 * n), changed / float(n), (xs / changed if changed else -1)
 
 
-class EditorEndToEnd(unittest.TestCase):
+def run_editor(tmp, script_name, scene, extra_env=None, timeout=300):
+    """One scripted editor session under xvfb-run; config (recent files, autosave) in tmp/home."""
+    env = dict(os.environ)
+    env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(tmp, script_name),
+               CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"),
+               CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
+    env.update(extra_env or {})
+    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, scene],
+                          capture_output=True, text=True, env=env, timeout=timeout)
+
+
+class EditorSessionCase(unittest.TestCase):
+    """What the editor's end-to-end test classes share: a temporary folder (kept with
+    CAUSTIC_KEEP_E2E=1), and reading what the sessions wrote there."""
+
     @classmethod
-    def setUpClass(cls):
+    def make_tmp(cls, prefix):
         if not BIN or not os.path.exists(BIN):
             raise RuntimeError("CAUSTIC_BIN must name the caustic executable")  # fail, never skip
-        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-e2e-")
-        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
-        with open(os.path.join(cls.tmp, "broken.json"), "w") as f:
-            f.write('{"version": 1, "objects": [{"shape": "sphere", "material": "nope"}]}')
-        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
-            f.write(SCRIPT)
-        env = dict(os.environ)
-        env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "script.txt"),
-                   CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home"),
-                   CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
-        cls.editor = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "scene.json")],
-            capture_output=True, text=True, env=env, timeout=240)
+        cls.tmp = tempfile.mkdtemp(prefix=prefix)
 
     @classmethod
     def tearDownClass(cls):
@@ -105,6 +107,25 @@ class EditorEndToEnd(unittest.TestCase):
 
     def path(self, name):
         return os.path.join(self.tmp, name)
+
+    def image(self, name):
+        return read_png(self.path(name))[1]
+
+    def load(self, name):
+        with open(self.path(name)) as f:
+            return json.load(f)
+
+
+class EditorEndToEnd(EditorSessionCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-e2e-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(os.path.join(cls.tmp, "broken.json"), "w") as f:
+            f.write('{"version": 1, "objects": [{"shape": "sphere", "material": "nope"}]}')
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(SCRIPT)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"), timeout=240)
 
     def test_1_session_succeeds(self):
         self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
@@ -152,17 +173,6 @@ class EditorEndToEnd(unittest.TestCase):
             report = json.load(f)
         self.assertGreater(report["rendering_frames"], 0)
         self.assertGreater(len(report["edit_to_frame_ms"]), 0)
-
-
-def run_editor(tmp, script_name, scene, extra_env=None, timeout=300):
-    """One scripted editor session under xvfb-run; config (recent files, autosave) in tmp/home."""
-    env = dict(os.environ)
-    env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(tmp, script_name),
-               CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"),
-               CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
-    env.update(extra_env or {})
-    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, scene],
-                          capture_output=True, text=True, env=env, timeout=timeout)
 
 
 def neighbour_noise(rows, x0, y0, x1, y1):
@@ -231,28 +241,16 @@ quit
 """
 
 
-class EditorDenoise(unittest.TestCase):
+class EditorDenoise(EditorSessionCase):
     """Viewport denoising (Open Image Denoise on a worker thread) in the real editor."""
 
     @classmethod
     def setUpClass(cls):
-        if not BIN or not os.path.exists(BIN):
-            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")
-        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-denoise-")
+        cls.make_tmp("caustic-editor-denoise-")
         shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
         with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
             f.write(DENOISE_SCRIPT)
         cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
-
-    @classmethod
-    def tearDownClass(cls):
-        if os.environ.get("CAUSTIC_KEEP_E2E"):
-            print("kept", cls.tmp, file=sys.stderr)
-        else:
-            shutil.rmtree(cls.tmp, ignore_errors=True)
-
-    def image(self, name):
-        return read_png(os.path.join(self.tmp, name))[1]
 
     def test_1_session_succeeds(self):
         self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
@@ -321,16 +319,14 @@ quit
 """
 
 
-class EditorCrashRecovery(unittest.TestCase):
+class EditorCrashRecovery(EditorSessionCase):
     """Autosave and crash recovery through the real window: session 1 edits, autosaves (the
     periodic timer, shortened with CAUSTIC_EDITOR_AUTOSAVE_SECONDS) and crashes; session 2 on
     the same config folder is offered the autosave, recovers it, and renders the edited scene."""
 
     @classmethod
     def setUpClass(cls):
-        if not BIN or not os.path.exists(BIN):
-            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")
-        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-recovery-")
+        cls.make_tmp("caustic-editor-recovery-")
         cls.scene = os.path.join(cls.tmp, "scene.json")
         shutil.copy(CORNELL, cls.scene)
         with open(cls.scene) as f:
@@ -345,16 +341,6 @@ class EditorCrashRecovery(unittest.TestCase):
         cls.session2 = run_editor(cls.tmp, "session2.txt", cls.scene, fast)
         # The original file, in a separate config folder (no autosave there).
         cls.original = run_editor(cls.tmp, "original.txt", cls.scene, {"CAUSTIC_EDITOR_HOME": os.path.join(cls.tmp, "home-2")})
-
-    @classmethod
-    def tearDownClass(cls):
-        if os.environ.get("CAUSTIC_KEEP_E2E"):
-            print("kept", cls.tmp, file=sys.stderr)
-        else:
-            shutil.rmtree(cls.tmp, ignore_errors=True)
-
-    def image(self, name):
-        return read_png(os.path.join(self.tmp, name))[1]
 
     def test_1_session_1_crashes_and_leaves_the_autosave(self):
         self.assertEqual(self.session1.returncode, 3, self.session1.stderr)

@@ -16,14 +16,12 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from test_editor_e2e import BIN, CORNELL, diff_stats, read_png  # noqa: E402  (the suite's helpers)
+from test_editor_e2e import CORNELL, EditorSessionCase, diff_stats, read_png, run_editor  # noqa: E402  (the suite's helpers)
 
 # The ball: a UV sphere of radius 0.3 centred above both boxes (their tops are at y = 0.21 and
 # y = -0.4), 2 * RINGS * SEGMENTS triangles, large enough that importing it takes a while.
@@ -135,12 +133,10 @@ def projected_disk():
     return 128 + CENTRE[0] / half * 128, 128 - CENTRE[1] / half * 128, RADIUS / half * 128
 
 
-class EditorMeshImport(unittest.TestCase):
+class EditorMeshImport(EditorSessionCase):
     @classmethod
     def setUpClass(cls):
-        if not BIN or not os.path.exists(BIN):
-            raise RuntimeError("CAUSTIC_BIN must name the caustic executable")  # fail, never skip
-        cls.tmp = tempfile.mkdtemp(prefix="caustic-editor-mesh-e2e-")
+        cls.make_tmp("caustic-editor-mesh-e2e-")
         shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
         write_sphere(os.path.join(cls.tmp, "ball.obj"), RINGS, SEGMENTS, CENTRE, RADIUS)
         write_sphere(os.path.join(cls.tmp, "small.obj"), 16, 32, CENTRE, RADIUS / 2)
@@ -163,32 +159,9 @@ class EditorMeshImport(unittest.TestCase):
             f.write(SCRIPT)
         with open(os.path.join(cls.tmp, "startup-script.txt"), "w") as f:
             f.write(STARTUP_SCRIPT)
-        env = dict(os.environ)
-        env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "script.txt"),
-                   CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home"),
-                   CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
-        cls.editor = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "scene.json")],
-            capture_output=True, text=True, env=env, timeout=400)
-        env.update(CAUSTIC_EDITOR_SCRIPT=os.path.join(cls.tmp, "startup-script.txt"),
-                   CAUSTIC_EDITOR_HOME=os.path.join(cls.tmp, "home2"))
-        cls.startup = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BIN, os.path.join(cls.tmp, "sub", "opened.json")],
-            capture_output=True, text=True, env=env, timeout=400)
-
-    @classmethod
-    def tearDownClass(cls):
-        if os.environ.get("CAUSTIC_KEEP_E2E"):
-            print("kept", cls.tmp, file=sys.stderr)
-        else:
-            shutil.rmtree(cls.tmp, ignore_errors=True)
-
-    def path(self, name):
-        return os.path.join(self.tmp, name)
-
-    def load(self, name):
-        with open(self.path(name)) as f:
-            return json.load(f)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"), timeout=400)
+        cls.startup = run_editor(cls.tmp, "startup-script.txt", os.path.join(cls.tmp, "sub", "opened.json"),
+                                 {"CAUSTIC_EDITOR_HOME": os.path.join(cls.tmp, "home2")}, timeout=400)
 
     def test_1_session_succeeds(self):
         self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
