@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <numbers>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -21,7 +22,8 @@ static_assert(sizeof(GpuMaterial) == 112);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 80);
-static_assert(sizeof(GpuFrame) == 256);
+static_assert(sizeof(GpuFrame) == 288);
+static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
 static_assert(sizeof(GpuInstance) == 128);
@@ -226,7 +228,7 @@ struct Builder {
         return static_cast<std::uint32_t>(out.primitives.size() - 1);
     }
 
-    void addLight(gpu::GpuLight l, float power, int primitive) {
+    void addLight(gpu::GpuLight l, float power, int primitive, const LightBounds& bounds) {
         if (primitive >= 0) {
             out.primitives[primitive].info.z = static_cast<std::uint32_t>(out.lights.size() + 1);
             l.info.z = static_cast<std::uint32_t>(primitive);
@@ -244,7 +246,15 @@ struct Builder {
         l.p2 = p.c;
         l.color = glm::vec4(radiance, 0);
         l.info = glm::uvec4(LIGHT_RECT, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, 0, 0);
-        addLight(l, kPi * area * luminance(radiance) * (twoSided ? 2.0f : 1.0f), static_cast<int>(prim));
+        LightBounds bounds;
+        const glm::vec3 o(p.a), u(p.b), v(p.c);
+        bounds.boundsMin = glm::min(glm::min(o, o + u), glm::min(o + v, o + u + v));
+        bounds.boundsMax = glm::max(glm::max(o, o + u), glm::max(o + v, o + u + v));
+        const glm::vec3 n = glm::cross(u, v);
+        bounds.axis = glm::length(n) > 0.0f ? n / glm::length(n) : glm::vec3(0, 0, 1);
+        bounds.cosThetaO = twoSided ? -1.0f : 1.0f;
+        bounds.intensity = area * luminance(radiance);
+        addLight(l, kPi * area * luminance(radiance) * (twoSided ? 2.0f : 1.0f), static_cast<int>(prim), bounds);
     }
 
     // A sphere light needs a similarity transform (sampled by the cone it subtends).
@@ -261,7 +271,11 @@ struct Builder {
         l.p0 = glm::vec4(glm::vec3(m[3]), sx);
         l.color = glm::vec4(radiance, 0);
         l.info = glm::uvec4(LIGHT_SPHERE, 0, 0, 0);
-        addLight(l, kPi * 4.0f * kPi * sx * sx * luminance(radiance), static_cast<int>(prim));
+        LightBounds bounds;
+        bounds.boundsMin = glm::vec3(m[3]) - sx;
+        bounds.boundsMax = glm::vec3(m[3]) + sx;
+        bounds.intensity = kPi * sx * sx * luminance(radiance);
+        addLight(l, kPi * 4.0f * kPi * sx * sx * luminance(radiance), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -435,6 +449,9 @@ struct Builder {
             double run = 0.0;
             for (double a : areas) {
                 run += a / total;
+            LightBounds bounds;  // of the emitting triangles; normals in every direction (two-sided)
+            bounds.boundsMin = glm::vec3(std::numeric_limits<float>::max());
+            bounds.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
                 out.meshLightCdf.push_back(static_cast<float>(run));
             }
             out.meshLightCdf.back() = 1.0f;
@@ -442,6 +459,10 @@ struct Builder {
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
             l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
             l.info = glm::uvec4(LIGHT_MESH, LIGHT_FLAG_TWO_SIDED, instance, cdfOffset);
+                if (areas.back() > 0.0) {
+                    bounds.boundsMin = glm::min(bounds.boundsMin, glm::min(p0, glm::min(p1, p2)));
+                    bounds.boundsMax = glm::max(bounds.boundsMax, glm::max(p0, glm::max(p1, p2)));
+                }
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
             out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * power));
@@ -462,6 +483,8 @@ struct Builder {
         }
         BvhBuildOptions tlasOptions;
         tlasOptions.maxLeafSize = 1;  // a leaf is one primitive or one instance
+            bounds.intensity = static_cast<float>(power);  // sum of L A: each face of a flat mesh
+            out.lightBounds.push_back(bounds);
         Bvh tlas = buildBvh(bounds, tlasOptions);
         out.bvhNodes.clear();
         for (const BvhNode& n : tlas.nodes) out.bvhNodes.push_back(std::bit_cast<gpu::GpuBvhNode>(n));
@@ -633,7 +656,16 @@ struct Builder {
                         power = 2.0f * kPi * luminance(L.color) * (1.0f - 0.5f * (cosInner + cosOuter));
                     }
                     l.info = glm::uvec4(L.type == LightType::Spot ? LIGHT_SPOT : LIGHT_POINT, 0, 0, 0);
-                    addLight(l, power, -1);
+                    LightBounds bounds;
+                    bounds.boundsMin = bounds.boundsMax = L.position;
+                    bounds.intensity = luminance(L.color);
+                    if (L.type == LightType::Spot) {  // full intensity inside the inner cone, none beyond the outer
+                        bounds.axis = glm::vec3(l.p1);
+                        bounds.cosThetaO = l.p2.w;
+                        bounds.cosThetaE = std::cos(std::max(std::acos(std::clamp(l.p1.w, -1.0f, 1.0f)) -
+                                                                 std::acos(std::clamp(l.p2.w, -1.0f, 1.0f)), 0.0f));
+                    }
+                    addLight(l, power, -1, bounds);
                     growBounds(L.position);
                     break;
                 }
@@ -674,8 +706,11 @@ struct Builder {
             gpu::GpuLight l{};
             l.info = glm::uvec4(LIGHT_ENV, 0, 0, 0);
             out.envLightIndex = static_cast<int>(out.lights.size());
-            // Power an infinite light delivers into the scene's bounding sphere: pi * pi r^2 * L.
-            addLight(l, kPi * kPi * radius * radius * luminance(average), -1);
+            // Power an infinite light delivers into the scene's bounding sphere: pi * pi r^2 * L
+            // (power selection). The light tree weighs it by the irradiance it gives a surface,
+            // pi * L, in the same unit as a tree node's importance (lights/light_select.glsl).
+            addLight(l, kPi * kPi * radius * radius * luminance(average), -1, LightBounds{});
+            out.envImportance = kPi * luminance(average);
         }
         // Selection probabilities: by power (default) or uniform; uniform when nothing emits.
         double total = 0.0;
@@ -694,6 +729,12 @@ struct Builder {
     }
 };
 
+        // The light tree over every other light.
+        std::vector<std::uint32_t> members;
+        for (size_t i = 0; i < out.lights.size(); ++i)
+            if (static_cast<int>(i) != out.envLightIndex) members.push_back(static_cast<std::uint32_t>(i));
+        out.lightTree = buildLightTree(out.lightBounds, members);
+        for (size_t i = 0; i < out.lights.size(); ++i) out.lights[i].info.w = out.lightTree.trails[i];
 }  // namespace
 
 Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped) {
@@ -977,6 +1018,17 @@ std::string meshCacheKey(const Scene& scene, const std::string& file) {
 bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* error) {
     std::error_code ec;
     entry->stamp = std::filesystem::last_write_time(file, ec);   // before: a later write invalidates it
+    const RenderSettings& r = scene.render;
+    const std::uint32_t selection = r.lightSelection == LightSelection::Power     ? LIGHT_SELECT_POWER
+                                    : r.lightSelection == LightSelection::Uniform ? LIGHT_SELECT_UNIFORM
+                                                                                  : LIGHT_SELECT_TREE;
+    const std::uint32_t rr = r.russianRoulette == RussianRoulette::Original ? RR_ORIGINAL
+                             : r.russianRoulette == RussianRoulette::Mitsuba ? RR_MITSUBA
+                             : r.russianRoulette == RussianRoulette::Pbrt    ? RR_PBRT
+                                                                             : RR_OFF;
+    f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
+                            compiled.lightTree.nodes.size());
+    f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
     MeshImportResult imported = importMeshFile(file);
     if (!imported.ok()) {
         *error = imported.error;

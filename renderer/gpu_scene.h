@@ -4,6 +4,7 @@
 
 #include "renderer/bvh.h"
 #include "renderer/image.h"
+#include "renderer/light_tree.h"
 #include "renderer/scene.h"
 #include "shaders/shared/layout.h"
 
@@ -37,6 +38,9 @@ struct CompiledScene {
     std::vector<float> lightCdf;        // lightCdf[i] = P(index <= i)
     std::vector<float> lightPower;      // the power each light was weighed by (W; see docs)
     int envLightIndex = -1;             // index into lights, -1 when there is no environment
+    std::vector<LightBounds> lightBounds;  // per light (the environment's is empty), for the tree
+    LightTree lightTree;                // over every light but the environment (renderer/light_tree.h)
+    float envImportance = 0.0f;         // the environment's irradiance estimate, pi * mean luminance
     EnvironmentMap envMap;              // when the environment is a map
     std::vector<glm::uvec2> texels;     // material textures' mip chains (RGBA halves), see GpuTexture
     std::vector<gpu::GpuTexture> textures;

@@ -56,6 +56,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_texels = materialBuffers[0];
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
+    glCreateBuffers(1, &r->m_lightTree);
     uploadBuffer(r->m_bsdfTables, ggxAlbedoTable());
     return r;
 }
@@ -66,6 +67,7 @@ Renderer::~Renderer() {
     glDeleteBuffers(kGeometryBuffers, m_geometry);
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
+    glDeleteBuffers(1, &m_lightTree);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
     glDeleteProgram(m_program);
@@ -157,6 +159,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
             if (dirty & kDirtyTransforms) {
                 uploadBuffer(m_primitives, compiled.primitives);
                 uploadBuffer(m_lights, compiled.lights);
+                uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));
                 uploadBuffer(m_geometry[1], compiled.tlasRefs);
                 uploadBuffer(m_geometry[2], compiled.instances);
@@ -167,6 +170,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
             if (dirty & kDirtyMaterials) {
                 // Emission lives in the lights too (radiance, selection probabilities).
                 uploadBuffer(m_lights, compiled.lights);
+                uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));
                 uploadBuffer(m_materials, compiled.materials);
                 uploadBuffer(m_texels, compiled.texels);
@@ -184,6 +188,7 @@ void Renderer::upload(bool meshes) {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
+    uploadBuffer(m_lightTree, m_compiled.lightTree.nodes);
     uploadBuffer(m_tables, packTables(m_compiled));
     // The environment map (a 1x1 black texture when there is none, so the sampler is always
     // complete). Mipmaps are not needed: the map is looked up at level 0 only.
@@ -249,6 +254,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_TREE, m_lightTree);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TABLES, m_tables);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS, m_counters);
     const unsigned geometryBindings[kGeometryBuffers] = {BINDING_BVH_NODES, BINDING_TLAS_REFS, BINDING_INSTANCES,

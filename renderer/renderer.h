@@ -102,6 +102,7 @@ private:
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;
+    unsigned m_lightTree = 0;    // GpuLightNode[] (CompiledScene::lightTree)
     unsigned m_envTexture = 0;   // m_tables holds all the CDF tables (packTables)
     // Geometry: BVH nodes, top-level entries, instances, triangles, vertices.
     static constexpr int kGeometryBuffers = 5;

@@ -47,7 +47,11 @@ struct Camera {
     bool operator==(const Camera&) const = default;
 };
 
-enum class LightSelection { Power, Uniform };
+enum class LightSelection { Power, Uniform, Tree };
+// The sampler of the integrator's random numbers (shaders/lib/sampler.glsl).
+enum class SamplerType { Sobol, Independent };
+// When Russian roulette ends paths (shaders/integrator/path.glsl; docs/design.md).
+enum class RussianRoulette { Original, Mitsuba, Pbrt, Off };
 
 // The pixel filter, importance-sampled (every sample has weight 1): box over the pixel (the
 // reference renderers' choice for comparisons), tent of radius 1 pixel, or a Gaussian with
@@ -60,7 +64,9 @@ struct RenderSettings {
     int samples = 256;                 // samples per pixel
     int maxDepth = 10;                 // maximum number of scattering events on a path
     std::uint32_t seed = 0;
-    LightSelection lightSelection = LightSelection::Power;
+    LightSelection lightSelection = LightSelection::Tree;
+    SamplerType sampler = SamplerType::Sobol;
+    RussianRoulette russianRoulette = RussianRoulette::Original;
     PixelFilter filter = PixelFilter::Box;
     bool operator==(const RenderSettings&) const = default;
 };

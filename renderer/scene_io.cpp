@@ -180,8 +180,22 @@ std::span<const EnumName<FovAxis>> enumNames(FovAxis) {
 }
 
 std::span<const EnumName<LightSelection>> enumNames(LightSelection) {
-    static constexpr EnumName<LightSelection> kNames[] = {{LightSelection::Power, "power"},
-                                                          {LightSelection::Uniform, "uniform"}};
+    static constexpr EnumName<LightSelection> kNames[] = {
+        {LightSelection::Power, "power"}, {LightSelection::Uniform, "uniform"}, {LightSelection::Tree, "tree"}};
+    return kNames;
+}
+
+std::span<const EnumName<SamplerType>> enumNames(SamplerType) {
+    static constexpr EnumName<SamplerType> kNames[] = {{SamplerType::Sobol, "sobol"},
+                                                       {SamplerType::Independent, "independent"}};
+    return kNames;
+}
+
+std::span<const EnumName<RussianRoulette>> enumNames(RussianRoulette) {
+    static constexpr EnumName<RussianRoulette> kNames[] = {{RussianRoulette::Original, "original"},
+                                                           {RussianRoulette::Mitsuba, "mitsuba"},
+                                                           {RussianRoulette::Pbrt, "pbrt"},
+                                                           {RussianRoulette::Off, "off"}};
     return kNames;
 }
 
@@ -660,6 +674,8 @@ const Fields<Material>& materialFields(MaterialType type) {
     static const Fields<Material> kCommon = {
         field("name", &Material::name),
         field("type", &Material::type),
+        field("sampler", &RenderSettings::sampler),
+        field("russian_roulette", &RenderSettings::russianRoulette),
     };
     // Every type may emit and carry textures.
     static const Fields<Material> kTail = {

@@ -281,11 +281,19 @@ void renderInspector(EditorUi& ui) {
     int seed = static_cast<int>(r.seed);
     e.track(ImGui::DragInt("Seed", &seed, 1.0f, 0, 1 << 30));
     r.seed = static_cast<std::uint32_t>(std::max(seed, 0));
-    static const char* const selections[] = {"power", "uniform"};
+    static const char* const selections[] = {"power", "uniform", "tree"};  // LightSelection's order
     int sel = static_cast<int>(r.lightSelection);
     e.track(combo("Light selection", &sel, selections), true);
     r.lightSelection = static_cast<LightSelection>(sel);
     e.commit(e.changed ? makeSetRender(s, r) : nullptr);
+    static const char* const samplers[] = {"Sobol (Owen-scrambled)", "independent"};  // SamplerType's order
+    int smp = static_cast<int>(r.sampler);
+    e.track(combo("Sampler", &smp, samplers), true);
+    r.sampler = static_cast<SamplerType>(smp);
+    static const char* const roulettes[] = {"original", "Mitsuba", "pbrt", "off"};  // RussianRoulette's order
+    int rr = static_cast<int>(r.russianRoulette);
+    e.track(combo("Russian roulette", &rr, roulettes), true);
+    r.russianRoulette = static_cast<RussianRoulette>(rr);
 
     ImGui::SeparatorText("Display (not saved in the scene)");
     static const char* const tones[] = {"ACES filmic", "Reinhard"};

@@ -1,6 +1,7 @@
 #version 450 core
-// The integrator kernel: frame.dispatch.x samples per pixel per dispatch, each from its own
-// random stream (pixel, sample index, seed), summed into the accumulation images. A sample that
+// The integrator kernel: frame.dispatch.x samples per pixel per dispatch, each with the random
+// numbers of (seed, pixel, sample index) from the sampler (lib/sampler.glsl), summed into the
+// accumulation images. A sample that
 // is NaN or infinite is dropped, counted in counters[0], and not averaged in.
 // The albedo and normal images (the denoiser's guides, written as AOVs) are accumulated in the
 // same loop from every sample, dropped ones included (their first hit is still well defined).
@@ -29,11 +30,11 @@ void main() {
     uint pixelIndex = pixel.y * frame.image.x + pixel.x;
     uint dropped = 0u;
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
-        uint rng = rngInit(pixelIndex, frame.image.z + s, frame.image.w);
-        vec2 uFilter = rngNext2(rng);
-        Ray ray = cameraRay(pixel, uFilter, rngNext2(rng));
+        Sampler smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
+        vec2 uFilter = sample2D(smp, SLOT_FILTER);
+        Ray ray = cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
         PathAov aov;
-        vec3 L = pathRadiance(ray, rng, aov);
+        vec3 L = pathRadiance(ray, smp, aov);
         albedoSum += vec4(aov.albedo, 1.0);
         normalSum += vec4(aov.normal, 1.0);
         if (any(isnan(L)) || any(isinf(L))) { ++dropped; continue; }

@@ -2,15 +2,20 @@
 //
 // At every vertex: emission is added once, either because nothing else could have sampled it
 // (the camera ray, a delta bounce, the BSDF-only strategy) or with the MIS weight of the BSDF
-// strategy against the light strategy; then one light is chosen (by power or uniformly), sampled
-// and traced with a shadow ray, weighted by the power heuristic against the BSDF pdf; then the
-// BSDF is sampled for the continuation ray, whose hit supplies the BSDF strategy's emission term.
-// A bounce therefore costs one continuation ray and one shadow ray.
+// strategy against the light strategy; then one light is chosen (lights/light_select.glsl: by
+// the light tree's importance at the vertex, by power, or uniformly), sampled and traced with a
+// shadow ray, weighted by the power heuristic against the BSDF pdf; then the BSDF is sampled for
+// the continuation ray, whose hit supplies the BSDF strategy's emission term. A bounce therefore
+// costs one continuation ray and one shadow ray. Vertices whose material is purely specular skip
+// next event estimation (no light sample can have a non-zero BSDF value there).
 //
 // Depth: `bounces` counts the scattering events on the path so far. frame.counts.z (max depth)
 // caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on.
-// Russian roulette from the fourth vertex on (after three bounces): survive with
-// q = clamp(max(throughput), 0.05, 1) and divide by q.
+// Russian roulette (frame.sampling.z, RR_*; docs/design.md says how the default was chosen) acts
+// on the throughput times eta^2 accumulated over refractions (Veach 1997 sec. 5.2: radiance
+// scales by 1/eta^2 across an interface, which says nothing about how much the path will still
+// carry), after the continuation ray is set up.
+// Random numbers come from the sampler (lib/sampler.glsl) by dimension slot, one table per bounce.
 //
 // AOVs (the denoiser's guides, Open Image Denoise's documented convention): at the first vertex
 // whose material is not purely specular (bsdfIsDelta), the path records the material's
@@ -21,11 +26,12 @@
 // vertex records zeros.
 #ifndef INTEGRATOR_PATH_GLSL
 #define INTEGRATOR_PATH_GLSL
-#include "../lib/rng.glsl"
+#include "../lib/sampler.glsl"
 #include "../geometry/intersect.glsl"
 #include "../bsdf/bsdf.glsl"
 #include "../bsdf/material.glsl"
 #include "../lights/lights.glsl"
+#include "../lights/light_select.glsl"
 
 struct PathAov {
     vec3 albedo;
@@ -38,7 +44,23 @@ vec3 aovAlbedo(GpuMaterial m) {
     return m.albedo.rgb;  // diffuse models: albedo; rough dielectric: tint
 }
 
-vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
+// Whether Russian roulette ends the path here (after `bounces` + 1 scattering events, with the
+// eta^2-corrected throughput rrBeta); else *q is the survival probability to divide by.
+bool russianRouletteEnds(uint bounces, float rrBeta, float u, out float q) {
+    uint rule = frame.sampling.z;
+    q = 1.0;
+    uint depth = bounces + 1u;
+    if (rule == RR_ORIGINAL) {
+        if (depth >= 3u) q = clamp(rrBeta, 0.05, 1.0);
+    } else if (rule == RR_MITSUBA) {
+        if (depth >= 5u) q = min(rrBeta, 0.95);
+    } else if (rule == RR_PBRT) {
+        if (depth >= 2u && rrBeta < 1.0) q = rrBeta;
+    }
+    return q < 1.0 && u >= q;
+}
+
+vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
     aov.albedo = vec3(0.0);
     aov.normal = vec3(0.0);
     bool aovDone = false;
@@ -51,6 +73,9 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
     bool countEmitted = true;  // camera ray or after a delta bounce or BSDF-only: weight 1
     float prevBsdfPdf = 0.0;
     vec3 prevP = ray.o;
+    vec3 prevN = vec3(0.0);     // the previous vertex's shading normal, for the light selection pmf
+    bool prevTwoSided = false;  // whether it transmits (both hemispheres receive light)
+    float etaScale = 1.0;       // product of eta'^2 over the refractions so far
     // Texture level of detail: a ray cone of the camera's pixel angle, its width grown along the
     // whole path length (bsdf/material.glsl).
     float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
@@ -65,7 +90,8 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
                 if (countEmitted || !useLights) {
                     L += beta * Le;
                 } else if (misOn && envIndex > 0u) {
-                    float pl = lightSelectionPmf(envIndex - 1u) * lightPdf(envIndex - 1u, prevP, ray.d, vec3(0.0), vec3(0.0));
+                    float pl = lightSelectPmf(envIndex - 1u, prevP, prevN, prevTwoSided) *
+                               lightPdf(envIndex - 1u, prevP, ray.d, vec3(0.0), vec3(0.0));
                     L += beta * Le * powerHeuristic(prevBsdfPdf, pl);
                 }
             }
@@ -83,7 +109,7 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
                 L += beta * mat.emission.rgb;
             } else if (misOn && hit.light > 0u) {
                 uint li = hit.light - 1u;
-                float pl = lightSelectionPmf(li) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
+                float pl = lightSelectPmf(li, prevP, prevN, prevTwoSided) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
                 L += beta * mat.emission.rgb * powerHeuristic(prevBsdfPdf, pl);
             }
         }
@@ -117,12 +143,11 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
         float ngWo = dot(hit.ng, wo);
 
         // Next event estimation.
-        if (useLights) {
-            float uSel = rngNext(rng);
-            vec2 uLight = rngNext2(rng);
-            uint li = selectLight(uSel);
-            float pmf = lightSelectionPmf(li);
-            LightSample ls = sampleLight(li, hit.p, uLight);
+        uint li;
+        float pmf;
+        if (useLights && !bsdfIsDelta(mat) &&
+            selectLight(sample1D(smp, bounceSlot(bounces, SLOT_LIGHT_SELECT)), hit.p, n, keepFront, li, pmf)) {
+            LightSample ls = sampleLight(li, hit.p, sample2D(smp, bounceSlot(bounces, SLOT_LIGHT)));
             if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
                 vec3 wiL = toLocal(f, ls.wi);
                 float pdfBsdf;
@@ -152,8 +177,8 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
         }
 
         // Continuation ray by BSDF sampling.
-        vec2 uDir = rngNext2(rng);
-        BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, rngNext(rng)));
+        vec2 uDir = sample2D(smp, bounceSlot(bounces, SLOT_BSDF_DIR));
+        BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
         if (bs.pdf <= 0.0) break;
         vec3 wiW = toWorld(f, bs.wi);
         if ((woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0)) break;
@@ -161,14 +186,18 @@ vec3 pathRadiance(Ray ray, inout uint rng, out PathAov aov) {
         countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
         prevBsdfPdf = bs.pdf;
         prevP = hit.p;
+        prevN = n;
+        prevTwoSided = keepFront;
+        if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
+            float eta = mat.params.y;
+            etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
+        }
         ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         ray.d = wiW;
 
-        if (bounces + 1u >= 3u) {
-            float q = clamp(maxComponent(beta), 0.05, 1.0);
-            if (rngNext(rng) >= q) break;
-            beta /= q;
-        }
+        float q;
+        if (russianRouletteEnds(bounces, maxComponent(beta) * etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q)) break;
+        beta /= q;
         if (maxComponent(beta) <= 0.0) break;
     }
     return L;

@@ -4,7 +4,7 @@
 // Conventions (docs/scene-format.md): area lights and the environment are given in radiance
 // (W sr^-1 m^-2), point and spot lights in intensity (W sr^-1). All pdfs returned here are per
 // unit solid angle at the shading point and do NOT include the probability of choosing the light
-// (that is GpuLight::color.w, see lightSelectionPmf).
+// (that is light_select.glsl's lightSelectPmf).
 //
 // rect:   uniform point on the parallelogram; p_area = 1/A, p_omega = r^2 / (|cos theta_l| A).
 //         One-sided (the front is cross(edge u, edge v)) unless LIGHT_FLAG_TWO_SIDED.
@@ -34,19 +34,6 @@ struct LightSample {
     float pdf;     // solid-angle pdf (1 for delta lights), 0 if the sample is invalid
     bool isDelta;
 };
-
-// Chooses a light index with probability color.w by inverting the CDF (binary search).
-uint selectLight(float u) {
-    uint count = frame.counts.y;
-    uint lo = 0u, hi = count - 1u;
-    while (lo < hi) {
-        uint mid = (lo + hi) >> 1;
-        if (u < lightCdf(mid)) hi = mid; else lo = mid + 1u;
-    }
-    return lo;
-}
-
-float lightSelectionPmf(uint index) { return lights[index].color.w; }
 
 // Solid-angle pdf of sampling direction wi from `p` towards point `q` on an area light with unit
 // normal `nl`, given the area pdf 1/area.

@@ -29,6 +29,7 @@ using uint = std::uint32_t;
 #define BINDING_LIGHTS 3
 #define BINDING_TABLES 4           // float[]: the scene's CDF tables, one after another (GpuFrame::tables)
 #define BINDING_COUNTERS 5
+#define BINDING_LIGHT_TREE 6       // GpuLightNode[]: the light tree (renderer/light_tree.h), root at 0
 #define BINDING_TEST_OUTPUT 7      // test kernels only
 #define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
@@ -81,6 +82,23 @@ using uint = std::uint32_t;
 
 // Light flags.
 #define LIGHT_FLAG_TWO_SIDED 1u
+
+#define LIGHT_TREE_LEAF 0x80000000u // GpuLightNode::info.x: a leaf; the light index is info.x & ~LIGHT_TREE_LEAF
+
+// Light selection (GpuFrame::sampling.y): how next event estimation picks a light.
+#define LIGHT_SELECT_TREE 0u        // the light tree, by importance at the shading point (default)
+#define LIGHT_SELECT_POWER 1u       // one global CDF by power
+#define LIGHT_SELECT_UNIFORM 2u     // every light equally
+
+// Samplers (GpuFrame::sampling.x); shaders/lib/sampler.glsl has the dimension table.
+#define SAMPLER_SOBOL 0u            // Owen-scrambled Sobol, padded in 2-D pairs (default)
+#define SAMPLER_INDEPENDENT 1u      // one PCG32 stream per (pixel, sample)
+
+// Russian roulette (GpuFrame::sampling.z); docs/design.md says how the default was chosen.
+#define RR_ORIGINAL 0u              // after 3 bounces, survive with clamp(max(beta), 0.05, 1)
+#define RR_MITSUBA 1u               // from depth 5, survive with min(max(beta eta^2), 0.95)
+#define RR_PBRT 2u                  // after 1 bounce, when max(beta eta^2) < 1: survive with it
+#define RR_OFF 3u                   // never (max depth ends the path)
 
 // Environment types (GpuFrame::envInfo.x).
 #define ENV_NONE 0u
@@ -182,7 +200,22 @@ CAUSTIC_STRUCT(GpuLight) {
     vec4 p1;
     vec4 p2;
     vec4 color;  // rgb: radiance (area, env) or intensity (point, spot); w: selection probability
-    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: unused
+                 //   of the global CDF (power or uniform selection)
+    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: the light's path in the
+                 //   light tree (bit d set: right child at depth d; renderer/light_tree.h)
+};
+
+// A node of the light tree (Conty Estevez and Kulla 2018, "Importance Sampling of Many Lights
+// with Adaptive Tree Splitting"): the bounds of the lights below it, in space (a box) and in
+// emitted directions (a cone: every light's normal within theta_o of `axis`, and it emits up to
+// theta_e beyond its normal), and their summed intensity (luminance, W sr^-1, the most each light
+// sends towards one point; renderer/light_tree.h).
+CAUSTIC_STRUCT(GpuLightNode) {
+    vec4 boundsMin;  // xyz: box, w: intensity
+    vec4 boundsMax;  // xyz: box, w: cos theta_o
+    vec4 axis;       // xyz: unit cone axis, w: cos theta_e
+    uvec4 info;      // x: right child (interior: the left child is the next node), or
+                     //    LIGHT_TREE_LEAF | light index; y, z, w: unused
 };
 
 // Per-dispatch constants (std140; only vec4/uvec4 so std140 == std430 == C++).
@@ -207,6 +240,9 @@ CAUSTIC_STRUCT(GpuFrame) {
     // shader): x: light selection CDF, y: environment map row CDF (H + 1), z: environment map
     // per-row column CDFs (H (W + 1)), w: emissive meshes' triangle-area CDFs.
     uvec4 tables;
+    uvec4 sampling;    // x: SAMPLER_*, y: LIGHT_SELECT_*, z: RR_*, w: light tree nodes (0: none)
+    vec4 envSelect;    // x: the environment's importance for light selection (its irradiance,
+                       //    pi * mean luminance), y: 1 when every light is an environment
 };
 
 #ifdef __cplusplus

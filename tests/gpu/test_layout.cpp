@@ -61,6 +61,11 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("lights", GpuLight, color);
     CHECK_MEMBER("lights", GpuLight, info);
     CHECK(arrayStride(p, "lights[0].p0") == GLint(sizeof(GpuLight)));
+    CHECK_MEMBER("lightTree", GpuLightNode, boundsMin);
+    CHECK_MEMBER("lightTree", GpuLightNode, boundsMax);
+    CHECK_MEMBER("lightTree", GpuLightNode, axis);
+    CHECK_MEMBER("lightTree", GpuLightNode, info);
+    CHECK(arrayStride(p, "lightTree[0].boundsMin") == GLint(sizeof(GpuLightNode)));
 #undef CHECK_MEMBER
 #define CHECK_FRAME(member) CHECK(resourceOffset(p, GL_UNIFORM, "frame." #member) == GLint(offsetof(GpuFrame, member)))
     CHECK_FRAME(camPosition);
@@ -78,6 +83,8 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_FRAME(camLens);
     CHECK_FRAME(camInfo);
     CHECK_FRAME(geometry);
+    CHECK_FRAME(sampling);
+    CHECK_FRAME(envSelect);
     CHECK_FRAME(tables);
 #undef CHECK_FRAME
 }
