@@ -80,7 +80,11 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
         };
     };
     const std::map<std::string, Handler> withValue = {
-        {"--scene", [&](const std::string& v, std::string*) { o.scene = v; return true; }},
+        {"--scene", [&](const std::string& v, std::string* why) {
+             if (v.empty()) { *why = "expected a scene file, got ''"; return false; }
+             o.scene = v;
+             return true;
+         }},
         {"--samples", intFlag(&o.samples, 1, 1 << 24)},
         {"--width", intFlag(&o.width, 1, 16384)},
         {"--height", intFlag(&o.height, 1, 16384)},
@@ -126,7 +130,11 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
              o.sweeps.push_back(v);
              return true;
          }},
-        {"--envmap", [&](const std::string& v, std::string*) { o.envmap = v; return true; }},
+        {"--envmap", [&](const std::string& v, std::string* why) {
+             if (v.empty()) { *why = "expected an image file, got ''"; return false; }
+             o.envmap = v;
+             return true;
+         }},
         {"--oidn-guides", [&](const std::string& v, std::string* why) {
              if (v != "prefilter" && v != "raw" && v != "none") { *why = "expected prefilter, raw or none, got '" + v + "'"; return false; }
              o.oidnGuides = v;

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -153,6 +154,44 @@ void applyFlags(const CliOptions& o, Scene& scene) {
     }
 }
 
+// Host memory a render of `pixels` pixels needs at its peak, per pixel: the four RGBA32F film
+// images (which llvmpipe keeps in host memory), their read-back copies (Renderer::readFilm), the
+// Film and its copy for the written image (52 bytes each), and the 8-bit and float output
+// images, AOVs and EXR layers; rounded up. Per variant of a sweep, the contact sheet keeps 3 more.
+constexpr double kBytesPerPixel = 64 + 64 + 2 * 52 + 3 + 12 + 24 + 60;
+
+// MemAvailable from /proc/meminfo in bytes, or 0 when unknown.
+double availableMemory() {
+    std::FILE* f = std::fopen("/proc/meminfo", "r");
+    if (!f) return 0;
+    char line[256];
+    double bytes = 0;
+    while (std::fgets(line, sizeof line, f)) {
+        unsigned long long kb = 0;
+        if (std::sscanf(line, "MemAvailable: %llu kB", &kb) == 1) {
+            bytes = double(kb) * 1024.0;
+            break;
+        }
+    }
+    std::fclose(f);
+    return bytes;
+}
+
+// A render that cannot fit in memory fails before anything starts, with the numbers, instead of
+// "std::bad_alloc" (or the kernel's OOM killer) minutes later.
+std::string memoryProblem(const Scene& scene, std::size_t variants) {
+    const double pixels = double(scene.render.width) * double(scene.render.height);
+    const double needed = pixels * (kBytesPerPixel + 6.0 * double(variants > 1 ? variants : 0));
+    const double available = availableMemory();
+    if (available <= 0 || needed <= available) return "";
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "render size %dx%d needs about %.1f GiB of memory, only %.1f GiB is available; "
+                  "render smaller (--width, --height)",
+                  scene.render.width, scene.render.height, needed / (1u << 30), available / (1u << 30));
+    return buf;
+}
+
 int runBatch(const CliOptions& o) {
     if (o.timeBudget && o.samples) return fail("use --samples or --time, not both", kExitUsage);
     std::vector<Variant> variants;
@@ -167,6 +206,8 @@ int runBatch(const CliOptions& o) {
         applyFlags(o, *loaded.scene);
         scenes.push_back(std::move(*loaded.scene));
     }
+    for (const Scene& scene : scenes)
+        if (std::string why = memoryProblem(scene, scenes.size()); !why.empty()) return fail(*o.scene + ": " + why);
 
     // The output folder, checked before any rendering so a typo costs nothing.
     std::error_code ec;
@@ -352,6 +393,8 @@ int main(int argc, char** argv) {
         if (o.editorScene) return fail("unexpected argument '" + *o.editorScene + "' in batch mode", kExitUsage);
         if (std::string why = notAvailable(o); !why.empty()) return fail(why);
         return runBatch(o);
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory (the render size, the scene's meshes and images must fit in memory)");
     } catch (const std::exception& e) {
         return fail(std::string("unexpected failure: ") + e.what());
     }

@@ -282,10 +282,17 @@ struct Builder {
     // Imports a model file once (every object using it shares its BVH), merging its meshes.
     std::map<std::pair<std::string, TextureEncoding>, std::uint32_t> textureIndex;
 
-    // Appends a material (and loads its textures, each file once per encoding, relative paths
-    // against baseDir) to the material table.
-    bool addMaterial(const Material& m, const std::string& where, const std::string& baseDir) {
+    // Appends a material (and loads its textures unless withTextures is false) to the material table.
+    bool addMaterial(const Material& m, const std::string& where, const std::string& baseDir, bool withTextures = true) {
         gpu::GpuMaterial g = convertMaterial(m);
+        if (withTextures && !addTextures(m, where, baseDir, &g)) return false;
+        out.materials.push_back(g);
+        return true;
+    }
+
+    // Loads m's textures into g's slots, each file once per encoding, relative paths against baseDir.
+    bool addTextures(const Material& m, const std::string& where, const std::string& baseDir, gpu::GpuMaterial* gm) {
+        gpu::GpuMaterial& g = *gm;
         auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
             if (name.empty()) return true;
             std::filesystem::path file(name);
@@ -322,7 +329,6 @@ struct Builder {
             !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
             !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
             return false;
-        out.materials.push_back(g);
         return true;
     }
 
@@ -348,9 +354,11 @@ struct Builder {
         }
         for (const std::string& w : entry->warnings) out.warnings.push_back(w);
         meshMaterialBase.push_back(static_cast<std::uint32_t>(out.materials.size()));
+        // The file's textures wait until an object uses the file's own materials (addMeshInstance):
+        // a model whose objects all have scene materials imports even if its textures are missing.
         for (size_t k = 0; k < entry->materials.size(); ++k)
-            if (!addMaterial(entry->materials[k], where + ".file (" + file + ") material " + std::to_string(k), ""))
-                return false;
+            addMaterial(entry->materials[k], where, "", false);
+        meshTexturesLoaded.push_back(false);
         meshSlots.push_back(entry->triangleSlot);
         meshMaterials.push_back(entry->materials);
         meshMappingWarnings.push_back(entry->mappingWarnings);
@@ -379,6 +387,7 @@ struct Builder {
     std::vector<std::vector<std::uint32_t>> meshSlots;    // per BLAS: each triangle's file material
     std::vector<std::vector<Material>> meshMaterials;     // per BLAS: the file's materials, mapped
     std::vector<std::vector<std::string>> meshMappingWarnings;  // reported once an object uses them
+    std::vector<bool> meshTexturesLoaded;                 // per BLAS: its file materials' textures
 
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
                          const glm::vec3* emission, const std::string& where) {
@@ -401,6 +410,13 @@ struct Builder {
         gi.objectToWorld1 = o2wRows[1];
         gi.objectToWorld2 = o2wRows[2];
         const bool fromFile = material == kFileMaterials;
+        if (fromFile && !meshTexturesLoaded[blas]) {
+            for (size_t k = 0; k < meshMaterials[blas].size(); ++k)
+                if (!addTextures(meshMaterials[blas][k], where + ".file (" + meshCacheKey(scene, o.file) + ") material " + std::to_string(k),
+                                 "", &out.materials[meshMaterialBase[blas] + k]))
+                    return false;
+            meshTexturesLoaded[blas] = true;
+        }
         if (fromFile) {
             for (const std::string& w : meshMappingWarnings[blas]) out.warnings.push_back(w);
             meshMappingWarnings[blas].clear();  // once per file

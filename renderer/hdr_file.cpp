@@ -1,5 +1,7 @@
 #include "renderer/hdr_file.h"
 
+#include "renderer/file_util.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -10,6 +12,8 @@
 namespace caustic {
 
 bool readRadianceHdr(const std::string& path, ImageData* out, std::string* error) {
+    // Regular files only: a FIFO or /dev/zero would never end.
+    if (!checkRegularFile(path, error)) return false;
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         *error = path + ": cannot read";
@@ -30,8 +34,13 @@ bool readRadianceHdr(const std::string& path, ImageData* out, std::string* error
     int w = 0, h = 0;
     char ys[3] = {}, xs[3] = {};
     if (std::sscanf(line.c_str(), "%2s %d %2s %d", ys, &h, xs, &w) != 4 || std::string(ys) != "-Y" ||
-        std::string(xs) != "+X" || w <= 0 || h <= 0 || w > 65535 || h > 65535)
+        std::string(xs) != "+X" || w <= 0 || h <= 0)
         return fail("unsupported resolution line '" + line + "' (expected -Y <height> +X <width>)");
+    // The declared size, before anything is allocated for it.
+    if (std::string why = imageSizeProblem(path, w, h, 3); !why.empty()) {
+        *error = why;
+        return false;
+    }
     std::vector<std::uint8_t> scan(static_cast<size_t>(w) * 4);
     out->width = w;
     out->height = h;

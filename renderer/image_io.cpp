@@ -2,6 +2,7 @@
 
 #include "renderer/file_util.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
@@ -10,33 +11,48 @@ namespace caustic {
 namespace {
 
 // data: `type` values, channels interleaved; fileType: what the file stores (EXR: half or float).
+// The file is encoded in memory (OpenImageIO's IOVecOutput proxy) and then written by
+// writeFileAtomically, which checks every write, the fsync and the close: OpenImageIO's PNG and
+// Radiance writers do not report a failed fwrite or fclose, so on a full disk they "succeeded"
+// with a truncated file that the rename then put over the previous good image.
 bool writeAtomically(const std::string& path, int width, int height, OIIO::TypeDesc type, const void* data,
                      const ImageMetadata& metadata, std::string* error,
                      const std::vector<std::string>& channelNames = {"R", "G", "B"},
                      OIIO::TypeDesc fileType = OIIO::TypeDesc::UNKNOWN) {
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) {
-        *error = path + ": cannot write this format: " + OIIO::geterror();
+    try {
+        auto out = OIIO::ImageOutput::create(path);
+        if (!out) {
+            *error = path + ": cannot write this format: " + OIIO::geterror();
+            return false;
+        }
+        if (!out->supports("ioproxy")) {
+            *error = path + ": cannot write this format (no in-memory encoder in this OpenImageIO)";
+            return false;
+        }
+        OIIO::ImageSpec spec(width, height, static_cast<int>(channelNames.size()),
+                             fileType == OIIO::TypeDesc::UNKNOWN ? type : fileType);
+        spec.channelnames = channelNames;
+        for (const auto& [key, value] : metadata) spec.attribute(key, value);
+        std::vector<unsigned char> encoded;
+        OIIO::Filesystem::IOVecOutput memory(encoded);
+        OIIO::Filesystem::IOProxy* proxy = &memory;
+        spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        if (!out->open(path, spec)) {
+            *error = path + ": cannot write: " + out->geterror();
+            return false;
+        }
+        bool ok = out->write_image(type, data);
+        ok = out->close() && ok;
+        if (!ok || encoded.empty()) {
+            const std::string why = out->geterror();
+            *error = path + ": cannot write: encoding failed" + (why.empty() ? std::string() : ": " + why);
+            return false;
+        }
+        return writeFileAtomically(path, reinterpret_cast<const char*>(encoded.data()), encoded.size(), error);
+    } catch (const std::bad_alloc&) {
+        *error = path + ": cannot write: out of memory";
         return false;
     }
-    OIIO::ImageSpec spec(width, height, static_cast<int>(channelNames.size()),
-                         fileType == OIIO::TypeDesc::UNKNOWN ? type : fileType);
-    spec.channelnames = channelNames;
-    for (const auto& [key, value] : metadata) spec.attribute(key, value);
-    const std::string tmp = tempPathBeside(path);
-    if (!out->open(tmp, spec)) {
-        *error = path + ": cannot write: " + out->geterror();
-        std::remove(tmp.c_str());
-        return false;
-    }
-    bool ok = out->write_image(type, data);
-    ok = out->close() && ok;
-    if (!ok) {
-        *error = path + ": write failed: " + out->geterror();
-        std::remove(tmp.c_str());
-        return false;
-    }
-    return commitTempFile(tmp, path, error);
 }
 
 }  // namespace
@@ -74,22 +90,37 @@ bool writeExrLayers(const std::string& path, int width, int height, const std::v
 }
 
 bool readImage(const std::string& path, ImageData* out, std::string* error) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        *error = path + ": cannot read image: " + OIIO::geterror();
+    // A FIFO or a device (/dev/zero) would make the format probes read forever.
+    if (!checkRegularFile(path, error)) return false;
+    try {
+        auto in = OIIO::ImageInput::open(path);
+        if (!in) {
+            *error = path + ": cannot read image: " + OIIO::geterror();
+            return false;
+        }
+        const OIIO::ImageSpec& spec = in->spec();
+        // The header's size, before anything is allocated for the pixels.
+        if (std::string why = imageSizeProblem(path, spec.width, spec.height, spec.nchannels); !why.empty()) {
+            *error = why;
+            return false;
+        }
+        out->width = spec.width;
+        out->height = spec.height;
+        out->channels = spec.nchannels;
+        out->pixels.assign(static_cast<size_t>(spec.width) * spec.height * spec.nchannels, 0.0f);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
+            *error = path + ": cannot decode image: " + in->geterror();
+            out->pixels = {};
+            return false;
+        }
+        in->close();
+        return true;
+    } catch (const std::bad_alloc&) {
+        *error = path + ": out of memory reading the image (" + std::to_string(out->width) + "x" +
+                 std::to_string(out->height) + ")";
+        out->pixels = {};
         return false;
     }
-    const OIIO::ImageSpec& spec = in->spec();
-    out->width = spec.width;
-    out->height = spec.height;
-    out->channels = spec.nchannels;
-    out->pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
-        *error = path + ": cannot decode image: " + in->geterror();
-        return false;
-    }
-    in->close();
-    return true;
 }
 
 }  // namespace caustic

@@ -65,10 +65,39 @@ std::string dumpCompact(const Json& value) {
     return value.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
+// At most about `limit` bytes of value's compact JSON, ending in "..." when cut; containers deeper
+// than a few levels are elided. Never serialises the whole value: a huge or deeply nested value
+// (a hostile file) costs no more than a small one, and the recursion is bounded.
+void appendBounded(const Json& value, std::size_t limit, int depth, std::string& out) {
+    if (out.size() >= limit) return;
+    if (!value.is_structured()) {
+        std::string text = dumpCompact(value);
+        if (text.size() > limit) text.resize(limit);  // a long string
+        out += text;
+        return;
+    }
+    const bool isObject = value.is_object();
+    out += isObject ? '{' : '[';
+    if (depth >= 4 && !value.empty()) {
+        out += "...";
+    } else {
+        bool first = true;
+        for (auto it = value.begin(); it != value.end(); ++it) {
+            if (out.size() >= limit) break;
+            if (!first) out += ',';
+            first = false;
+            if (isObject) out += dumpCompact(Json(it.key())) + ':';
+            appendBounded(it.value(), limit, depth + 1, out);
+        }
+    }
+    out += isObject ? '}' : ']';
+}
+
 // What a rejected value was, for messages: "string \"abc\"", "array [1,2]", "null".
 std::string describe(const Json& value) {
     if (value.is_null()) return "null";
-    std::string text = dumpCompact(value);
+    std::string text;
+    appendBounded(value, 41, 0, text);
     if (text.size() > 40) text = text.substr(0, 37) + "...";
     return std::string(value.type_name()) + " " + text;
 }
@@ -329,7 +358,10 @@ void readValue(const Json& value, const std::string& path, bool& out, const Rang
 
 void readValue(const Json& value, const std::string& path, std::string& out, const Range&) {
     requireType(value.is_string(), value, path, "a string");
-    out = value.get<std::string>();
+    const auto& text = value.get_ref<const std::string&>();
+    // A file name would be cut at the NUL by every OS call ("a.png\u0000.jpg" opens "a.png").
+    if (text.find('\0') != std::string::npos) fail(path, "must not contain a NUL character (\\u0000)");
+    out = text;
 }
 
 void readValue(const Json& value, const std::string& path, glm::vec3& out, const Range& range) {
@@ -656,9 +688,16 @@ Json toJson(const RenderSettings& render) { return writeFields(render, renderFie
 // ---------------------------------------------------------------------------------------------
 // Materials
 
-// A string field written only when non-empty (texture file names).
+// A file name written only when set (texture file names). An empty string is an error rather than
+// a quiet "no texture": leaving the key out says that.
 Field<Material> optionalFile(std::string_view key, std::string Material::*memberPtr) {
     Field<Material> result = field(key, memberPtr);
+    result.read = [memberPtr](const Json& value, const std::string& path, Material& out) {
+        std::string file;
+        readValue(value, path, file, kAnyValue);
+        if (file.empty()) fail(path, "must not be empty (leave the key out for no texture)");
+        out.*memberPtr = std::move(file);
+    };
     result.omit = [memberPtr](const Material& in) { return (in.*memberPtr).empty(); };
     return result;
 }
@@ -990,10 +1029,8 @@ private:
     std::optional<std::string> m_duplicate;
 };
 
-// "<file>:<line>:<column>: JSON syntax error: <explanation>"; byte is nlohmann's 1-based offset of
-// the character where parsing stopped; columns count UTF-8 code points.
-std::string syntaxError(const std::string& file, const std::string& text, std::size_t byte,
-                        const std::string& what) {
+// "<file>:<line>:<column>" of the 1-based byte offset `byte`; columns count UTF-8 code points.
+std::string textPosition(const std::string& file, const std::string& text, std::size_t byte) {
     const std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
     std::size_t line = 1;
     std::size_t column = 1;
@@ -1005,6 +1042,13 @@ std::string syntaxError(const std::string& file, const std::string& text, std::s
             ++column;
         }
     }
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+}
+
+// "<file>:<line>:<column>: JSON syntax error: <explanation>"; byte is nlohmann's 1-based offset of
+// the character where parsing stopped.
+std::string syntaxError(const std::string& file, const std::string& text, std::size_t byte,
+                        const std::string& what) {
     // what() reads "[json.exception.parse_error.101] parse error at line 3, column 8: <explanation>".
     std::string explanation = what;
     if (const std::size_t at = what.find("parse error"); at != std::string::npos) {
@@ -1014,8 +1058,43 @@ std::string syntaxError(const std::string& file, const std::string& text, std::s
     } else if (const std::size_t bracket = what.find("] "); bracket != std::string::npos) {
         explanation = what.substr(bracket + 2);
     }
-    return oneLine(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                   ": JSON syntax error: " + explanation);
+    return oneLine(textPosition(file, text, byte) + ": JSON syntax error: " + explanation);
+}
+
+// Scene files nest a few levels (objects[2].transform.matrix is three arrays and objects deep);
+// 64 leaves room for anything written by hand and keeps every recursive walk over a parsed value
+// (error messages, the writer, nlohmann's own dump) shallow. A file nested 100,000 deep used to
+// overflow the stack in an error message.
+constexpr int kMaxJsonDepth = 64;
+
+// The offset of the first '[' or '{' that opens level kMaxJsonDepth + 1, or npos. A linear scan
+// that skips strings (and their escapes); everything else about the syntax is the parser's job.
+std::size_t tooDeepAt(std::string_view text) {
+    int depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\') ++i;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth) return i;
+        } else if (c == ']' || c == '}') {
+            --depth;  // unbalanced input goes negative; the parser reports it
+        }
+    }
+    return std::string_view::npos;
+}
+
+std::string tooDeepMessage() {
+    return "arrays and objects nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
+}
+
+// At most 60 bytes of a user's text, for messages.
+std::string shortened(const std::string& text) {
+    return text.size() <= 60 ? text : text.substr(0, 57) + "...";
 }
 
 }  // namespace
@@ -1023,6 +1102,10 @@ std::string syntaxError(const std::string& file, const std::string& text, std::s
 SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages) {
     SceneLoadResult result;
     try {
+        if (const std::size_t at = tooDeepAt(jsonText); at != std::string_view::npos) {
+            result.error = oneLine(textPosition(fileForMessages, jsonText, at + 1) + ": " + tooDeepMessage());
+            return result;
+        }
         PathTracker tracker;
         Json root;
         try {
@@ -1105,13 +1188,17 @@ Json* resolveOverridePath(Json& root, const std::string& path, std::string* erro
             const bool numeric = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) { return c >= '0' && c <= '9'; });
             Json* found = nullptr;
             if (numeric) {
-                const std::size_t index = std::stoul(key);
-                if (index < node->size()) found = &(*node)[index];
+                std::size_t index = 0;
+                const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), index);
+                if (ec == std::errc() && end == key.data() + key.size() && index < node->size()) found = &(*node)[index];
             } else {
                 for (Json& item : *node)
                     if (item.is_object() && item.contains("name") && item["name"] == key) found = &item;
             }
-            if (!found) { *error = walked + ": no such element"; return nullptr; }
+            if (!found) {
+                *error = walked + ": no such element (the array has " + std::to_string(node->size()) + ")";
+                return nullptr;
+            }
             node = found;
             i = close + 1;
             continue;
@@ -1137,13 +1224,17 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
         if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
         Json root;
         try {
+            if (tooDeepAt(*text) != std::string_view::npos) return parseScene(*text, file);  // says where
             root = Json::parse(*text);
         } catch (const std::exception&) {
             return parseScene(*text, file);  // reports the syntax error with line and column
         }
         for (const SceneOverride& o : overrides) {
+            const std::string what = "--set " + shortened(o.path + "=" + o.value) + ": ";
             Json* target = resolveOverridePath(root, o.path, &error);
-            if (!target) return SceneLoadResult{std::nullopt, "--set " + o.path + "=" + o.value + ": " + error};
+            if (!target) return SceneLoadResult{std::nullopt, oneLine(what + error)};
+            if (tooDeepAt(o.value) != std::string_view::npos)
+                return SceneLoadResult{std::nullopt, oneLine(what + "the value has " + tooDeepMessage())};
             try {
                 *target = Json::parse(o.value);
             } catch (const std::exception&) {
@@ -1159,6 +1250,33 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
         return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
     }
 }
+
+namespace {
+
+// Writes the value and reads it back with the file reader's rules.
+template <class T>
+std::string checkByRoundTrip(const T& value, const std::string& path) {
+    try {
+        T copy{};
+        readValue(toJson(value), path, copy, kAnyValue);
+        return "";
+    } catch (const SceneError& e) {
+        return oneLine(e.path.empty() ? e.message : e.path + ": " + e.message);
+    } catch (const std::bad_alloc&) {
+        return path + ": out of memory";
+    } catch (const std::exception& e) {
+        return oneLine(path + ": " + e.what());
+    }
+}
+
+}  // namespace
+
+std::string checkEntity(const Object& value, const std::string& path) { return checkByRoundTrip(value, path); }
+std::string checkEntity(const Light& value, const std::string& path) { return checkByRoundTrip(value, path); }
+std::string checkEntity(const Material& value, const std::string& path) { return checkByRoundTrip(value, path); }
+std::string checkEntity(const Camera& value, const std::string& path) { return checkByRoundTrip(value, path); }
+std::string checkEntity(const RenderSettings& value, const std::string& path) { return checkByRoundTrip(value, path); }
+std::string checkEntity(const Environment& value, const std::string& path) { return checkByRoundTrip(value, path); }
 
 namespace {
 

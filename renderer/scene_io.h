@@ -52,4 +52,16 @@ std::string sceneToJson(const Scene& scene);
 // temporary file is left; *error (if non-null) gets the reason.
 bool saveScene(const Scene& scene, const std::string& file, std::string* error);
 
+// Checks one entity the way the scene reader checks it in a file (types, ranges, finite numbers,
+// e.g. no NaN or infinity in a translation), so an editor can refuse an edit that would make the
+// scene unsaveable. "" when valid, else "<path>.<json path>: <what is wrong>", with `path` the
+// entity's own place ("objects[3]", "camera"). References between entities (an object's
+// material) are not checked here.
+std::string checkEntity(const Object& value, const std::string& path);
+std::string checkEntity(const Light& value, const std::string& path);
+std::string checkEntity(const Material& value, const std::string& path);
+std::string checkEntity(const Camera& value, const std::string& path);
+std::string checkEntity(const RenderSettings& value, const std::string& path);
+std::string checkEntity(const Environment& value, const std::string& path);
+
 }  // namespace caustic

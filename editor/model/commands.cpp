@@ -1,6 +1,7 @@
 #include "editor/model/commands.h"
 
 #include "editor/model/editor_state.h"
+#include "renderer/scene_io.h"
 
 #include <type_traits>
 
@@ -8,39 +9,54 @@ namespace caustic::editor {
 namespace {
 
 // The list or singleton of the scene that holds a T, and how an edit of it is named.
+template <class T> constexpr bool kIsList = std::is_same_v<T, Object> || std::is_same_v<T, Light> || std::is_same_v<T, Material>;
+
+// key: the entity's JSON key in a scene file (for the place named in check()'s messages).
 template <class T> struct Access;
 template <> struct Access<Object> {
     static constexpr EntityKind kind = EntityKind::Object;
     static std::vector<Object>& list(Scene& s) { return s.objects; }
     static constexpr const char* noun = "object";
+    static constexpr const char* key = "objects";
 };
 template <> struct Access<Light> {
     static constexpr EntityKind kind = EntityKind::Light;
     static std::vector<Light>& list(Scene& s) { return s.lights; }
     static constexpr const char* noun = "light";
+    static constexpr const char* key = "lights";
 };
 template <> struct Access<Material> {
     static constexpr EntityKind kind = EntityKind::Material;
     static std::vector<Material>& list(Scene& s) { return s.materials; }
     static constexpr const char* noun = "material";
+    static constexpr const char* key = "materials";
 };
 template <> struct Access<Camera> {
     static constexpr EntityKind kind = EntityKind::Camera;
     static Camera& single(Scene& s) { return s.camera; }
     static constexpr const char* noun = "camera";
+    static constexpr const char* key = "camera";
 };
 template <> struct Access<RenderSettings> {
     static constexpr EntityKind kind = EntityKind::Render;
     static RenderSettings& single(Scene& s) { return s.render; }
     static constexpr const char* noun = "render settings";
+    static constexpr const char* key = "render";
 };
 template <> struct Access<Environment> {
     static constexpr EntityKind kind = EntityKind::Environment;
     static Environment& single(Scene& s) { return s.environment; }
     static constexpr const char* noun = "environment";
+    static constexpr const char* key = "environment";
 };
 
-template <class T> constexpr bool kIsList = std::is_same_v<T, Object> || std::is_same_v<T, Light> || std::is_same_v<T, Material>;
+// "objects[2]", "camera": where the entity sits in a scene file.
+template <class T>
+std::string placeOf(int index) {
+    if constexpr (kIsList<T>) return std::string(Access<T>::key) + "[" + std::to_string(index) + "]";
+    else { (void)index; return Access<T>::key; }
+}
+
 
 template <class T>
 void assign(Scene& scene, int index, const T& from, const T& to) {
@@ -186,6 +202,9 @@ template <class T>
 std::uint32_t SetCommand<T>::dirty() const { return editDirty(m_before, m_after); }
 
 template <class T>
+std::string SetCommand<T>::check() const { return checkEntity(m_after, placeOf<T>(m_index)); }
+
+template <class T>
 std::string SetCommand<T>::name() const {
     if constexpr (kIsList<T>) {
         if (m_before.name != m_after.name) return "Rename " + describe(m_before) + " to '" + m_after.name + "'";
@@ -213,6 +232,9 @@ void InsertCommand<T>::undo(EditorState& state) {
 
 template <class T>
 std::uint32_t InsertCommand<T>::dirty() const { return listChangeDirty(Access<T>::kind); }
+
+template <class T>
+std::string InsertCommand<T>::check() const { return checkEntity(m_value, placeOf<T>(m_index)); }
 
 template <class T>
 std::string InsertCommand<T>::name() const { return m_verb + " " + describe(m_value); }

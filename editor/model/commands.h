@@ -39,6 +39,11 @@ public:
     // What execute or undo changed (renderer/dirty.h).
     virtual std::uint32_t dirty() const = 0;
     virtual std::string name() const = 0;   // "Edit object 'small box'", for the Edit menu
+    // What is wrong with the value this command would put into the scene, checked by the scene
+    // reader's rules before it executes (renderer/scene_io.h, checkEntity): "" when nothing, else
+    // "objects[2].transform.translate[0]: must be a finite 32-bit float, got nan". EditorState
+    // refuses a command that reports something, so an edit can never make the scene unsaveable.
+    virtual std::string check() const { return {}; }
 };
 
 // The undo history. push() executes; an unsealed top absorbs the next command if it merges.
@@ -87,6 +92,7 @@ public:
     bool mergeWith(const Command& next) override;
     std::uint32_t dirty() const override;
     std::string name() const override;
+    std::string check() const override;
     const T& before() const { return m_before; }
     const T& after() const { return m_after; }
 
@@ -106,6 +112,7 @@ public:
     void undo(EditorState& state) override;
     std::uint32_t dirty() const override;
     std::string name() const override;
+    std::string check() const override;
 
 private:
     int m_index;

@@ -16,14 +16,24 @@ namespace caustic::editor {
 
 EditorState::EditorState() { newScene(); }
 
-void EditorState::apply(std::unique_ptr<Command> command) {
-    if (!command) return;
+bool EditorState::apply(std::unique_ptr<Command> command, std::string* why) {
+    if (!command) return false;
+    if (std::string wrong = command->check(); !wrong.empty()) {
+        if (why) *why = "edit refused: " + wrong;
+        return false;
+    }
     history.push(std::move(command), *this, false);
+    return true;
 }
 
-void EditorState::applyContinuous(std::unique_ptr<Command> command) {
-    if (!command) return;
+bool EditorState::applyContinuous(std::unique_ptr<Command> command, std::string* why) {
+    if (!command) return false;
+    if (std::string wrong = command->check(); !wrong.empty()) {
+        if (why) *why = "edit refused: " + wrong;
+        return false;
+    }
     history.push(std::move(command), *this, true);
+    return true;
 }
 
 bool EditorState::undo() {

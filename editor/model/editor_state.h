@@ -33,9 +33,11 @@ public:
     std::string path;            // the file the scene belongs to; empty while untitled
 
     // Edits. apply() is a discrete edit (one undo step); applyContinuous() is one step of a drag
-    // or slider that merges with the previous step until seal() (call it on release).
-    void apply(std::unique_ptr<Command> command);
-    void applyContinuous(std::unique_ptr<Command> command);
+    // or slider that merges with the previous step until seal() (call it on release). A command
+    // whose value the scene file could not hold (Command::check: NaN or infinity, 0 samples, ...)
+    // is refused: nothing changes, false is returned and *why (if given) says what was wrong.
+    bool apply(std::unique_ptr<Command> command, std::string* why = nullptr);
+    bool applyContinuous(std::unique_ptr<Command> command, std::string* why = nullptr);
     void seal() { history.seal(); }
     bool undo();
     bool redo();

@@ -29,7 +29,8 @@ struct Edit {
         }
     }
     void commit(std::unique_ptr<Command> command) {
-        if (changed && command) ui.state.applyContinuous(std::move(command));
+        std::string why;
+        if (changed && command && !ui.state.applyContinuous(std::move(command), &why)) notify(ui, why, true);
         if (seal) ui.state.seal();
     }
 };

@@ -62,9 +62,7 @@ bool moveSelection(EditorUi& ui, glm::vec3 d, bool continuous, std::string* why)
         *why = "nothing movable is selected";
         return false;
     }
-    if (continuous) s.applyContinuous(std::move(c));
-    else s.apply(std::move(c));
-    return true;
+    return continuous ? s.applyContinuous(std::move(c), why) : s.apply(std::move(c), why);
 }
 
 }  // namespace
@@ -190,7 +188,8 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     if (op == "set_samples") {
         RenderSettings r = s.scene.render;
         r.samples = static_cast<int>(num(a[0]));
-        s.apply(makeSetRender(s, r));
+        std::string why;
+        if (!s.apply(makeSetRender(s, r), &why)) fail(ui, line, why);
         markEdit();
         return true;
     }

@@ -1,0 +1,348 @@
+// Hostile input and hard limits (issue 12, docs/reliability.md): writes that cannot lie (a
+// failed write keeps the old file and leaves no temporary, also when a signal arrives mid-write),
+// short temporary names, bounded JSON nesting, regular files only, image sizes checked from the
+// header, strict strings, and textures of unused model materials not loaded.
+//
+// Failures are made real where it is cheap: a file size limit (RLIMIT_FSIZE) makes write() fail
+// with EFBIG like a full disk fails it with ENOSPC; each such case runs in a forked child so the
+// limit and the signals stay out of the test process.
+#include "renderer/file_util.h"
+#include "renderer/gpu_scene.h"
+#include "renderer/hdr_file.h"
+#include "renderer/scene_io.h"
+#include "tests/support/meshes.h"
+
+#include <catch2/catch.hpp>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+using namespace caustic;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kCornellBox = std::string(CAUSTIC_SOURCE_DIR) + "/scenes/cornell-box.json";
+
+std::vector<std::string> entries(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    return names;
+}
+
+std::string slurp(const std::string& path) {
+    std::string error;
+    return readTextFile(path, &error).value_or("<unreadable: " + error + ">");
+}
+
+// Runs body in a forked child under a file size limit of `limit` bytes, with SIGXFSZ ignored so
+// that an oversized write() fails with EFBIG instead of killing the process. Returns the child's
+// wait status; body's return value is the exit code.
+template <class Body>
+int inChildWithFileLimit(rlim_t limit, Body body) {
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        std::signal(SIGXFSZ, SIG_IGN);
+        const rlimit r{limit, limit};
+        ::setrlimit(RLIMIT_FSIZE, &r);
+        ::_exit(body());
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+}
+
+// 100,000 nested arrays as the camera: the shape of the file that crashed the loader.
+std::string deeplyNestedScene(std::size_t depth) {
+    return R"({"version": 1, "camera": )" + std::string(depth, '[') + std::string(depth, ']') + "}";
+}
+
+}  // namespace
+
+// ---- 1. Writes that cannot lie ------------------------------------------------------------------
+
+TEST_CASE("hostile: a write that fails (file size limit) reports it and keeps the previous file", "[hostile][file_util]") {
+    test::TempDir dir;
+    const std::string file = dir.file("out.bin");
+    std::string error;
+    REQUIRE(writeFileAtomically(file, std::string(100, 'a'), &error));
+    const int status = inChildWithFileLimit(1000, [&] {
+        std::string why;
+        const bool ok = writeFileAtomically(file, std::string(5000, 'b'), &why);
+        // Exit codes say what the child saw: 0 the expected failure with the file named.
+        if (ok) return 10;
+        if (why.find(file + ": cannot write:") != 0) return 11;
+        if (why.find("File too large") == std::string::npos) return 12;
+        return 0;
+    });
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    CHECK(slurp(file) == std::string(100, 'a'));
+    CHECK(entries(dir.path) == std::vector<std::string>{"out.bin"});
+}
+
+TEST_CASE("hostile: a scene save that fails (file size limit) keeps the previous scene file", "[hostile][scene_io]") {
+    test::TempDir dir;
+    const std::string file = dir.file("scene.json");
+    const SceneLoadResult cornell = loadScene(kCornellBox);
+    REQUIRE(cornell);
+    Scene small = *cornell.scene;
+    small.objects.resize(1);
+    std::string error;
+    REQUIRE(saveScene(small, file, &error));
+    const std::string before = slurp(file);
+    REQUIRE(before.size() < 2000);
+    const int status = inChildWithFileLimit(2000, [&] {
+        std::string why;
+        if (saveScene(*cornell.scene, file, &why)) return 10;  // the full box is larger than the limit
+        return why.find(file + ": cannot write:") == 0 ? 0 : 11;
+    });
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    CHECK(slurp(file) == before);
+    CHECK(entries(dir.path) == std::vector<std::string>{"scene.json"});
+}
+
+TEST_CASE("hostile: SIGTERM or SIGINT during a write leaves no temporary file", "[hostile][file_util]") {
+    // The signal arrives while write() is under way: the file size limit raises SIGXFSZ inside
+    // the write, and its handler sends the process the signal under test.
+    for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
+        INFO("signal " << sig);
+        test::TempDir dir;
+        const std::string file = dir.file("image.exr");
+        std::fflush(nullptr);
+        const pid_t pid = ::fork();
+        if (pid == 0) {
+            for (const int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);  // as in a plain program
+            static int s_signal = 0;
+            s_signal = sig;
+            std::signal(SIGXFSZ, [](int) { ::raise(s_signal); });
+            const rlimit r{1000, 1000};
+            ::setrlimit(RLIMIT_FSIZE, &r);
+            std::string why;
+            writeFileAtomically(file, std::string(5000, 'x'), &why);
+            ::_exit(3);  // not reached: the signal ends the process
+        }
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+        REQUIRE(WIFSIGNALED(status));  // the signal still has its usual effect
+        CHECK(WTERMSIG(status) == sig);
+        CHECK(entries(dir.path).empty());
+    }
+}
+
+TEST_CASE("hostile: a registered temporary file is removed on SIGTERM, an unregistered one is not", "[hostile][file_util]") {
+    test::TempDir dir;
+    const std::string registered = dir.file(".a.tmp-1");
+    const std::string other = dir.file(".b.tmp-1");
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        std::signal(SIGTERM, SIG_DFL);  // the test framework's handler, as in a plain program
+        TempFileRegistration reg(registered);
+        std::ofstream(registered) << "x";
+        std::ofstream(other) << "y";
+        ::raise(SIGTERM);
+        ::_exit(3);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    REQUIRE(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == SIGTERM);
+    CHECK(entries(dir.path) == std::vector<std::string>{".b.tmp-1"});
+}
+
+TEST_CASE("hostile: temporary names stay short, so a 250-byte file name can be written", "[hostile][file_util]") {
+    test::TempDir dir;
+    // 249 bytes of name with two-byte characters around the cut, plus ".png": 253 bytes in all.
+    std::string name(61, 'n');
+    for (int i = 0; i < 60; ++i) name += "\xc3\xa9";  // é
+    name += std::string(249 - name.size(), 'x');
+    name += ".png";
+    REQUIRE(name.size() == 253);
+    const std::string path = dir.file(name);
+    const std::string tmp = tempPathBeside(path);
+    const std::string tmpName = fs::path(tmp).filename().string();
+    INFO(tmpName);
+    CHECK(tmpName.size() <= 120);
+    CHECK(tmpName.substr(tmpName.size() - 4) == ".png");
+    // Cut on a character boundary: no lone continuation byte right before ".tmp-".
+    const std::size_t at = tmpName.find(".tmp-");
+    REQUIRE(at != std::string::npos);
+    CHECK((static_cast<unsigned char>(tmpName[at - 1]) & 0xC0) != 0xC0);
+    std::string error;
+    CHECK(writeFileAtomically(path, "hello", &error));
+    INFO(error);
+    CHECK(slurp(path) == "hello");
+    CHECK(entries(dir.path) == std::vector<std::string>{name});
+}
+
+// ---- 2. Bounded JSON nesting ---------------------------------------------------------------------
+
+TEST_CASE("hostile: a scene nested 100,000 deep is refused with a position, not a crash", "[hostile][scene_io]") {
+    const std::string deep = deeplyNestedScene(100000);
+    const SceneLoadResult parsed = parseScene(deep, "deep.json");
+    REQUIRE_FALSE(parsed);
+    CHECK(parsed.error == "deep.json:1:89: arrays and objects nested deeper than 64 levels");
+
+    test::TempDir dir;
+    const std::string file = dir.file("deep.json");
+    std::ofstream(file) << deep;
+    const SceneLoadResult loaded = loadScene(file);
+    REQUIRE_FALSE(loaded);
+    CHECK(loaded.error.find(file + ":1:89: arrays and objects nested deeper than 64 levels") == 0);
+    // Through the --set path (which parses the file itself first).
+    const SceneLoadResult overridden = loadScene(file, {{"camera.fov", "30"}});
+    REQUIRE_FALSE(overridden);
+    CHECK(overridden.error.find("nested deeper than 64 levels") != std::string::npos);
+    // A deep --set value.
+    const SceneLoadResult deepValue = loadScene(kCornellBox, {{"camera.fov", std::string(100000, '[') + std::string(100000, ']')}});
+    REQUIRE_FALSE(deepValue);
+    CHECK(deepValue.error.find("--set camera.fov=[[[[") == 0);
+    CHECK(deepValue.error.find("the value has arrays and objects nested deeper than 64 levels") != std::string::npos);
+    CHECK(deepValue.error.size() < 200);
+    // Strings may hold any number of brackets.
+    CHECK(parseScene(R"({"version": 1, "materials": [{"name": ")" + std::string(1000, '[') + R"("}]})", "s.json"));
+}
+
+TEST_CASE("hostile: a message about a large or nested value shows a bounded prefix of it", "[hostile][scene_io]") {
+    // 60 levels (inside the limit) in a place that wants an object.
+    const SceneLoadResult nested = parseScene(deeplyNestedScene(60), "n.json");
+    REQUIRE_FALSE(nested);
+    CHECK(nested.error == "n.json: camera: must be an object, got array [[[[[...]]]]]");
+    // A million-element array is not serialised whole for a 40-character message.
+    std::string big = R"({"version": 1, "camera": [)";
+    for (int i = 0; i < 1000000; ++i) big += i ? ",1" : "1";
+    big += "]}";
+    const SceneLoadResult large = parseScene(big, "big.json");
+    REQUIRE_FALSE(large);
+    CHECK(large.error == "big.json: camera: must be an object, got array [1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,...");
+}
+
+// ---- 3 and 4. Regular files only; sizes from the header -------------------------------------------
+
+TEST_CASE("hostile: the HDR reader refuses a FIFO, /dev/zero and a folder, naming the file", "[hostile][image]") {
+    test::TempDir dir;
+    const std::string fifo = dir.file("sky.hdr");
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    ImageData img;
+    std::string error;
+    ::alarm(60);  // hang guard: an unguarded read of a FIFO with no writer never returns
+    CHECK_FALSE(readRadianceHdr(fifo, &img, &error));
+    CHECK(error == fifo + ": cannot read: a FIFO (named pipe), not a regular file");
+    CHECK_FALSE(readRadianceHdr("/dev/zero", &img, &error));
+    CHECK(error == "/dev/zero: cannot read: a character device, not a regular file");
+    ::alarm(0);
+    CHECK_FALSE(readRadianceHdr(dir.path.string(), &img, &error));
+    CHECK(error == dir.path.string() + ": cannot read: a folder, not a regular file");
+    CHECK_FALSE(readRadianceHdr(std::string("sky.hdr\0.png", 12), &img, &error));
+    CHECK(error == "sky.hdr?.png: cannot read: the file name contains a NUL byte");
+}
+
+TEST_CASE("hostile: an HDR header declaring a huge image is refused before any allocation", "[hostile][image]") {
+    test::TempDir dir;
+    for (const int side : {60000, 100000}) {
+        INFO(side);
+        const std::string file = dir.file("huge-" + std::to_string(side) + ".hdr");
+        std::ofstream(file, std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " << side << " +X " << side
+                                              << "\n" << std::string(64, '\x01');
+        ImageData img;
+        std::string error;
+        CHECK_FALSE(readRadianceHdr(file, &img, &error));
+        const std::string size = std::to_string(side) + "x" + std::to_string(side);
+        CHECK(error == file + ": declares " + size + " pixels, more than the limit of 134217728 pixels (16384x8192) and 65536 per side");
+        CHECK(img.pixels.capacity() == 0);
+    }
+}
+
+// ---- 5. Needless refusals --------------------------------------------------------------------------
+
+TEST_CASE("hostile: a model whose own material names a missing texture imports when the scene gives it a material", "[hostile][materials]") {
+    test::TempDir dir;
+    {
+        std::ofstream(dir.file("model.mtl")) << "newmtl painted\nKd 0.8 0.8 0.8\nmap_Kd missing-texture.png\n";
+        std::ofstream obj(dir.file("model.obj"));
+        obj << "mtllib model.mtl\nusemtl painted\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    }
+    const std::string file = dir.file("model.obj");
+    std::vector<std::string> reads;
+    ImageReader reader = [&](const std::string& path, ImageData*, std::string* why) {
+        reads.push_back(path);
+        *why = path + ": cannot read: No such file or directory";
+        return false;
+    };
+    auto sceneWith = [&](const std::string& material) {
+        Scene s = *parseScene(R"({"version": 1, "materials": [{"name": "white"}], "objects": [
+            {"shape": "mesh", "file": ")" + file + R"(")" + material + "}]}", "s.json").scene;
+        return s;
+    };
+    CompiledScene c;
+    std::string error;
+    // The object has the scene's material: the file's texture is never read.
+    CHECK(compileScene(sceneWith(R"(, "material": "white")"), reader, &c, &error));
+    CHECK(error == "");
+    CHECK(reads.empty());
+    // The object uses the file's materials: the missing texture is an error naming it and the object.
+    CHECK_FALSE(compileScene(sceneWith(""), reader, &c, &error));
+    INFO(error);
+    CHECK(error.find("objects[0].file (" + file + ") material ") == 0);  // Assimp adds a default material first
+    CHECK(error.find("(material 'painted')") != std::string::npos);
+    CHECK(error.find(dir.file("missing-texture.png")) != std::string::npos);
+    CHECK(reads == std::vector<std::string>{dir.file("missing-texture.png")});
+}
+
+// ---- 6. Small lies -----------------------------------------------------------------------------------
+
+TEST_CASE("hostile: strings with a NUL byte and empty texture names are errors naming the JSON path", "[hostile][scene_io]") {
+    auto error = [](const std::string& material) {
+        const SceneLoadResult r = parseScene(R"({"version": 1, "materials": [{"name": "m", )" + material + "}]}", "s.json");
+        return r ? std::string("loaded") : r.error;
+    };
+    CHECK(error(R"("albedo_texture": "brick.png\u0000.jpg")") ==
+          "s.json: materials[0].albedo_texture: must not contain a NUL character (\\u0000)");
+    CHECK(error(R"("albedo_texture": "")") ==
+          "s.json: materials[0].albedo_texture: must not be empty (leave the key out for no texture)");
+    CHECK(error(R"("normal_texture": "")") ==
+          "s.json: materials[0].normal_texture: must not be empty (leave the key out for no texture)");
+    CHECK(error(R"("roughness_texture": "")") ==
+          "s.json: materials[0].roughness_texture: must not be empty (leave the key out for no texture)");
+    const SceneLoadResult mesh = parseScene(
+        R"({"version": 1, "materials": [{"name": "m"}], "objects": [{"shape": "mesh", "file": "a.obj\u0000", "material": "m"}]})", "s.json");
+    REQUIRE_FALSE(mesh);
+    CHECK(mesh.error == "s.json: objects[0].file: must not contain a NUL character (\\u0000)");
+}
+
+TEST_CASE("hostile: non-finite numbers are refused from the file and from --set, naming the path", "[hostile][scene_io]") {
+    const SceneLoadResult fromFile = parseScene(
+        R"({"version": 1, "materials": [{"name": "m"}], "objects": [{"shape": "sphere", "material": "m", "transform": {"translate": [1e39, 0, 0]}}]})",
+        "s.json");
+    REQUIRE_FALSE(fromFile);
+    CHECK(fromFile.error == "s.json: objects[0].transform.translate[0]: must be a finite 32-bit float, got 1e+39");
+    for (const char* value : {"[1e39, 0, 0]", "[NaN, 0, 0]", "[1e999, 0, 0]"}) {
+        INFO(value);
+        const SceneLoadResult r = loadScene(kCornellBox, {{"objects[0].transform.translate", value}});
+        REQUIRE_FALSE(r);
+        CHECK(r.error.find("objects[0].transform.translate") != std::string::npos);
+    }
+}
+
+TEST_CASE("hostile: --set with an index past any array says so", "[hostile][scene_io]") {
+    for (const char* index : {"99", "4294967296", "99999999999999999999999999"}) {
+        INFO(index);
+        const std::string path = std::string("objects[") + index + "].shape";
+        const SceneLoadResult r = loadScene(kCornellBox, {{path, "\"sphere\""}});
+        REQUIRE_FALSE(r);
+        CHECK(r.error == "--set " + path + "=\"sphere\": objects[" + index + "]: no such element (the array has " +
+                             std::to_string(loadScene(kCornellBox).scene->objects.size()) + ")");
+    }
+}
