@@ -674,6 +674,8 @@ const Fields<RenderSettings>& renderFields() {
         field("max_depth", &RenderSettings::maxDepth, between(0, 1024)),
         field("seed", &RenderSettings::seed),
         field("light_selection", &RenderSettings::lightSelection),
+        field("sampler", &RenderSettings::sampler),
+        field("russian_roulette", &RenderSettings::russianRoulette),
         field("filter", &RenderSettings::filter),
     };
     return kFields;
@@ -713,8 +715,6 @@ const Fields<Material>& materialFields(MaterialType type) {
     static const Fields<Material> kCommon = {
         field("name", &Material::name),
         field("type", &Material::type),
-        field("sampler", &RenderSettings::sampler),
-        field("russian_roulette", &RenderSettings::russianRoulette),
     };
     // Every type may emit and carry textures.
     static const Fields<Material> kTail = {
