@@ -149,7 +149,7 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
         s.objects.push_back(torus);
         checkConsistent(renderAll(*renderer, s, 64));
     }
-    SECTION("uniform light selection gives the same image as selection by power") {
+    SECTION("the light tree, power and uniform selection give the same image") {
         Scene s = floorScene();
         Light a;
         a.type = LightType::Sphere;
@@ -161,12 +161,46 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
         b.position = glm::vec3(0.8f, 1.0f, -0.3f);
         s.lights = {a, b};
         renderer->setStrategy(STRATEGY_MIS);
+        s.render.lightSelection = LightSelection::Tree;
+        Film tree = test::renderFilm(*renderer, s, 64);
+        s.render.lightSelection = LightSelection::Power;
         Film byPower = test::renderFilm(*renderer, s, 64);
         s.render.lightSelection = LightSelection::Uniform;
         Film uniform = test::renderFilm(*renderer, s, 64);
         checkAgree(byPower, uniform, "power vs uniform selection");
+        checkAgree(tree, uniform, "tree vs uniform selection");
         // The dim light gets 1/2 of the samples instead of 1/21: more noise overall.
         CHECK(blocks(byPower).totalVariance < blocks(uniform).totalVariance);
+        CHECK(blocks(tree).totalVariance < blocks(uniform).totalVariance);
+    }
+    SECTION("many lights of every kind and an environment, chosen by the light tree") {
+        Scene s = floorScene();
+        s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.3f), glm::vec3(3.0f, 2.0f, 1.0f)});
+        Object box;
+        box.shape = Shape::Box;
+        box.material = "glow";
+        box.transform.translate = glm::vec3(-0.8f, 0.3f, -0.5f);
+        box.transform.scale = glm::vec3(0.2f, 0.3f, 0.2f);
+        s.objects.push_back(box);
+        for (int i = 0; i < 6; ++i) {
+            Light l;
+            l.type = LightType::Sphere;
+            l.color = glm::vec3(1.0f + i, 2.0f, 3.0f - 0.4f * i);
+            l.position = glm::vec3(-1.2f + 0.5f * i, 1.0f + 0.1f * i, -0.5f + 0.2f * i);
+            l.radius = 0.3f;
+            s.lights.push_back(l);
+        }
+        Light rect;
+        rect.type = LightType::Rect;
+        rect.color = glm::vec3(3.0f);
+        rect.transform.translate = glm::vec3(0.8f, 1.4f, 0.6f);
+        rect.transform.rotate = glm::vec3(100.0f, 20.0f, 0.0f);
+        rect.transform.scale = glm::vec3(0.4f, 0.3f, 1.0f);
+        s.lights.push_back(rect);
+        s.environment.type = EnvironmentType::Sky;
+        s.environment.intensity = 0.3f;
+        s.render.lightSelection = LightSelection::Tree;
+        checkConsistent(renderAll(*renderer, s, 64));
     }
 }
 
