@@ -235,6 +235,7 @@ struct Builder {
         }
         out.lights.push_back(l);
         out.lightPower.push_back(power);
+        out.lightBounds.push_back(bounds);
     }
 
     void addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided) {
@@ -448,6 +449,9 @@ struct Builder {
             const auto cdfOffset = static_cast<std::uint32_t>(out.meshLightCdf.size());
             double total = 0.0, power = 0.0;
             std::vector<double> areas;
+            LightBounds bounds;  // of the emitting triangles; normals in every direction (two-sided)
+            bounds.boundsMin = glm::vec3(std::numeric_limits<float>::max());
+            bounds.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
             for (std::uint32_t k = 0; k < b.triangles.size(); ++k) {
                 const glm::uvec3 t = b.triangles[k];
                 const glm::vec3 p0 = glm::vec3(m * glm::vec4(pos[t.x], 1)), p1 = glm::vec3(m * glm::vec4(pos[t.y], 1)),
@@ -455,6 +459,10 @@ struct Builder {
                 const double a = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
                 const double y = luminance(triangleEmission(k));
                 areas.push_back(std::isfinite(a) && y > 0.0 ? a : 0.0);
+                if (areas.back() > 0.0) {
+                    bounds.boundsMin = glm::min(bounds.boundsMin, glm::min(p0, glm::min(p1, p2)));
+                    bounds.boundsMax = glm::max(bounds.boundsMax, glm::max(p0, glm::max(p1, p2)));
+                }
                 total += areas.back();
                 power += areas.back() * y;
             }
@@ -465,9 +473,6 @@ struct Builder {
             double run = 0.0;
             for (double a : areas) {
                 run += a / total;
-            LightBounds bounds;  // of the emitting triangles; normals in every direction (two-sided)
-            bounds.boundsMin = glm::vec3(std::numeric_limits<float>::max());
-            bounds.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
                 out.meshLightCdf.push_back(static_cast<float>(run));
             }
             out.meshLightCdf.back() = 1.0f;
@@ -475,13 +480,11 @@ struct Builder {
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
             l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
             l.info = glm::uvec4(LIGHT_MESH, LIGHT_FLAG_TWO_SIDED, instance, cdfOffset);
-                if (areas.back() > 0.0) {
-                    bounds.boundsMin = glm::min(bounds.boundsMin, glm::min(p0, glm::min(p1, p2)));
-                    bounds.boundsMax = glm::max(bounds.boundsMax, glm::max(p0, glm::max(p1, p2)));
-                }
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
             out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * power));
+            bounds.intensity = static_cast<float>(power);  // sum of L A: each face of a flat mesh
+            out.lightBounds.push_back(bounds);
         }
         return true;
     }
@@ -499,8 +502,6 @@ struct Builder {
         }
         BvhBuildOptions tlasOptions;
         tlasOptions.maxLeafSize = 1;  // a leaf is one primitive or one instance
-            bounds.intensity = static_cast<float>(power);  // sum of L A: each face of a flat mesh
-            out.lightBounds.push_back(bounds);
         Bvh tlas = buildBvh(bounds, tlasOptions);
         out.bvhNodes.clear();
         for (const BvhNode& n : tlas.nodes) out.bvhNodes.push_back(std::bit_cast<gpu::GpuBvhNode>(n));
@@ -728,6 +729,12 @@ struct Builder {
             addLight(l, kPi * kPi * radius * radius * luminance(average), -1, LightBounds{});
             out.envImportance = kPi * luminance(average);
         }
+        // The light tree over every other light.
+        std::vector<std::uint32_t> members;
+        for (size_t i = 0; i < out.lights.size(); ++i)
+            if (static_cast<int>(i) != out.envLightIndex) members.push_back(static_cast<std::uint32_t>(i));
+        out.lightTree = buildLightTree(out.lightBounds, members);
+        for (size_t i = 0; i < out.lights.size(); ++i) out.lights[i].info.w = out.lightTree.trails[i];
         // Selection probabilities: by power (default) or uniform; uniform when nothing emits.
         double total = 0.0;
         for (float p : out.lightPower) total += p;
@@ -745,12 +752,6 @@ struct Builder {
     }
 };
 
-        // The light tree over every other light.
-        std::vector<std::uint32_t> members;
-        for (size_t i = 0; i < out.lights.size(); ++i)
-            if (static_cast<int>(i) != out.envLightIndex) members.push_back(static_cast<std::uint32_t>(i));
-        out.lightTree = buildLightTree(out.lightBounds, members);
-        for (size_t i = 0; i < out.lights.size(); ++i) out.lights[i].info.w = out.lightTree.trails[i];
 }  // namespace
 
 Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped) {
@@ -1017,6 +1018,17 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
                                                                                 : FILTER_BOX;
     f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, 0, 0);
     f.geometry = glm::uvec4(compiled.tlasNodeCount, compiled.instances.size(), 0, 0);
+    const RenderSettings& r = scene.render;
+    const std::uint32_t selection = r.lightSelection == LightSelection::Power     ? LIGHT_SELECT_POWER
+                                    : r.lightSelection == LightSelection::Uniform ? LIGHT_SELECT_UNIFORM
+                                                                                  : LIGHT_SELECT_TREE;
+    const std::uint32_t rr = r.russianRoulette == RussianRoulette::Original ? RR_ORIGINAL
+                             : r.russianRoulette == RussianRoulette::Mitsuba ? RR_MITSUBA
+                             : r.russianRoulette == RussianRoulette::Pbrt    ? RR_PBRT
+                                                                             : RR_OFF;
+    f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
+                            compiled.lightTree.nodes.size());
+    f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
     packTables(compiled, &f.tables);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
@@ -1034,17 +1046,6 @@ std::string meshCacheKey(const Scene& scene, const std::string& file) {
 bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* error) {
     std::error_code ec;
     entry->stamp = std::filesystem::last_write_time(file, ec);   // before: a later write invalidates it
-    const RenderSettings& r = scene.render;
-    const std::uint32_t selection = r.lightSelection == LightSelection::Power     ? LIGHT_SELECT_POWER
-                                    : r.lightSelection == LightSelection::Uniform ? LIGHT_SELECT_UNIFORM
-                                                                                  : LIGHT_SELECT_TREE;
-    const std::uint32_t rr = r.russianRoulette == RussianRoulette::Original ? RR_ORIGINAL
-                             : r.russianRoulette == RussianRoulette::Mitsuba ? RR_MITSUBA
-                             : r.russianRoulette == RussianRoulette::Pbrt    ? RR_PBRT
-                                                                             : RR_OFF;
-    f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
-                            compiled.lightTree.nodes.size());
-    f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
     MeshImportResult imported = importMeshFile(file);
     if (!imported.ok()) {
         *error = imported.error;

@@ -286,7 +286,6 @@ void renderInspector(EditorUi& ui) {
     int sel = static_cast<int>(r.lightSelection);
     e.track(combo("Light selection", &sel, selections), true);
     r.lightSelection = static_cast<LightSelection>(sel);
-    e.commit(e.changed ? makeSetRender(s, r) : nullptr);
     static const char* const samplers[] = {"Sobol (Owen-scrambled)", "independent"};  // SamplerType's order
     int smp = static_cast<int>(r.sampler);
     e.track(combo("Sampler", &smp, samplers), true);
@@ -295,6 +294,7 @@ void renderInspector(EditorUi& ui) {
     int rr = static_cast<int>(r.russianRoulette);
     e.track(combo("Russian roulette", &rr, roulettes), true);
     r.russianRoulette = static_cast<RussianRoulette>(rr);
+    e.commit(e.changed ? makeSetRender(s, r) : nullptr);
 
     ImGui::SeparatorText("Display (not saved in the scene)");
     static const char* const tones[] = {"ACES filmic", "Reinhard"};
