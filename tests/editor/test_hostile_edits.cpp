@@ -88,7 +88,7 @@ TEST_CASE("hostile: non-finite light, camera and material values are refused", "
     requireSaveable(s);
 }
 
-TEST_CASE("hostile: a target of 0 samples is refused; a valid edit still applies", "[editor][hostile]") {
+TEST_CASE("hostile: a target of 0 samples is refused, and a valid edit still applies", "[editor][hostile]") {
     EditorState s = cornell();
     RenderSettings r = s.scene.render;
     r.samples = 0;
