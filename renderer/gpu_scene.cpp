@@ -827,13 +827,21 @@ bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::strin
     for (int j = 0; j < h; ++j) {
         const double sinTheta = std::sin(double(kPi) * (j + 0.5) / h);
         for (int i = 0; i < w; ++i) {
-            float dilated = 0.0f;
+            // The integral over the texel of the bilinearly filtered luminance (what a ray
+            // escaping through it sees): per axis, 1/8 of each neighbour and 3/4 of the texel
+            // itself (the tent between texel centres integrated over the texel; rows clamp at
+            // the poles and columns wrap, as the texture does). It is non-zero wherever the
+            // filter can give a non-zero radiance, so light sampling alone stays unbiased, and it
+            // keeps a one-texel sun 56 % of its own weight (a 3 x 3 maximum, the first version,
+            // spread it evenly over nine texels and made its light samples about 2x noisier).
+            constexpr float kTent[3] = {0.125f, 0.75f, 0.125f};
+            float filtered = 0.0f;
             for (int dj = -1; dj <= 1; ++dj)
                 for (int di = -1; di <= 1; ++di) {
                     int jj = std::clamp(j + dj, 0, h - 1), ii = (i + di + w) % w;
-                    dilated = std::max(dilated, lum[size_t(jj) * w + ii]);
+                    filtered += kTent[dj + 1] * kTent[di + 1] * lum[size_t(jj) * w + ii];
                 }
-            weight[size_t(j) * w + i] = dilated * sinTheta;
+            weight[size_t(j) * w + i] = filtered * sinTheta;
             radiance += glm::dvec3(m.texels[size_t(j) * w + i]) * sinTheta;
         }
     }

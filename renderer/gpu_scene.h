@@ -18,8 +18,9 @@ namespace caustic {
 
 // An equirectangular environment map and the tables that importance-sample it: texel (i, j) is
 // chosen with probability proportional to w_ij = luminance * sin(theta_j) (luminance taken as the
-// maximum over the texel's 3x3 neighbourhood, so that every direction the bilinear lookup can
-// light up has a non-zero pdf). PBRT 4th ed. sec. 12.5.2 describes the two-level CDF.
+// integral over the texel of the bilinearly filtered map, 3x3 texels weighted 1/8, 3/4, 1/8 per
+// axis, so that every direction the bilinear lookup can light up has a non-zero pdf). PBRT 4th
+// ed. sec. 12.5.2 describes the two-level CDF.
 struct EnvironmentMap {
     int width = 0, height = 0;
     std::vector<glm::vec4> texels;       // RGB radiance (alpha unused), row 0 = the zenith

@@ -66,7 +66,7 @@ struct RenderSettings {
     std::uint32_t seed = 0;
     LightSelection lightSelection = LightSelection::Tree;
     SamplerType sampler = SamplerType::Sobol;
-    RussianRoulette russianRoulette = RussianRoulette::Original;
+    RussianRoulette russianRoulette = RussianRoulette::Mitsuba;
     PixelFilter filter = PixelFilter::Box;
     bool operator==(const RenderSettings&) const = default;
 };

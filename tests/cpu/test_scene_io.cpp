@@ -405,7 +405,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"negative seed", scene(R"("render": {"seed": -1})"), "render.seed", "must be >= 0, got -1"},
         {"seed over 32 bits", scene(R"("render": {"seed": 4294967296})"), "render.seed", "must be <= 4294967295"},
         {"unknown light_selection", scene(R"("render": {"light_selection": "random"})"),
-         "render.light_selection", "unknown value 'random' (allowed: power, uniform)"},
+         "render.light_selection", "unknown value 'random' (allowed: power, uniform, tree)"},
         // Materials.
         {"materials not an array", scene(R"("materials": {"name": "white"})"), "materials", "must be an array"},
         {"material without name", scene(R"("materials": [{"albedo": [1, 1, 1]}])"), "materials[0]", "missing key 'name'"},

@@ -185,8 +185,9 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
         for (int i = 0; i < 6; ++i) {
             Light l;
             l.type = LightType::Sphere;
-            l.color = glm::vec3(1.0f + i, 2.0f, 3.0f - 0.4f * i);
-            l.position = glm::vec3(-1.2f + 0.5f * i, 1.0f + 0.1f * i, -0.5f + 0.2f * i);
+            const float fi = float(i);
+            l.color = glm::vec3(1.0f + fi, 2.0f, 3.0f - 0.4f * fi);
+            l.position = glm::vec3(-1.2f + 0.5f * fi, 1.0f + 0.1f * fi, -0.5f + 0.2f * fi);
             l.radius = 0.3f;
             s.lights.push_back(l);
         }
