@@ -21,7 +21,7 @@ static_assert(sizeof(GpuPrimitive) == 64);
 static_assert(sizeof(GpuMaterial) == 112);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
-static_assert(sizeof(GpuLight) == 80);
+static_assert(sizeof(GpuLight) == 96);
 static_assert(sizeof(GpuFrame) == 288);
 static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
@@ -734,7 +734,7 @@ struct Builder {
         for (size_t i = 0; i < out.lights.size(); ++i)
             if (static_cast<int>(i) != out.envLightIndex) members.push_back(static_cast<std::uint32_t>(i));
         out.lightTree = buildLightTree(out.lightBounds, members);
-        for (size_t i = 0; i < out.lights.size(); ++i) out.lights[i].info.w = out.lightTree.trails[i];
+        for (size_t i = 0; i < out.lights.size(); ++i) out.lights[i].tree.x = out.lightTree.trails[i];
         // Selection probabilities: by power (default) or uniform; uniform when nothing emits.
         double total = 0.0;
         for (float p : out.lightPower) total += p;

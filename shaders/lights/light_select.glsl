@@ -15,7 +15,7 @@
 //   there). Its unit is irradiance (W m^-2), so the environment, whose irradiance on a surface is
 //   pi * its mean luminance (frame.envSelect.x), is chosen with probability
 //   E_env / (E_env + importance of the tree's top two nodes).
-//   The pmf of light i is recomputed by walking its path (GpuLight::info.w, one bit per level)
+//   The pmf of light i is recomputed by walking its path (GpuLight::tree.x, one bit per level)
 //   with the same function, so sampling and pmf agree exactly.
 // LIGHT_SELECT_POWER / LIGHT_SELECT_UNIFORM: one global CDF (GpuLight::color.w, lightCdf).
 #ifndef LIGHTS_LIGHT_SELECT_GLSL
@@ -136,7 +136,7 @@ float lightSelectPmf(uint light, vec3 p, vec3 n, bool twoSided) {
     float pEnv = envSelectProbability(p, n, twoSided);
     if (light + 1u == frame.dispatch.y) return pEnv;
     float pmf = 1.0 - pEnv;
-    uint trail = lights[light].info.w;
+    uint trail = lights[light].tree.x;
     uint node = 0u;
     for (uint depth = 0u; depth < 32u; ++depth) {
         uint right = lightTree[node].info.x;

@@ -201,8 +201,9 @@ CAUSTIC_STRUCT(GpuLight) {
     vec4 p2;
     vec4 color;  // rgb: radiance (area, env) or intensity (point, spot); w: selection probability
                  //   of the global CDF (power or uniform selection)
-    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: the light's path in the
-                 //   light tree (bit d set: right child at depth d; renderer/light_tree.h)
+    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: see above (mesh)
+    uvec4 tree;  // x: the light's path in the light tree (bit d set: the right child at depth d;
+                 //   renderer/light_tree.h), y, z, w: unused
 };
 
 // A node of the light tree (Conty Estevez and Kulla 2018, "Importance Sampling of Many Lights

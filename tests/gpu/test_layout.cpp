@@ -60,6 +60,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("lights", GpuLight, p2);
     CHECK_MEMBER("lights", GpuLight, color);
     CHECK_MEMBER("lights", GpuLight, info);
+    CHECK_MEMBER("lights", GpuLight, tree);
     CHECK(arrayStride(p, "lights[0].p0") == GLint(sizeof(GpuLight)));
     CHECK_MEMBER("lightTree", GpuLightNode, boundsMin);
     CHECK_MEMBER("lightTree", GpuLightNode, boundsMax);

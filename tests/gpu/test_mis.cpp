@@ -198,6 +198,20 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
         rect.transform.rotate = glm::vec3(100.0f, 20.0f, 0.0f);
         rect.transform.scale = glm::vec3(0.4f, 0.3f, 1.0f);
         s.lights.push_back(rect);
+        // Two emissive meshes: each light's own triangle table (GpuLight::info.w) beside its
+        // path in the tree (GpuLight::tree.x).
+        test::TempDir dir;
+        test::writeObjTorus(dir.file("torus.obj"), 1.0, 0.35, 16, 8);
+        for (int i = 0; i < 2; ++i) {
+            Object torus;
+            torus.shape = Shape::Mesh;
+            torus.file = dir.file("torus.obj");
+            torus.material = "glow";
+            torus.transform.translate = glm::vec3(i == 0 ? -0.9f : 0.9f, 1.2f, -0.8f);
+            torus.transform.rotate = glm::vec3(60.0f, 0.0f, 0.0f);
+            torus.transform.scale = i == 0 ? glm::vec3(0.25f) : glm::vec3(0.2f, 0.3f, 0.45f);
+            s.objects.push_back(torus);
+        }
         s.environment.type = EnvironmentType::Sky;
         s.environment.intensity = 0.3f;
         s.render.lightSelection = LightSelection::Tree;

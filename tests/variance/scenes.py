@@ -74,6 +74,18 @@ def suite():
         "lights": [{"type": "rect", "color": (8, 8, 8), "matrix": trs((0.5, 3, 1.5), (115, 0, 0), (0.6, 0.6, 1))}],
         "environment": {"type": "constant", "radiance": (0.25, 0.25, 0.25)},
     }
+    # Direct lighting alone (max depth 1): a diffuse, a rough metal and a rough glass sphere
+    # under a rect light, the 4-D integral (pixel, light) that stratification helps most.
+    s["direct"] = {
+        "width": 128, "height": 128, "max_depth": 1, "camera": cam,
+        "objects": floor_and([
+            {"shape": "sphere", "material": diffuse((0.7, 0.7, 0.7)), "matrix": trs((-1.1, 0.45, 0), scale=0.45)},
+            {"shape": "sphere", "material": conductor(*GOLD, 0.3), "matrix": trs((0, 0.45, 0), scale=0.45)},
+            {"shape": "sphere", "material": diffuse((0.2, 0.4, 0.7)), "matrix": trs((1.1, 0.45, 0), scale=0.45)},
+        ]),
+        "lights": [{"type": "rect", "color": (6, 6, 6), "matrix": trs((-0.5, 2.5, 1.0), (110, 0, 0), (0.8, 0.5, 1))}],
+        "environment": {"type": "none"},
+    }
     s["envmap"] = {
         "width": 128, "height": 128, "max_depth": 7, "camera": cam,
         "objects": floor_and([
