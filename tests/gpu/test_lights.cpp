@@ -31,7 +31,7 @@ double triangleSolidAngle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
 
 struct SamplerStats { double meanInvPdf = 0, standardError = 0, maxPdfMismatch = 0, hitFraction = 0; int valid = 0; };
 
-SamplerStats runSampler(Renderer& renderer, const Scene& scene, glm::vec3 point) {
+SamplerStats runSampler(Renderer& renderer, const Scene& scene, glm::vec3 point, unsigned light = 0) {
     std::string error;
     REQUIRE(renderer.setScene(scene, &error));
     const GLuint program = test::kernel("light_sampling.comp");
@@ -41,7 +41,7 @@ SamplerStats runSampler(Renderer& renderer, const Scene& scene, glm::vec3 point)
     renderer.bindScene(0, 1);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, out);
     glUseProgram(program);
-    glProgramUniform1ui(program, glGetUniformLocation(program, "u_light"), 0u);
+    glProgramUniform1ui(program, glGetUniformLocation(program, "u_light"), light);
     glProgramUniform3fv(program, glGetUniformLocation(program, "u_point"), 1, glm::value_ptr(point));
     glDispatchCompute(kSamples / 64, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -165,5 +165,17 @@ TEST_CASE("emissive mesh: mean 1/pdf is the solid angle it subtends, both faces"
         INFO("point " << p.x << " " << p.y << " " << p.z);
         SamplerStats st = runSampler(*renderer, s, glm::vec3(p));
         checkSolidAngle(st, omega);
+        // The same quad as the second of two emissive meshes (after a torus): each mesh light
+        // reads its own triangle table (GpuLight::info.w), whatever its place in the light tree.
+        Scene two = s;
+        test::writeObjTorus(dir.file("torus.obj"), 1.0, 0.35, 12, 6);
+        Object torus;
+        torus.shape = Shape::Mesh;
+        torus.file = dir.file("torus.obj");
+        torus.material = "glow";
+        torus.transform.translate = glm::vec3(5.0f, 0.0f, 0.0f);
+        two.objects.insert(two.objects.begin(), torus);
+        SamplerStats second = runSampler(*renderer, two, glm::vec3(p), 1);
+        checkSolidAngle(second, omega);
     }
 }
