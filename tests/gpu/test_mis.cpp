@@ -56,6 +56,17 @@ Scene floorScene() {
     return s;
 }
 
+// An emissive box (material "glow", the given diffuse albedo) standing on the floor.
+void addGlowingBox(Scene& s, float albedo) {
+    s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(albedo), glm::vec3(3.0f, 2.0f, 1.0f)});
+    Object box;
+    box.shape = Shape::Box;
+    box.material = "glow";
+    box.transform.translate = glm::vec3(-0.8f, 0.3f, -0.5f);
+    box.transform.scale = glm::vec3(0.2f, 0.3f, 0.2f);
+    s.objects.push_back(box);
+}
+
 struct Renders { Film mis, light, bsdf; };
 
 Renders renderAll(Renderer& r, const Scene& s, int spp, int bsdfSppFactor = 4) {
@@ -123,13 +134,7 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
     }
     SECTION("emissive object (a box) and the sky together") {
         Scene s = floorScene();
-        s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(3.0f, 2.0f, 1.0f)});
-        Object box;
-        box.shape = Shape::Box;
-        box.material = "glow";
-        box.transform.translate = glm::vec3(-0.8f, 0.3f, -0.5f);
-        box.transform.scale = glm::vec3(0.2f, 0.3f, 0.2f);
-        s.objects.push_back(box);
+        addGlowingBox(s, 0.5f);
         s.environment.type = EnvironmentType::Sky;
         s.environment.intensity = 0.5f;
         checkConsistent(renderAll(*renderer, s, 64));
@@ -175,13 +180,7 @@ TEST_CASE("MIS, light sampling and BSDF sampling agree for every light type", "[
     }
     SECTION("many lights of every kind and an environment, chosen by the light tree") {
         Scene s = floorScene();
-        s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.3f), glm::vec3(3.0f, 2.0f, 1.0f)});
-        Object box;
-        box.shape = Shape::Box;
-        box.material = "glow";
-        box.transform.translate = glm::vec3(-0.8f, 0.3f, -0.5f);
-        box.transform.scale = glm::vec3(0.2f, 0.3f, 0.2f);
-        s.objects.push_back(box);
+        addGlowingBox(s, 0.3f);
         for (int i = 0; i < 6; ++i) {
             Light l;
             l.type = LightType::Sphere;
