@@ -18,14 +18,15 @@ namespace caustic {
 
 // An equirectangular environment map and the tables that importance-sample it: texel (i, j) is
 // chosen with probability proportional to w_ij = luminance * sin(theta_j) (luminance taken as the
-// integral over the texel of the bilinearly filtered map, 3x3 texels weighted 1/8, 3/4, 1/8 per
-// axis, so that every direction the bilinear lookup can light up has a non-zero pdf). PBRT 4th
-// ed. sec. 12.5.2 describes the two-level CDF.
+// integral of the bilinearly filtered map over the cell, so that every direction the bilinear
+// lookup can light up has a non-zero pdf), over cells of 1/s texel per axis, s = 4, 2 or 1
+// (buildEnvironmentMap says which and why). PBRT 4th ed. sec. 12.5.2 describes the two-level CDF.
 struct EnvironmentMap {
     int width = 0, height = 0;
+    int tableScale = 1;                  // the sampling table has (s width) x (s height) cells
     std::vector<glm::vec4> texels;       // RGB radiance (alpha unused), row 0 = the zenith
-    std::vector<float> marginalCdf;      // height + 1 entries, 0 ... 1
-    std::vector<float> conditionalCdf;   // height rows of width + 1 entries, 0 ... 1
+    std::vector<float> marginalCdf;      // s height + 1 entries, 0 ... 1
+    std::vector<float> conditionalCdf;   // s height rows of s width + 1 entries, 0 ... 1
     glm::vec3 average{0.0f};             // mean radiance over the sphere (before intensity)
 };
 

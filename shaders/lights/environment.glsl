@@ -8,8 +8,9 @@
 //             theta = pi v from +y (v = 0 is the top row), phi = 2 pi (u - 1/2) measured from -z
 //             towards +x, so the image centre is straight ahead of the default camera (-z):
 //             d = (sin theta sin phi, cos theta, -sin theta cos phi). `rotation` turns the map
-//             about +y. Importance sampling picks a texel from the two-level CDF built on the CPU
-//             (pdf_uv = p_row p_col W H) and converts: pdf_omega = pdf_uv / (2 pi^2 sin theta)
+//             about +y. Importance sampling picks a cell of the two-level CDF built on the CPU
+//             (W x H cells: frame.envInfo.w per texel and axis; pdf_uv = p_row p_col W H), a
+//             uniform point in it, and converts: pdf_omega = pdf_uv / (2 pi^2 sin theta)
 //             (PBRT 4th ed. eq. 12.10).
 #ifndef LIGHTS_ENVIRONMENT_GLSL
 #define LIGHTS_ENVIRONMENT_GLSL
@@ -57,7 +58,7 @@ uint envFindInterval(bool marginal, uint offset, uint n, float u) {
 
 // Samples a direction from the map's luminance; returns the solid-angle pdf (0 if degenerate).
 vec3 sampleEnvironmentMap(vec2 u, out float pdf) {
-    uint w = frame.envInfo.y, h = frame.envInfo.z;
+    uint w = frame.envInfo.y * frame.envInfo.w, h = frame.envInfo.z * frame.envInfo.w;
     uint j = envFindInterval(true, 0u, h, u.y);
     float r0 = envMarginalCdf(j), r1 = envMarginalCdf(j + 1u);
     uint rowOffset = j * (w + 1u);
@@ -74,7 +75,7 @@ vec3 sampleEnvironmentMap(vec2 u, out float pdf) {
 }
 
 float environmentMapPdf(vec3 dir) {
-    uint w = frame.envInfo.y, h = frame.envInfo.z;
+    uint w = frame.envInfo.y * frame.envInfo.w, h = frame.envInfo.z * frame.envInfo.w;
     vec2 uv = envDirectionToUv(dir);
     uint i = min(uint(uv.x * float(w)), w - 1u);
     uint j = min(uint(uv.y * float(h)), h - 1u);

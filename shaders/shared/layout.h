@@ -229,7 +229,7 @@ CAUSTIC_STRUCT(GpuFrame) {
     uvec4 counts;      // x: primitives, y: lights, z: max depth, w: STRATEGY_*
     uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: the
                        // integrator's 8x8 tiles [z, w) this dispatch renders (numbered row by row)
-    uvec4 envInfo;     // x: ENV_*, y: map width, z: map height
+    uvec4 envInfo;     // x: ENV_*, y: map width, z: map height, w: sampling cells per texel and axis
     vec4 envRadiance;  // constant radiance (already times intensity)
     vec4 envHorizon;   // sky: radiance at the horizon (times intensity)
     vec4 envZenith;    // sky: radiance at the zenith (times intensity)

@@ -19,7 +19,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kW = 32, kH = 16;
 
 // A sky: a gradient, a small very bright sun, and black below v = 0.75 (a "ground" that must get
-// no samples: the 3x3 dilation extends the support by one texel row).
+// no samples: the bilinear filter extends the support by half a texel row).
 ImageData generatedSky(bool constant) {
     ImageData img;
     img.width = kW;
@@ -101,7 +101,10 @@ TEST_CASE("environment map sampling matches its pdf (chi-square per texel)", "[g
         REQUIRE(renderer->setScene(envScene("sky", rotation), &error));
         const GLuint n = 1u << 20;
         std::vector<glm::vec4> samples = runKernel(*renderer, 0, n);
-        std::vector<glm::vec4> pdfs = runKernel(*renderer, 1, kW * kH);
+        // The pdf is constant over each cell of the sampling table (s x s cells per texel).
+        const int cs = renderer->compiled().envMap.tableScale, cw = kW * cs, chh = kH * cs;
+        CHECK(cs == 4);  // a small map gets the finest table
+        std::vector<glm::vec4> pdfs = runKernel(*renderer, 1, GLuint(cw * chh));
         std::vector<double> observed(kW * kH, 0.0), expected(kW * kH, 0.0);
         int invalid = 0;
         for (const glm::vec4& s : samples) {
@@ -109,12 +112,13 @@ TEST_CASE("environment map sampling matches its pdf (chi-square per texel)", "[g
             glm::ivec2 t = texelOf(glm::dvec3(s), rotation);
             observed[size_t(t.y) * kW + t.x] += 1.0;
         }
-        // Integral of the pdf over a texel: pdf(centre) * sin(theta_centre) * dtheta * dphi, exact
-        // because pdf * sin(theta) is constant across a texel.
+        // Integral of the pdf over a texel: the sum over its cells of pdf(centre) * sin(theta_centre)
+        // * dtheta * dphi, exact because pdf * sin(theta) is constant across a cell.
         double total = 0.0;
-        for (int i = 0; i < kW * kH; ++i) {
-            double p = double(pdfs[i].x) * pdfs[i].y * (kPi / kH) * (2.0 * kPi / kW);
-            expected[i] = p * n;
+        for (int c = 0; c < cw * chh; ++c) {
+            double p = double(pdfs[c].x) * pdfs[c].y * (kPi / chh) * (2.0 * kPi / cw);
+            const int texel = (c / cw / cs) * kW + (c % cw) / cs;
+            expected[size_t(texel)] += p * n;
             total += p;
         }
         CHECK(invalid == 0);
@@ -142,9 +146,10 @@ TEST_CASE("environment map: mean 1/pdf is the solid angle of its support", "[gpu
         sumSq += inv * inv;
     }
     double mean = sum / n, se = std::sqrt((sumSq / n - mean * mean) / (n - 1));
-    // Rows 0..12 are lit (row 12 only through the 3x3 dilation of row 11): the band theta in
-    // [0, 13 pi / 16] has solid angle 2 pi (1 - cos(13 pi / 16)).
-    double support = 2.0 * kPi * (1.0 - std::cos(13.0 * kPi / kH));
+    // Rows 0..11 are lit, and the upper half of row 12 through the filter (quarter-texel cells): the
+    // band theta in [0, 12.5 pi / 16] has solid angle 2 pi (1 - cos(12.5 pi / 16)).
+    REQUIRE(renderer->compiled().envMap.tableScale == 4);
+    double support = 2.0 * kPi * (1.0 - std::cos(12.5 * kPi / kH));
     INFO("mean 1/pdf " << mean << " +- " << se << ", support " << support);
     CHECK(std::abs(mean - support) < 4.0 * se + 1e-4 * support);
 }

@@ -2,7 +2,8 @@
 // Test kernel for the environment light.
 //   u_mode 0: results[i] = (direction sampled by sampleLight for the environment, its pdf)
 //   u_mode 1: results[i].x = lightPdf of the environment for the direction through the centre of
-//             map texel i (texels in row-major order, u_width x u_height), .y = sin(theta) there.
+//             cell i of the sampling table (row-major, (s width) x (s height) cells, s =
+//             frame.envInfo.w cells per texel and axis), .y = sin(theta) there.
 #include "lights/lights.glsl"
 #include "lib/rng.glsl"
 
@@ -20,7 +21,7 @@ void main() {
         LightSample s = sampleLight(u_light, vec3(0.0), rngNext2(rng));
         results[i] = vec4(s.wi, s.pdf);
     } else {
-        uint w = frame.envInfo.y, h = frame.envInfo.z;
+        uint w = frame.envInfo.y * frame.envInfo.w, h = frame.envInfo.z * frame.envInfo.w;
         vec2 uv = vec2((float(i % w) + 0.5) / float(w), (float(i / w) + 0.5) / float(h));
         vec3 d = envUvToDirection(uv);
         results[i] = vec4(lightPdf(u_light, vec3(0.0), d, vec3(0.0), vec3(0.0)), sin(PI * uv.y), 0.0, 0.0);
