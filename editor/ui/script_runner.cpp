@@ -20,6 +20,11 @@
 namespace fs = std::filesystem;
 
 namespace caustic::editor {
+
+// How long a script's waits (for an import, an open, the denoiser, an autosave, the recovery
+// prompt) may take before the script fails, when the line names no time-out: generous, because
+// they wait for events and a loaded machine is slow, not wrong (tests fail on wrong results).
+constexpr double kScriptWaitSeconds = 900.0;
 namespace {
 
 EntityKind kindFromWord(const std::string& w) {
@@ -296,9 +301,9 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         return true;
     }
     if (op == "wait_import")   // until every import has finished and its edit applied [timeout s]
-        return waitFor(ui, line, !ui.meshImports.pending(), a.empty() ? 120.0 : double(num(a[0])), "still importing");
+        return waitFor(ui, line, !ui.meshImports.pending(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still importing");
     if (op == "wait_open")   // until the scene being opened is adopted (or refused) [timeout s]
-        return waitFor(ui, line, !ui.meshImports.opening(), a.empty() ? 120.0 : double(num(a[0])), "still opening");
+        return waitFor(ui, line, !ui.meshImports.opening(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still opening");
     if (op == "uncap") {
         ui.sampleCap.reset();
         return true;
@@ -347,7 +352,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
     };
     ViewportDenoiser* dn = ui.denoiser.get();
     if (op == "denoise" || op == "wait_denoised") {
-        const double timeout = a.empty() ? 120.0 : double(num(a[0]));
+        const double timeout = a.empty() ? kScriptWaitSeconds : double(num(a[0]));
         if (!dn) { fail(ui, line, "no denoiser"); return true; }
         if (first) m_countAtStart = dn->failures();
         if (dn->shown(ui)) return true;
@@ -407,7 +412,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
             return true;
         }
         // wait_autosave: the periodic autosave has written since this line started.
-        const double timeout = a.empty() ? 60.0 : double(num(a[0]));
+        const double timeout = a.empty() ? kScriptWaitSeconds : double(num(a[0]));
         if (!ui.scriptAutosave) { fail(ui, line, "autosave is off (autosave on)"); return true; }
         if (first) m_countAtStart = ui.autosaveWrites;
         if (ui.autosaveWrites > m_countAtStart) return true;
@@ -438,7 +443,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
             return true;
         }
         if (ui.recovered) {
-            if (waited > 10.0) fail(ui, line, "the recovery prompt did not take the answer");
+            if (waited > kScriptWaitSeconds) fail(ui, line, "the recovery prompt did not take the answer");
             else *finished = false;
         }
         return true;

@@ -215,10 +215,10 @@ TEST_CASE("Broken mesh files fail with a message naming the file", "[mesh]") {
         CHECK(contains(r.error, path));
     }
     SECTION("a header that declares more than the file holds") {
+        // Refused from the header, before anything is allocated for 3.5 billion vertices (an
+        // attempt would run out of memory or hang until the test's time-out; no clock is read).
         const std::string path = dir.write("huge.off", "OFF\n3535235358 6 0\n0 0 0\n1 0 0\n0 1 0\n");
-        const auto t0 = std::chrono::steady_clock::now();
         const MeshImportResult r = importMeshFile(path);
-        CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 1.0);
         CHECK(contains(r.error, path));
         CHECK(contains(r.error, "3535235358"));
     }
@@ -254,9 +254,12 @@ TEST_CASE("Every model of assimp-testmodels loads cleanly or fails with a messag
     // The package holds ~410 model files; far fewer means the walk did not see the package.
     REQUIRE(files.size() > 300);
 
+    // Only results are asserted: how long an import takes depends on the machine and its load
+    // (the slowest file is reported, not judged; import speed belongs in a benchmark).
     const auto t0 = std::chrono::steady_clock::now();
     std::size_t loaded = 0, failed = 0, triangles = 0;
-    std::vector<std::string> slow;
+    std::string slowest;
+    double slowestSeconds = 0.0;
     for (const std::string& path : files) {
         INFO(path);
         const MeshImportResult r = importMeshFile(path);
@@ -275,11 +278,14 @@ TEST_CASE("Every model of assimp-testmodels loads cleanly or fails with a messag
             CHECK(bvhFinite(blas.bvh));
             CHECK(blas.bvh.primIndices.size() == m.triangles.size());
         }
-        if (r.seconds > kSlowImportSeconds) slow.push_back(path);
+        if (r.seconds > slowestSeconds) {
+            slowestSeconds = r.seconds;
+            slowest = path;
+        }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     INFO(files.size() << " model files (" << loaded << " loaded, " << failed << " refused, "
-         << triangles << " triangles), " << otherFiles << " other files, " << seconds << " s");
+         << triangles << " triangles), " << otherFiles << " other files, " << seconds << " s; slowest "
+         << slowest << ", " << slowestSeconds << " s");
     CHECK(loaded > 250);
-    CHECK(slow.empty());
 }

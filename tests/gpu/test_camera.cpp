@@ -1,11 +1,13 @@
 // The thin-lens camera against the thin-lens formula: a small emitter on the plane of focus
 // stays sharp; off it, it spreads into a circle of confusion of radius
 // aperture * |z - focal| / z (on the plane of focus); with squeeze s the bokeh is s times taller
-// than wide; with n blades it is a regular n-gon. The pixel filters keep a flat field flat.
+// than wide; with n blades it is a regular n-gon. The pixel filters shape an edge's image by
+// their own profile, and keep a flat field flat.
 #include "tests/gpu/gl_fixture.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -169,6 +171,69 @@ TEST_CASE("polygonal aperture: n blades give an n-gon", "[gpu][camera]") {
     Film hr = test::renderFilm(*renderer, hex, 1024);
     CHECK(support(hr, 0) - b == Approx(R * std::cos(glm::radians(30.0))).epsilon(0.04));
     CHECK(support(hr, 90) - b > 1.05 * (support(hr, 0) - b));
+}
+
+TEST_CASE("pixel filters shape the image of an edge by their own profile", "[gpu][camera]") {
+    // A vertical edge between black (left) and an emitter of radiance 1 (right) at x0 = 12.3
+    // pixels. Every filter is importance-sampled, so a pixel centred at c sees the emitter in the
+    // fraction of its samples whose offset dx has c + dx > x0: 1 - F(x0 - c), with F the
+    // cumulative distribution of the filter's x marginal. The box spreads the edge over one pixel,
+    // the tent over two, the Gaussian over three (its tails clamped at 1.5 pixels, where the
+    // sampler folds them). A filter that were not applied, or applied with another width, would
+    // give another profile. Rows are averaged; the tolerance is 5 standard errors of the row mean.
+    constexpr int kW = 24, kH = 8;
+    constexpr double kEdge = 12.3;
+    auto boxCdf = [](double t) { return std::clamp(t + 0.5, 0.0, 1.0); };
+    auto tentCdf = [](double t) {
+        if (t <= -1.0) return 0.0;
+        if (t >= 1.0) return 1.0;
+        return t < 0.0 ? 0.5 * (1.0 + t) * (1.0 + t) : 1.0 - 0.5 * (1.0 - t) * (1.0 - t);
+    };
+    auto gaussianCdf = [](double t) {  // sigma 0.5, the mass beyond +-1.5 folded onto +-1.5
+        if (t < -1.5) return 0.0;
+        if (t >= 1.5) return 1.0;
+        return 0.5 * std::erfc(-t / (0.5 * std::sqrt(2.0)));
+    };
+    struct Case { PixelFilter filter; double (*cdf)(double); int spread; };
+    const Case cases[] = {{PixelFilter::Box, +boxCdf, 1}, {PixelFilter::Tent, +tentCdf, 2},
+                          {PixelFilter::Gaussian, +gaussianCdf, 3}};
+    auto renderer = test::makeRenderer();
+    for (const Case& c : cases) {
+        INFO("filter " << int(c.filter));
+        Scene s;
+        s.render.width = kW;
+        s.render.height = kH;
+        s.render.maxDepth = 0;
+        s.render.filter = c.filter;
+        s.camera.position = glm::vec3(0.0f);
+        s.camera.lookAt = glm::vec3(0.0f, 0.0f, -1.0f);
+        s.camera.fovAxis = FovAxis::X;
+        s.camera.fovDegrees = 60.0f;
+        // The image plane at distance 1 spans x in [-tan 30, tan 30]; pixel x maps linearly to it.
+        const double tanX = std::tan(glm::radians(30.0));
+        const double edgeX = (2.0 * kEdge / kW - 1.0) * tanX;
+        s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(1.0f)});
+        Object wall;
+        wall.shape = Shape::Quad;
+        wall.material = "glow";
+        wall.transform.translate = glm::vec3(float(edgeX) + 5.0f, 0.0f, -1.0f);  // x in [edgeX, edgeX + 10]
+        wall.transform.scale = glm::vec3(5.0f);
+        s.objects.push_back(wall);
+        const Film f = test::renderFilm(*renderer, s, 1024);
+        int partial = 0;
+        for (int x = 0; x < kW; ++x) {
+            double mean = 0.0, var = 0.0;
+            for (int y = 0; y < kH; ++y) {
+                mean += f.mean[f.index(x, y)].g / kH;
+                var += f.varianceOfMean[f.index(x, y)].g / (kH * kH);
+            }
+            const double expected = 1.0 - c.cdf(kEdge - (x + 0.5));
+            INFO("column " << x << ": " << mean << " +- " << std::sqrt(var) << ", expected " << expected);
+            CHECK(std::abs(mean - expected) <= 5.0 * std::sqrt(var) + 2e-3);
+            partial += mean > 0.005 && mean < 0.995;
+        }
+        CHECK(partial == c.spread);  // how many pixels the edge is spread over
+    }
 }
 
 TEST_CASE("pixel filters keep a uniform field uniform and the mean unchanged", "[gpu][camera]") {

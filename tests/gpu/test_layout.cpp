@@ -1,5 +1,8 @@
 // The struct layouts in shaders/shared/layout.h must mean the same to the GLSL compiler as to
-// C++: compare the offsets the driver reports for the integrator program with offsetof.
+// C++: compare the offsets the driver reports for the integrator program with offsetof, for
+// every member of every shared struct (GpuPrimitive, GpuMaterial, GpuTexture, GpuLight,
+// GpuLightNode, GpuBvhNode, GpuInstance, GpuTriangle, GpuVertex, GpuFrame), and each array's
+// stride with sizeof. The integrator uses every buffer, so its program reports them all.
 #include "shaders/shared/layout.h"
 #include "tests/gpu/gl_fixture.h"
 
@@ -67,6 +70,30 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("lightTree", GpuLightNode, axis);
     CHECK_MEMBER("lightTree", GpuLightNode, info);
     CHECK(arrayStride(p, "lightTree[0].boundsMin") == GLint(sizeof(GpuLightNode)));
+    // The geometry: a BVH node's vec3 is followed by a scalar (std430 packs it into the vec3's
+    // fourth word, as the C++ struct does).
+    CHECK_MEMBER("bvhNodes", GpuBvhNode, boundsMin);
+    CHECK_MEMBER("bvhNodes", GpuBvhNode, rightOrFirst);
+    CHECK_MEMBER("bvhNodes", GpuBvhNode, boundsMax);
+    CHECK_MEMBER("bvhNodes", GpuBvhNode, countAndAxis);
+    CHECK(arrayStride(p, "bvhNodes[0].boundsMin") == GLint(sizeof(GpuBvhNode)));
+    CHECK_MEMBER("instances", GpuInstance, worldToObject0);
+    CHECK_MEMBER("instances", GpuInstance, worldToObject1);
+    CHECK_MEMBER("instances", GpuInstance, worldToObject2);
+    CHECK_MEMBER("instances", GpuInstance, objectToWorld0);
+    CHECK_MEMBER("instances", GpuInstance, objectToWorld1);
+    CHECK_MEMBER("instances", GpuInstance, objectToWorld2);
+    CHECK_MEMBER("instances", GpuInstance, info);
+    CHECK_MEMBER("instances", GpuInstance, info2);
+    CHECK(arrayStride(p, "instances[0].worldToObject0") == GLint(sizeof(GpuInstance)));
+    CHECK_MEMBER("triangles", GpuTriangle, p0);
+    CHECK_MEMBER("triangles", GpuTriangle, p1);
+    CHECK_MEMBER("triangles", GpuTriangle, p2);
+    CHECK_MEMBER("triangles", GpuTriangle, v);
+    CHECK(arrayStride(p, "triangles[0].p0") == GLint(sizeof(GpuTriangle)));
+    CHECK_MEMBER("vertices", GpuVertex, normalU);
+    CHECK_MEMBER("vertices", GpuVertex, tangentV);
+    CHECK(arrayStride(p, "vertices[0].normalU") == GLint(sizeof(GpuVertex)));
 #undef CHECK_MEMBER
 #define CHECK_FRAME(member) CHECK(resourceOffset(p, GL_UNIFORM, "frame." #member) == GLint(offsetof(GpuFrame, member)))
     CHECK_FRAME(camPosition);
