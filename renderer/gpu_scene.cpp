@@ -80,7 +80,16 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
         g.albedo = glm::vec4(m.albedo, 0);
         break;
     case MaterialType::Mirror: type = MAT_MIRROR; break;
-    case MaterialType::Transmission: type = MAT_TRANSMISSION; break;
+    case MaterialType::Transmission:
+        // Rough: the GGX BTDF alone. At IOR 1 nothing bends, so it stays the delta pass-through
+        // (the half vector of a straight-through pair is undefined; pbrt-v4 does the same).
+        if ((m.roughness >= kSmoothAlpha || !m.roughnessTexture.empty()) && m.ior != 1.0f) {
+            type = MAT_ROUGH_DIELECTRIC;
+            flags |= MAT_FLAG_NO_REFLECTION;
+        } else {
+            type = MAT_TRANSMISSION;
+        }
+        break;
     case MaterialType::Dielectric:
         // A roughness map can make any point rough, so a textured dielectric is always rough.
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
@@ -208,14 +217,14 @@ struct Builder {
         return static_cast<std::uint32_t>(out.primitives.size() - 1);
     }
 
-    std::uint32_t addSphere(const glm::mat4& m, std::uint32_t material) {
+    std::uint32_t addSphere(const glm::mat4& m, std::uint32_t material, std::uint32_t flags = 0) {
         glm::mat4 w2o = glm::inverse(m);
         glm::mat4 rows = glm::transpose(w2o);  // rows of w2o as columns
         gpu::GpuPrimitive p{};
         p.a = rows[0];
         p.b = rows[1];
         p.c = rows[2];
-        p.info = glm::uvec4(PRIM_SPHERE, material, 0, 0);
+        p.info = glm::uvec4(PRIM_SPHERE, material, 0, flags);
         // Bounds of the transformed unit sphere: |row_i of the linear part| around the centre.
         glm::vec3 c = glm::vec3(m[3]);
         glm::mat3 lin(m);
@@ -259,8 +268,10 @@ struct Builder {
         addLight(l, kPi * area * luminance(radiance) * (twoSided ? 2.0f : 1.0f), static_cast<int>(prim), bounds);
     }
 
-    // A sphere light needs a similarity transform (sampled by the cone it subtends).
-    bool addSphereLight(std::uint32_t prim, const glm::mat4& m, glm::vec3 radiance, const std::string& where) {
+    // A sphere light needs a similarity transform (sampled by the cone it subtends). One-sided: it
+    // emits outwards only (nothing reaches a point inside it).
+    bool addSphereLight(std::uint32_t prim, const glm::mat4& m, glm::vec3 radiance, const std::string& where,
+                        bool twoSided = true) {
         glm::mat3 lin(m);
         float sx = glm::length(lin[0]), sy = glm::length(lin[1]), sz = glm::length(lin[2]);
         float tol = 1e-4f * std::max({sx, sy, sz});
@@ -272,7 +283,7 @@ struct Builder {
         gpu::GpuLight l{};
         l.p0 = glm::vec4(glm::vec3(m[3]), sx);
         l.color = glm::vec4(radiance, 0);
-        l.info = glm::uvec4(LIGHT_SPHERE, 0, 0, 0);
+        l.info = glm::uvec4(LIGHT_SPHERE, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, 0, 0);
         LightBounds bounds;
         bounds.boundsMin = glm::vec3(m[3]) - sx;
         bounds.boundsMax = glm::vec3(m[3]) + sx;
@@ -392,7 +403,7 @@ struct Builder {
     std::vector<bool> meshTexturesLoaded;                 // per BLAS: its file materials' textures
 
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
-                         const glm::vec3* emission, const std::string& where) {
+                         const glm::vec3* emission, bool twoSided, const std::string& where) {
         std::uint32_t blas = 0;
         if (!importMesh(meshCacheKey(scene, o.file), where, &blas)) return false;
         const glm::mat4 w2o = glm::inverse(m);
@@ -424,7 +435,8 @@ struct Builder {
             meshMappingWarnings[blas].clear();  // once per file
         }
         gi.info = glm::uvec4(0, 0, fromFile ? meshMaterialBase[blas] : material, 0);  // offsets: finishGeometry
-        gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u, 0);
+        gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u,
+                              twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER);
         out.instances.push_back(gi);
         const Aabb local = out.meshBvh.blases[blas].bvh.nodes.front().bounds();
         for (int c = 0; c < 8; ++c) {
@@ -450,9 +462,14 @@ struct Builder {
             const auto cdfOffset = static_cast<std::uint32_t>(out.meshLightCdf.size());
             double total = 0.0, power = 0.0;
             std::vector<double> areas;
-            LightBounds bounds;  // of the emitting triangles; normals in every direction (two-sided)
+            std::vector<glm::dvec3> normals;  // unit front normals of the emitting triangles (world)
+            // Of the emitting triangles; a two-sided mesh's normals point every way.
+            LightBounds bounds;
             bounds.boundsMin = glm::vec3(std::numeric_limits<float>::max());
             bounds.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
+            // Front normals as the shader computes them: the object-space cross product under the
+            // inverse transpose (lights/lights.glsl, geometry/intersect.glsl).
+            const glm::dmat3 normalMatrix = glm::transpose(glm::dmat3(glm::mat3(w2o)));
             for (std::uint32_t k = 0; k < b.triangles.size(); ++k) {
                 const glm::uvec3 t = b.triangles[k];
                 const glm::vec3 p0 = glm::vec3(m * glm::vec4(pos[t.x], 1)), p1 = glm::vec3(m * glm::vec4(pos[t.y], 1)),
@@ -463,6 +480,9 @@ struct Builder {
                 if (areas.back() > 0.0) {
                     bounds.boundsMin = glm::min(bounds.boundsMin, glm::min(p0, glm::min(p1, p2)));
                     bounds.boundsMax = glm::max(bounds.boundsMax, glm::max(p0, glm::max(p1, p2)));
+                    const glm::dvec3 q0(pos[t.x]), q1(pos[t.y]), q2(pos[t.z]);
+                    const glm::dvec3 n = normalMatrix * glm::cross(q1 - q0, q2 - q0);
+                    if (glm::length(n) > 0.0) normals.push_back(glm::normalize(n));
                 }
                 total += areas.back();
                 power += areas.back() * y;
@@ -480,11 +500,26 @@ struct Builder {
             const auto instance = static_cast<std::uint32_t>(out.instances.size() - 1);
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
             l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
-            l.info = glm::uvec4(LIGHT_MESH, LIGHT_FLAG_TWO_SIDED, instance, cdfOffset);
+            l.info = glm::uvec4(LIGHT_MESH, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, instance, cdfOffset);
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
-            out.lightPower.push_back(static_cast<float>(2.0 * std::numbers::pi * power));
+            out.lightPower.push_back(static_cast<float>((twoSided ? 2.0 : 1.0) * std::numbers::pi * power));
             bounds.intensity = static_cast<float>(power);  // sum of L A: each face of a flat mesh
+            if (!twoSided) {
+                // One-sided: a cone around the mean front normal holding every triangle's normal
+                // (all directions when they cancel out: a closed mesh), emitting up to 90 degrees
+                // beyond it.
+                glm::dvec3 sum(0.0);
+                for (const glm::dvec3& n : normals) sum += n;
+                if (glm::length(sum) > 1e-6 * double(normals.size())) {
+                    const glm::dvec3 axis = glm::normalize(sum);
+                    double cosO = 1.0;
+                    for (const glm::dvec3& n : normals) cosO = std::min(cosO, glm::dot(n, axis));
+                    bounds.axis = glm::vec3(axis);
+                    // Rounding must not leave a normal outside the cone.
+                    bounds.cosThetaO = static_cast<float>(std::max(-1.0, cosO - 1e-6));
+                }
+            }
             out.lightBounds.push_back(bounds);
         }
         return true;
@@ -592,7 +627,8 @@ struct Builder {
             const Object& o = scene.objects[i];
             const std::string where = "objects[" + std::to_string(i) + "]";
             if (o.shape == Shape::Mesh && o.material.empty()) {  // the file's own materials
-                if (!addMeshInstance(o, static_cast<std::uint32_t>(i), o.transform.toMatrix(), kFileMaterials, nullptr, where))
+                if (!addMeshInstance(o, static_cast<std::uint32_t>(i), o.transform.toMatrix(), kFileMaterials, nullptr, true,
+                                     where))
                     return false;
                 continue;
             }
@@ -603,22 +639,36 @@ struct Builder {
                 return false;
             }
             auto mat = static_cast<std::uint32_t>(it - scene.materials.begin());
-            bool emissive = glm::any(glm::greaterThan(it->emission, glm::vec3(0.0f)));
+            // The object's own emission (one-sided unless two_sided) replaces its material's
+            // (two-sided) in a copy of the material that only this object uses.
+            glm::vec3 emission = it->emission;
+            bool twoSided = true;
+            if (o.emits()) {
+                emission = o.emission;
+                twoSided = o.twoSided;
+                gpu::GpuMaterial copy = out.materials[mat];
+                copy.emission = glm::vec4(emission, 0.0f);
+                out.materials.push_back(copy);
+                mat = static_cast<std::uint32_t>(out.materials.size() - 1);
+            }
+            const bool emissive = glm::any(glm::greaterThan(emission, glm::vec3(0.0f)));
+            const std::uint32_t primFlags = emissive && !twoSided ? PRIM_FLAG_ONE_SIDED_EMITTER : 0u;
             glm::mat4 m = o.transform.toMatrix();
             switch (o.shape) {
                 case Shape::Mesh: {
-                    if (!addMeshInstance(o, static_cast<std::uint32_t>(i), m, mat, emissive ? &it->emission : nullptr, where))
+                    if (!addMeshInstance(o, static_cast<std::uint32_t>(i), m, mat, emissive ? &emission : nullptr,
+                                         twoSided, where))
                         return false;
                     break;
                 }
                 case Shape::Sphere: {
-                    std::uint32_t p = addSphere(m, mat);
-                    if (emissive && !addSphereLight(p, m, it->emission, where)) return false;
+                    std::uint32_t p = addSphere(m, mat, primFlags);
+                    if (emissive && !addSphereLight(p, m, emission, where, twoSided)) return false;
                     break;
                 }
                 case Shape::Quad: {
-                    std::uint32_t p = addQuad(m, mat);
-                    if (emissive) addRectLight(p, it->emission, true);
+                    std::uint32_t p = addQuad(m, mat, primFlags);
+                    if (emissive) addRectLight(p, emission, twoSided);
                     break;
                 }
                 case Shape::Box: {
@@ -634,8 +684,8 @@ struct Builder {
                         glm::rotate(glm::translate(I, {0, -1, 0}), kPi / 2, X),
                     };
                     for (const glm::mat4& f : faces) {
-                        std::uint32_t p = addQuad(m * f, mat);
-                        if (emissive) addRectLight(p, it->emission, true);
+                        std::uint32_t p = addQuad(m * f, mat, primFlags);
+                        if (emissive) addRectLight(p, emission, twoSided);
                     }
                     break;
                 }
@@ -668,12 +718,28 @@ struct Builder {
                         float cosInner = std::cos(glm::radians(L.innerAngle));
                         // smoothstep needs edge0 < edge1.
                         if (cosInner <= cosOuter) cosInner = cosOuter + 1e-6f;
+                        const float outer = glm::radians(L.outerAngle), inner = glm::radians(L.innerAngle);
                         l.p1 = glm::vec4(glm::normalize(L.direction), cosOuter);
-                        l.p2 = glm::vec4(0, 0, 0, cosInner);
-                        // PBRT 4th ed. eq. 12.3 (the smoothstep falloff's approximate power).
-                        power = 2.0f * kPi * luminance(L.color) * (1.0f - 0.5f * (cosInner + cosOuter));
+                        l.p2 = glm::vec4(outer, inner, 0, cosInner);
+                        if (L.falloff == SpotFalloff::Smoothstep) {
+                            // PBRT 4th ed. eq. 12.3 (the smoothstep falloff's approximate power).
+                            power = 2.0f * kPi * luminance(L.color) * (1.0f - 0.5f * (cosInner + cosOuter));
+                        } else {
+                            // Linear in the angle: 2 pi I (integral of the falloff times sin theta),
+                            // the ring by the midpoint rule.
+                            double ring = 0.0;
+                            constexpr int kSteps = 256;
+                            for (int k = 0; k < kSteps; ++k) {
+                                const double th = inner + (outer - inner) * (k + 0.5) / kSteps;
+                                ring += (outer - th) / std::max(double(outer - inner), 1e-12) * std::sin(th) *
+                                        (outer - inner) / kSteps;
+                            }
+                            power = static_cast<float>(2.0 * kPi * luminance(L.color) * (1.0 - std::cos(inner) + ring));
+                        }
                     }
-                    l.info = glm::uvec4(L.type == LightType::Spot ? LIGHT_SPOT : LIGHT_POINT, 0, 0, 0);
+                    std::uint32_t flags = 0;
+                    if (L.type == LightType::Spot && L.falloff == SpotFalloff::LinearAngle) flags |= LIGHT_FLAG_LINEAR_ANGLE;
+                    l.info = glm::uvec4(L.type == LightType::Spot ? LIGHT_SPOT : LIGHT_POINT, flags, 0, 0);
                     LightBounds bounds;
                     bounds.boundsMin = bounds.boundsMax = L.position;
                     bounds.intensity = luminance(L.color);

@@ -116,10 +116,22 @@ struct Object {
                                        // the model file's own materials (mapImportedMaterial)
     Transform transform;
     std::string file;                  // mesh: the model file, relative to the scene file
+    // The object's own emission (an area emitter with a surface, like Mitsuba's shape + area
+    // emitter): radiance (W sr^-1 m^-2), >= 0. Non-zero replaces the material's emission for this
+    // object (its surface still scatters by the material) and emits from the front faces only
+    // (quad: +z before the transform; sphere and box: outside; mesh: the triangles' winding,
+    // counter-clockwise seen from the front) unless twoSided. Zero: the material's emission, if
+    // any, from both faces.
+    glm::vec3 emission{0.0f};
+    bool twoSided = false;             // with emission: emit from the back faces too
+    bool emits() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     bool operator==(const Object&) const = default;
 };
 
 enum class LightType { Rect, Sphere, Point, Spot };
+// How a spot light falls off between its inner and outer angle (docs/scene-format.md):
+// smoothstep in cos theta (pbrt-v4's), or linear in the angle (Mitsuba 3's).
+enum class SpotFalloff { Smoothstep, LinearAngle };
 
 struct Light {
     std::string name;
@@ -136,6 +148,7 @@ struct Light {
     glm::vec3 direction{0.0f, -1.0f, 0.0f};  // spot
     float innerAngle = 20.0f;          // spot: full intensity inside this half-angle (degrees)
     float outerAngle = 30.0f;          // spot: zero outside this half-angle (degrees)
+    SpotFalloff falloff = SpotFalloff::Smoothstep;  // spot
     bool operator==(const Light&) const = default;
 };
 

@@ -201,6 +201,12 @@ std::span<const EnumName<PixelFilter>> enumNames(PixelFilter) {
     return kNames;
 }
 
+std::span<const EnumName<SpotFalloff>> enumNames(SpotFalloff) {
+    static constexpr EnumName<SpotFalloff> kNames[] = {
+        {SpotFalloff::Smoothstep, "smoothstep"}, {SpotFalloff::LinearAngle, "linear_angle"}};
+    return kNames;
+}
+
 std::span<const EnumName<FovAxis>> enumNames(FovAxis) {
     static constexpr EnumName<FovAxis> kNames[] = {
         {FovAxis::Smaller, "smaller"}, {FovAxis::Larger, "larger"},
@@ -744,6 +750,7 @@ const Fields<Material>& materialFields(MaterialType type) {
     static const Fields<Material> kTransmission = concat(concat(kCommon, {
         field("tint", &Material::tint, unit),
         field("ior", &Material::ior, ior),
+        field("roughness", &Material::roughness, unit),
     }), kTail);
     static const Fields<Material> kDielectric = concat(concat(kCommon, {
         field("tint", &Material::tint, unit),
@@ -796,12 +803,21 @@ Json toJson(const Material& material) {
 // ---------------------------------------------------------------------------------------------
 // Objects
 
+// The object's emission and its sidedness, written unless the emission is exactly zero (so that
+// a NaN or negative one is written, and refused by the round trip of an edit).
+Field<Object> whenEmitting(Field<Object> f) {
+    f.omit = [](const Object& in) { return in.emission == glm::vec3(0.0f); };
+    return f;
+}
+
 const Fields<Object>& objectFields(Shape shape) {
     static const Fields<Object> kFields = {
         nameField(&Object::name),
         field("shape", &Object::shape),
         field("material", &Object::material),
         field("transform", &Object::transform),
+        whenEmitting(field("emission", &Object::emission, atLeast(0.0))),
+        whenEmitting(field("two_sided", &Object::twoSided)),
     };
     static const Fields<Object> kMesh = concat(kFields, {field("file", &Object::file)});
     return shape == Shape::Mesh ? kMesh : kFields;
@@ -810,6 +826,9 @@ const Fields<Object>& objectFields(Shape shape) {
 void readValue(const Json& value, const std::string& path, Object& out, const Range&) {
     readTyped(value, path, out, &Object::shape, objectFields, "object", "shape");
     if (out.shape == Shape::Mesh && out.file.empty()) fail(member(path, "file"), "a mesh object needs a model file");
+    if (out.shape == Shape::Mesh && out.material.empty() && out.emits())
+        fail(member(path, "emission"), "a mesh that uses its file's materials cannot take an object emission "
+                                       "(give it a scene material)");
 }
 
 Json toJson(const Object& object) { return writeFields(object, objectFields(object.shape)); }
@@ -843,6 +862,7 @@ const Fields<Light>& lightFields(LightType type) {
             r.minExclusive = true;
             return r;
         }()),
+        field("falloff", &Light::falloff),
     });
     switch (type) {
     case LightType::Rect: return kRect;

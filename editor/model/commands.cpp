@@ -151,6 +151,7 @@ std::uint32_t editDirty(const Object& a, const Object& b) {
     std::uint32_t d = kDirtyNone;
     if (a.transform != b.transform) d |= kDirtyTransforms;
     if (a.shape != b.shape || a.material != b.material || a.file != b.file) d |= kDirtyGeometry;
+    if (a.emission != b.emission || a.twoSided != b.twoSided) d |= kDirtyLights;  // the light list changes
     return d;
 }
 std::uint32_t editDirty(const Light& a, const Light& b) {

@@ -114,6 +114,11 @@ void objectInspector(EditorUi& ui, int index) {
     }
     ImGui::SeparatorText("Transform");
     transformFields(e, &o.transform);
+    // The object's own emission (docs/scene-format.md, objects): replaces the material's, front
+    // faces only unless two-sided; the surface still reflects by its material.
+    ImGui::SeparatorText("Emission");
+    colourAndStrength(e, "Emission colour", "Emission strength", &o.emission);
+    if (o.emits()) e.track(ImGui::Checkbox("Two-sided", &o.twoSided), true);
     e.commit(e.changed ? makeSetObject(s, index, o) : nullptr);
     if (const Material* m = s.scene.findMaterial(o.material); m && ImGui::TreeNode("Material parameters")) {
         ImGui::TextDisabled("(edits the shared material '%s')", m->name.c_str());
@@ -158,8 +163,7 @@ void materialInspector(EditorUi& ui, int index) {
         case MaterialType::Dielectric:
             e.track(ImGui::ColorEdit3("Tint", &m.tint.x, colour));
             e.track(ImGui::DragFloat("IOR", &m.ior, 0.005f, 1.0f, 4.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
-            if (m.type == MaterialType::Dielectric)
-                e.track(ImGui::SliderFloat("Roughness", &m.roughness, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
+            e.track(ImGui::SliderFloat("Roughness", &m.roughness, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
             break;
         case MaterialType::Conductor: {
             e.track(ImGui::ColorEdit3("Tint", &m.tint.x, colour));
@@ -221,6 +225,10 @@ void lightInspector(EditorUi& ui, int index) {
             e.track(ImGui::DragFloat("Inner angle", &l.innerAngle, 0.2f, 0.0f, 90.0f, "%.1f deg", ImGuiSliderFlags_AlwaysClamp));
             e.track(ImGui::DragFloat("Outer angle", &l.outerAngle, 0.2f, 0.0f, 90.0f, "%.1f deg", ImGuiSliderFlags_AlwaysClamp));
             l.innerAngle = std::min(l.innerAngle, l.outerAngle);
+            static const char* const falloffs[] = {"smoothstep (cos)", "linear in angle (Mitsuba)"};
+            int falloff = static_cast<int>(l.falloff);
+            e.track(combo("Falloff", &falloff, falloffs), true);
+            l.falloff = static_cast<SpotFalloff>(falloff);
             break;
     }
     e.commit(e.changed ? makeSetLight(s, index, l) : nullptr);

@@ -31,6 +31,12 @@
 //   scaling (see specular.glsl: camera paths carry radiance, whose density changes by etap^2 across
 //   the interface). pbrt-v4 writes the same thing as denom = (wi.wm + wo.wm / etap)^2.
 // Smith term: height-correlated G2 (microfacet.glsl).
+// Rough transmission alone (JSON "transmission" with roughness > 0, MAT_FLAG_NO_REFLECTION): the
+//   same Trowbridge-Reitz BTDF without the reflection lobe, the rough counterpart of perfect
+//   transmission (specular.glsl): every microfacet refracts all the light (F = 0), except where
+//   it would totally reflect internally (F = 1, the light reflects off that microfacet). Sampling
+//   and pdfs are the rough dielectric's with that F, so they stay consistent; the furnace loses
+//   only what single-scattering GGX loses.
 #ifndef BSDF_DIELECTRIC_GLSL
 #define BSDF_DIELECTRIC_GLSL
 #include "common.glsl"
@@ -74,13 +80,21 @@ bool dielectricHalfVector(vec3 wo, vec3 wi, float eta, out vec3 wm, out float et
     return true;
 }
 
+// Fresnel reflectance against microfacet wm: the dielectric's, or for rough transmission alone 0
+// unless the microfacet reflects totally.
+float roughDielectricFresnel(GpuMaterial m, float cosThetaI, float eta) {
+    float F = fresnelDielectric(cosThetaI, eta);
+    if ((m.info.y & MAT_FLAG_NO_REFLECTION) != 0u) F = F >= 1.0 ? 1.0 : 0.0;
+    return F;
+}
+
 vec3 roughDielectricEval(GpuMaterial m, vec3 wo, vec3 wi) {
     float alpha = max(m.params.x, GGX_MIN_ALPHA);
     float eta = m.params.y;
     vec3 wm;
     float etap;
     if (!dielectricHalfVector(wo, wi, eta, wm, etap)) return vec3(0.0);
-    float F = fresnelDielectric(dot(wo, wm), eta);
+    float F = roughDielectricFresnel(m, dot(wo, wm), eta);
     float D = ggxD(wm, alpha), G = ggxG(wo, wi, alpha);
     if (wo.z * wi.z > 0.0) return m.albedo.rgb * (D * G * F / abs(4.0 * wo.z * wi.z));
     float denom = sqr(dot(wi, wm) + dot(wo, wm) / etap) * wi.z * wo.z;
@@ -95,7 +109,7 @@ float roughDielectricPdf(GpuMaterial m, vec3 wo, vec3 wi) {
     vec3 wm;
     float etap;
     if (!dielectricHalfVector(wo, wi, eta, wm, etap)) return 0.0;
-    float R = fresnelDielectric(dot(wo, wm), eta), T = 1.0 - R;
+    float R = roughDielectricFresnel(m, dot(wo, wm), eta), T = 1.0 - R;
     if (wo.z * wi.z > 0.0) return ggxVisibleD(wo, wm, alpha) / (4.0 * abs(dot(wo, wm))) * R;
     float denom = sqr(dot(wi, wm) + dot(wo, wm) / etap);
     float dwmDwi = abs(dot(wi, wm)) / denom;
@@ -107,7 +121,7 @@ BsdfSample roughDielectricSample(GpuMaterial m, vec3 wo, float uc, vec2 u) {
     float alpha = max(m.params.x, GGX_MIN_ALPHA);
     float eta = m.params.y;
     vec3 wm = ggxSampleVisibleNormal(wo, alpha, u);
-    float R = fresnelDielectric(dot(wo, wm), eta), T = 1.0 - R;
+    float R = roughDielectricFresnel(m, dot(wo, wm), eta), T = 1.0 - R;
     BsdfSample s;
     if (uc < R) {
         s.wi = reflectAbout(wo, wm);

@@ -4,8 +4,11 @@
 //   Lambda(w) = (sqrt(1 + alpha^2 tan^2(theta)) - 1) / 2          (Heitz 2014, eq. 72)
 //   Shadowing-masking: the HEIGHT-CORRELATED Smith term G2 = 1 / (1 + Lambda(wo) + Lambda(wi))
 //     (Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-//     JCGT 3(2), eq. 99). It is more accurate than the separable G1(wo) G1(wi) and is what
-//     pbrt-v4 and Mitsuba 3 use. The white-furnace numbers in docs/materials.md are for it.
+//     JCGT 3(2), eq. 99). It is more accurate than the separable G1(wo) G1(wi), and it is what
+//     pbrt-v4 uses. Mitsuba 3's rough conductor and rough dielectric use the separable form
+//     (MicrofacetDistribution::G in its render/microfacet.h: smith_g1(wi) * smith_g1(wo)), so
+//     they are slightly darker at grazing angles; at normal incidence of wo the two coincide
+//     (Lambda(wo) = 0). The white-furnace numbers in docs/materials.md are for this term.
 //   Sampling: the distribution of visible normals D_wo(wm) = G1(wo) max(0, wo.wm) D(wm) / |wo.z|
 //     (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), drawn with the
 //     spherical-cap method of Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical

@@ -101,7 +101,7 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
         hit.ng = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
         hit.material = triangleMaterial(inst, tri);
         hit.light = inst.info.w;
-        hit.flags = 0u;
+        hit.flags = inst.info2.w;
         hit.ns = triangleShadingNormal(inst, tri, th.bary, hit.ng);
     }
     hit.ref = th.ref;

@@ -6,17 +6,26 @@
 // unit solid angle at the shading point and do NOT include the probability of choosing the light
 // (that is light_select.glsl's lightSelectPmf).
 //
+// Sidedness: area lights (rect, sphere, mesh) emit from both faces when LIGHT_FLAG_TWO_SIDED is
+// set (rect lights with two_sided, emissive materials), else from their front only (rect lights,
+// objects with their own "emission"); the primitive or instance then carries
+// PRIM_FLAG_ONE_SIDED_EMITTER, so a BSDF-sampled ray that hits the back sees no emission, and the
+// light sampler returns pdf 0 for points behind the emitter, so both strategies agree.
 // rect:   uniform point on the parallelogram; p_area = 1/A, p_omega = r^2 / (|cos theta_l| A).
-//         One-sided (the front is cross(edge u, edge v)) unless LIGHT_FLAG_TWO_SIDED.
+//         The front is cross(edge u, edge v).
 // sphere: outside: uniform direction in the cone that subtends the sphere,
 //         cos theta_max = sqrt(1 - R^2/d^2), p_omega = 1 / (2 pi (1 - cos theta_max))
-//         (PBRT 4th ed. sec. 6.2.4); inside: uniform point on the surface, converted to solid
-//         angle. Emits from both faces, as every emissive material does.
+//         (PBRT 4th ed. sec. 6.2.4): every point of that cap faces the shading point, so sidedness
+//         does not matter there; inside: uniform point on the surface, converted to solid angle,
+//         or nothing when one-sided (its front is the outside).
 // point:  a delta light, L_i = I / r^2.
-// spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2).
+// spot:   a point light times smoothstep(cos outer, cos inner, cos theta) (PBRT 4th ed. 12.2.2),
+//         or with LIGHT_FLAG_LINEAR_ANGLE times clamp((outer - theta) / (outer - inner), 0, 1)
+//         (Mitsuba 3's spot); docs/scene-format.md.
 // mesh:   an emissive mesh instance: a triangle chosen in proportion to its world area (emitting
 //         triangles only), a uniform point on it; p_omega = r^2 / (|cos theta_l| A_emitting); the
-//         radiance is that triangle's material's. Emits from both faces.
+//         radiance is that triangle's material's. The front is the side of the object-space
+//         cross(p1 - p0, p2 - p0) (counter-clockwise winding seen from the front).
 // env:    a map is importance-sampled by its luminance table (environment.glsl); the constant
 //         colour and the smooth sky use uniform directions on the sphere, p_omega = 1/(4 pi).
 #ifndef LIGHTS_LIGHTS_GLSL
@@ -91,6 +100,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             s.nl = normalize(p + s.dist * s.wi - c);
             s.pdf = 1.0 / (2.0 * PI * oneMinusCos);
         } else {
+            if ((l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return s;  // inside a one-sided sphere
             vec3 n = sampleUniformSphere(u);
             vec3 q = c + radius * n;
             vec3 d = q - p;
@@ -111,7 +121,15 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.isDelta = true;
         s.pdf = 1.0;
         float falloff = 1.0;
-        if (type == LIGHT_SPOT) falloff = smoothstep(l.p1.w, l.p2.w, dot(-s.wi, l.p1.xyz));
+        if (type == LIGHT_SPOT) {
+            float cosTheta = dot(-s.wi, l.p1.xyz);
+            if ((l.info.y & LIGHT_FLAG_LINEAR_ANGLE) == 0u) {
+                falloff = smoothstep(l.p1.w, l.p2.w, cosTheta);
+            } else {
+                float theta = acos(clamp(cosTheta, -1.0, 1.0));
+                falloff = theta <= l.p2.y ? 1.0 : clamp((l.p2.x - theta) / max(l.p2.x - l.p2.y, 1e-7), 0.0, 1.0);
+            }
+        }
         s.Li = l.color.rgb * falloff / dist2;
     } else if (type == LIGHT_MESH) {
         // A triangle by area (binary search of the instance's CDF), then a uniform point in it
@@ -135,6 +153,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         vec3 d = q - p;
         float dist2 = dot(d, d);
         if (dist2 <= 0.0) return s;
+        if (dot(n, d) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return s;  // its back faces p
         s.dist = sqrt(dist2);
         s.wi = d / s.dist;
         s.nl = n;
@@ -171,9 +190,13 @@ float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
             float oneMinusCos = sin2Max < 1e-3 ? 0.5 * sin2Max + 0.125 * sin2Max * sin2Max : 1.0 - safeSqrt(1.0 - sin2Max);
             return 1.0 / (2.0 * PI * oneMinusCos);
         }
+        if ((l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
         return areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, nl);
     }
-    if (type == LIGHT_MESH) return areaToSolidAngle(1.0 / l.p0.x, p, q, nl);
+    if (type == LIGHT_MESH) {
+        if (dot(nl, wi) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
+        return areaToSolidAngle(1.0 / l.p0.x, p, q, nl);
+    }
     if (type == LIGHT_ENV) return frame.envInfo.x == ENV_MAP ? environmentMapPdf(wi) : uniformSpherePdf();
     return 0.0;  // delta lights cannot be hit
 }

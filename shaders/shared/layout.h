@@ -51,7 +51,9 @@ using uint = std::uint32_t;
 #define PRIM_QUAD 1u
 
 // Primitive flags (GpuPrimitive::info.w).
-#define PRIM_FLAG_ONE_SIDED_EMITTER 1u  // emits from its front face only (one-sided rect lights)
+#define PRIM_FLAG_ONE_SIDED_EMITTER 1u  // emits from its front face only (rect lights unless two-sided,
+                                        // objects with their own emission unless two_sided); also in
+                                        // GpuInstance::info2.w for meshes
 
 // Material types (GpuMaterial::info.x); the models are in shaders/bsdf/, one per file.
 #define MAT_DIFFUSE 0u              // Lambert
@@ -67,6 +69,8 @@ using uint = std::uint32_t;
 // Material flags (GpuMaterial::info.y).
 #define MAT_FLAG_ENERGY_COMPENSATION 1u  // Oren-Nayar: the global factor; rough conductor: multiple scattering
 #define MAT_FLAG_FRESNEL_ONE 2u          // conductor with F = 1 (the "perfect" metal)
+#define MAT_FLAG_NO_REFLECTION 4u        // rough dielectric: transmission only (rough "transmission"):
+                                         // F = 0 where light can refract, 1 under total internal reflection
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 
@@ -81,7 +85,8 @@ using uint = std::uint32_t;
 #define LIGHT_MESH 5u
 
 // Light flags.
-#define LIGHT_FLAG_TWO_SIDED 1u
+#define LIGHT_FLAG_TWO_SIDED 1u     // area lights (rect, sphere, mesh): emits from the back faces too
+#define LIGHT_FLAG_LINEAR_ANGLE 2u  // spot: falls off linearly in the angle (Mitsuba's), not smoothstep in cos
 
 #define LIGHT_TREE_LEAF 0x80000000u // GpuLightNode::info.x: a leaf; the light index is info.x & ~LIGHT_TREE_LEAF
 
@@ -154,7 +159,8 @@ CAUSTIC_STRUCT(GpuInstance) {
     vec4 objectToWorld1;
     vec4 objectToWorld2;
     uvec4 info;   // x: root node in bvhNodes, y: first triangle, z: material, w: light index + 1
-    uvec4 info2;  // x: first vertex, y: triangle count, z, w: unused
+    uvec4 info2;  // x: first vertex, y: triangle count, z: 1 when the file's materials are used,
+                  // w: PRIM_FLAG_* (PRIM_FLAG_ONE_SIDED_EMITTER)
 };
 
 // One triangle in object space; v: its vertices' indices into the vertex buffer (already offset),
@@ -174,7 +180,7 @@ CAUSTIC_STRUCT(GpuVertex) {
 
 CAUSTIC_STRUCT(GpuMaterial) {
     vec4 albedo;    // rgb: diffuse albedo (diffuse models) or specular tint (the others)
-    vec4 emission;  // rgb emitted radiance (both faces)
+    vec4 emission;  // rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER)
     vec4 params;    // x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
     uvec4 info;     // x: MAT_*, y: MAT_FLAG_*
     vec4 eta;       // conductors: rgb real part of the complex IOR
@@ -193,7 +199,8 @@ CAUSTIC_STRUCT(GpuTexture) {
 // rect:   p0 = corner, p1.xyz = edge u, p1.w = area, p2.xyz = edge v
 // sphere: p0.xyz = centre, p0.w = radius
 // point:  p0.xyz = position
-// spot:   p0.xyz = position, p1.xyz = unit direction, p1.w = cos(outer), p2.w = cos(inner)
+// spot:   p0.xyz = position, p1.xyz = unit direction, p1.w = cos(outer), p2.w = cos(inner),
+//         p2.x = outer, p2.y = inner (radians)
 // env:    nothing (the environment is described by GpuFrame)
 CAUSTIC_STRUCT(GpuLight) {
     vec4 p0;

@@ -597,7 +597,7 @@ class TestScriptedRenders(CliTestCase):
         dark = sum(sum(p) for row in rows for p in row)
         # A brighter light through --set gives a brighter image; the override is a JSON value.
         r = run_caustic("--scene", CORNELL, "--width", "16", "--height", "16", "--samples", "2",
-                        "--output", out, "--hdr", "--set", "lights[0].color=[180, 140, 70]")
+                        "--output", out, "--hdr", "--set", "objects[ceiling light].emission=[180, 140, 70]")
         self.assertEqual(r.returncode, 0, r.stderr)
         _, _, rows = decode_hdr(Path(r.stdout.split()[0]).read_bytes())
         self.assertAlmostEqual(sum(sum(p) for row in rows for p in row) / dark, 10.0, delta=0.3)

@@ -74,6 +74,16 @@ TEST_CASE("materials: conversion to the GPU", "[materials]") {
     s.materials[5].roughness = 0.0f;
     REQUIRE(compileScene(s, &c, &error));
     CHECK(c.materials[5].info.x == MAT_DIELECTRIC);
+    // Rough transmission: the GGX BTDF without the reflection lobe; at IOR 1 nothing bends, so it
+    // stays the delta pass-through.
+    s.materials[4].roughness = 0.3f;
+    REQUIRE(compileScene(s, &c, &error));
+    CHECK(c.materials[4].info.x == MAT_TRANSMISSION);
+    s.materials[4].ior = 1.33f;
+    REQUIRE(compileScene(s, &c, &error));
+    CHECK(c.materials[4].info.x == MAT_ROUGH_DIELECTRIC);
+    CHECK(c.materials[4].info.y == MAT_FLAG_NO_REFLECTION);
+    CHECK(c.materials[4].params == glm::vec4(0.3f, 1.33f, 0, 0));
 }
 
 TEST_CASE("materials: an unreadable texture is an error naming the file and the material", "[materials]") {

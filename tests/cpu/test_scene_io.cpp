@@ -96,7 +96,9 @@ const char* kEverything = R"({
       "transform": { "translate": [1, 2, 3], "rotate": [10, 20, 30], "scale": 0.5 } },
     { "shape": "quad", "material": "b", "transform": { "scale": [2, -3, 1e-3] } },
     { "name": "crate", "shape": "box", "material": "a",
-      "transform": { "matrix": [1, 0, 0, 5,  0, 0, -2, 6,  0, 3, 0, 7,  0, 0, 0, 1] } }
+      "transform": { "matrix": [1, 0, 0, 5,  0, 0, -2, 6,  0, 3, 0, 7,  0, 0, 0, 1] } },
+    { "name": "lamp", "shape": "quad", "material": "b", "emission": [1.5, 0, 2], "two_sided": true },
+    { "name": "bulb", "shape": "sphere", "material": "b", "emission": [4, 4, 4] }
   ],
   "lights": [
     { "name": "panel", "type": "rect", "color": [5, 6, 7], "two_sided": true,
@@ -104,7 +106,7 @@ const char* kEverything = R"({
     { "type": "sphere", "color": [1, 1, 1], "position": [0, 1, 0], "radius": 0.25 },
     { "name": "bulb", "type": "point", "color": [100, 90, 80], "position": [-1, 2, -3] },
     { "name": "spot", "type": "spot", "color": [10, 10, 10], "position": [0, 5, 0],
-      "direction": [0, -1, 0.5], "inner_angle": 0, "outer_angle": 180 },
+      "direction": [0, -1, 0.5], "inner_angle": 0, "outer_angle": 180, "falloff": "linear_angle" },
     { "type": "spot", "inner_angle": 12.5, "outer_angle": 12.5 }
   ],
   "environment": { "type": "sky", "horizon": [0.9, 0.8, 0.7], "zenith": [0.1, 0.2, 0.9],
@@ -181,17 +183,20 @@ TEST_CASE("The default Cornell box loads and matches Mitsuba 3's cornell_box()",
     CHECK(scene.render.seed == 0);
     CHECK(scene.environment.type == EnvironmentType::None);
     REQUIRE(scene.materials.size() == 3);
-    REQUIRE(scene.objects.size() == 7);
-    REQUIRE(scene.lights.size() == 1);
+    REQUIRE(scene.objects.size() == 8);
+    CHECK(scene.lights.empty());
     CHECK(scene.findMaterial("white")->albedo == glm::vec3(0.885809f, 0.698859f, 0.666422f));
     CHECK(scene.findMaterial("green")->albedo == glm::vec3(0.105421f, 0.37798f, 0.076425f));
     CHECK(scene.findMaterial("red")->albedo == glm::vec3(0.570068f, 0.0430135f, 0.0443706f));
 
-    // The light: y = 0.99, x in [-0.23, 0.23], z in [-0.18, 0.20], emitting (its +z) towards -y.
-    const Light& light = scene.lights[0];
-    CHECK(light.type == LightType::Rect);
+    // The light, as in Mitsuba a white diffuse quad that also emits, from its front only: y = 0.99,
+    // x in [-0.23, 0.23], z in [-0.18, 0.20], emitting (its +z) towards -y.
+    const Object& light = scene.objects.back();
+    CHECK(light.name == "ceiling light");
+    CHECK(light.shape == Shape::Quad);
+    CHECK(light.material == "white");
     CHECK_FALSE(light.twoSided);
-    CHECK(light.color == glm::vec3(18.387f, 13.9873f, 6.75357f));
+    CHECK(light.emission == glm::vec3(18.387f, 13.9873f, 6.75357f));
     const glm::mat4 lm = light.transform.toMatrix();
     CHECK_NEAR_VEC(transformPoint(lm, {-1, -1, 0}), glm::vec3(-0.23f, 0.99f, -0.18f));
     CHECK_NEAR_VEC(transformPoint(lm, {1, -1, 0}), glm::vec3(0.23f, 0.99f, -0.18f));
@@ -281,11 +286,18 @@ TEST_CASE("The every-feature scene reads as written", "[scene_io]") {
     // Row-major in the file: the translation (5, 6, 7) is the last column.
     CHECK_NEAR_VEC(transformPoint(s.objects[2].transform.toMatrix(), {0, 0, 0}), glm::vec3(5, 6, 7));
     CHECK_NEAR_VEC(transformPoint(s.objects[2].transform.toMatrix(), {0, 0, 1}), glm::vec3(5, 4, 7));
+    CHECK_FALSE(s.objects[0].emits());
+    CHECK(s.objects[3].emission == glm::vec3(1.5f, 0.0f, 2.0f));
+    CHECK(s.objects[3].twoSided);
+    CHECK(s.objects[4].emits());
+    CHECK_FALSE(s.objects[4].twoSided);  // one-sided unless said otherwise
     CHECK(s.lights[0].twoSided);
     CHECK(s.lights[1].type == LightType::Sphere);
     CHECK(s.lights[1].radius == 0.25f);
     CHECK(s.lights[2].type == LightType::Point);
     CHECK(s.lights[3].outerAngle == 180.0f);
+    CHECK(s.lights[3].falloff == SpotFalloff::LinearAngle);
+    CHECK(s.lights[4].falloff == SpotFalloff::Smoothstep);  // the default
     CHECK(s.lights[4].direction == Light{}.direction);  // absent keys keep scene.h's defaults
     CHECK(s.environment.type == EnvironmentType::Sky);
     CHECK(s.environment.intensity == 2.5f);
@@ -441,7 +453,13 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"unknown shape", withObject(R"({"material": "red", "shape": "cone"})"), "objects[1].shape",
          "unknown value 'cone' (allowed: quad, sphere, box, mesh)"},
         {"unknown object key", withObject(R"({"material": "red", "colour": [1, 0, 0]})"), "objects[1].colour",
-         "unknown key for a 'sphere' object (allowed: name, shape, material, transform)"},
+         "unknown key for a 'sphere' object (allowed: name, shape, material, transform, emission, two_sided)"},
+        {"negative object emission", withObject(R"({"material": "red", "emission": [1, -1, 0]})"), "objects[1].emission[1]",
+         "must be >= 0, got -1"},
+        {"two_sided as a number", withObject(R"({"material": "red", "emission": [1, 1, 1], "two_sided": 0})"),
+         "objects[1].two_sided", "must be true or false, got number 0"},
+        {"emission on a mesh with its file's materials", withObject(R"({"shape": "mesh", "file": "a.obj", "emission": [1, 1, 1]})"),
+         "objects[1].emission", "cannot take an object emission"},
         {"mesh without a file", withObject(R"({"material": "red", "shape": "mesh"})"), "objects[1].file",
          "a mesh object needs a model file"},
         {"file on a sphere", withObject(R"({"material": "red", "file": "a.obj"})"), "objects[1].file",
@@ -477,6 +495,10 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
          "lights[0].outer_angle", "must be > 0, got 0"},
         {"spot outer above 180", withLight(R"({"type": "spot", "outer_angle": 181})"),
          "lights[0].outer_angle", "must be <= 180, got 181"},
+        {"unknown spot falloff", withLight(R"({"type": "spot", "falloff": "linear"})"), "lights[0].falloff",
+         "unknown value 'linear' (allowed: smoothstep, linear_angle)"},
+        {"falloff on a point light", withLight(R"({"type": "point", "falloff": "smoothstep"})"), "lights[0].falloff",
+         "unknown key for a 'point' light"},
         {"spot zero direction", withLight(R"({"type": "spot", "direction": [0, 0, 0]})"),
          "lights[0].direction", "must be non-zero"},
         {"name as number", withLight(R"({"name": 7})"), "lights[0].name", "must be a string, got number 7"},

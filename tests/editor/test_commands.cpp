@@ -96,9 +96,22 @@ TEST_CASE("dirty flags name what each kind of edit changed", "[editor]") {
     s.apply(makeSetEnvironment(s, e));
     CHECK(s.takeDirty() == kDirtyEnvironment);
 
+    s.apply(makeAddLight(s, LightType::Rect));
+    CHECK(s.takeDirty() == kDirtyLights);
     Light l = s.scene.lights[0];
     l.color *= 2.0f;
     s.apply(makeSetLight(s, 0, l));
+    CHECK(s.takeDirty() == kDirtyLights);
+
+    // An object's own emission changes the light list.
+    const int lamp = findEntity(s.scene, EntityKind::Object, "ceiling light").index;
+    REQUIRE(lamp >= 0);
+    Object emitter = s.scene.objects[static_cast<size_t>(lamp)];
+    emitter.emission *= 2.0f;
+    s.apply(makeSetObject(s, lamp, emitter));
+    CHECK(s.takeDirty() == kDirtyLights);
+    emitter.twoSided = true;
+    s.apply(makeSetObject(s, lamp, emitter));
     CHECK(s.takeDirty() == kDirtyLights);
 
     Object o = s.scene.objects[0];

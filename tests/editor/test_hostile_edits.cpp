@@ -65,12 +65,21 @@ TEST_CASE("hostile: non-finite light, camera and material values are refused", "
     EditorState s = cornell();
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::string why;
-    Light l = s.scene.lights.empty() ? Light{} : s.scene.lights[0];
-    if (!s.scene.lights.empty()) {
-        l.color.x = nan;
-        CHECK_FALSE(s.apply(makeSetLight(s, 0, l), &why));
-        CHECK(why.find("lights[0].color[0]") != std::string::npos);
-    }
+    // A light object's emission and a light's colour.
+    const int lamp = findEntity(s.scene, EntityKind::Object, "ceiling light").index;
+    REQUIRE(lamp >= 0);
+    Object emitter = s.scene.objects[static_cast<size_t>(lamp)];
+    emitter.emission.y = nan;
+    CHECK_FALSE(s.apply(makeSetObject(s, lamp, emitter), &why));
+    CHECK(why.find("objects[" + std::to_string(lamp) + "].emission[1]") != std::string::npos);
+    emitter.emission.y = -1.0f;
+    CHECK_FALSE(s.apply(makeSetObject(s, lamp, emitter), &why));
+    REQUIRE(s.apply(makeAddLight(s, LightType::Rect)));
+    Light l = s.scene.lights[0];
+    l.color.x = nan;
+    CHECK_FALSE(s.apply(makeSetLight(s, 0, l), &why));
+    CHECK(why.find("lights[0].color[0]") != std::string::npos);
+    REQUIRE(s.undo());  // the added light
     Camera c = s.scene.camera;
     c.fovDegrees = nan;
     CHECK_FALSE(s.apply(makeSetCamera(s, c), &why));

@@ -98,9 +98,17 @@ TEST_CASE("a diffuse plane under a point light and a spot light", "[gpu][integra
     const float I = 10.0f, albedo = 0.5f;
     const glm::vec3 d = lightPos - p;
     const double expected = albedo / kPi * I * (d.z / glm::length(d)) / glm::dot(d, d);
-    struct Case { LightType type; float inner, outer; double factor; };
-    // The shading point is 26.57 degrees off the spot's axis: full intensity, blended, or dark.
-    for (Case c : {Case{LightType::Point, 0, 0, 1.0}, Case{LightType::Spot, 30, 40, 1.0}, Case{LightType::Spot, 10, 20, 0.0}}) {
+    struct Case { LightType type; float inner, outer; double factor; SpotFalloff falloff = SpotFalloff::Smoothstep; };
+    // The shading point is 26.57 degrees off the spot's axis: full intensity, dark, or in the
+    // transition ring, where smoothstep in cos theta (the default) and Mitsuba's linear-in-angle
+    // falloff differ by 3.6% (docs/scene-format.md).
+    const double cosTheta = d.z / glm::length(d), theta = std::acos(cosTheta) * 180.0 / kPi;
+    const double t = (cosTheta - std::cos(glm::radians(30.0))) / (std::cos(glm::radians(20.0)) - std::cos(glm::radians(30.0)));
+    const double smooth = t * t * (3.0 - 2.0 * t), linear = (30.0 - theta) / 10.0;
+    REQUIRE(std::abs(smooth / linear - 1.0) > 0.03);  // the test can tell them apart
+    for (Case c : {Case{LightType::Point, 0, 0, 1.0}, Case{LightType::Spot, 30, 40, 1.0}, Case{LightType::Spot, 10, 20, 0.0},
+                   Case{LightType::Spot, 20, 30, smooth}, Case{LightType::Spot, 20, 30, linear, SpotFalloff::LinearAngle},
+                   Case{LightType::Spot, 30, 40, 1.0, SpotFalloff::LinearAngle}}) {
         Scene s = baseScene(8);
         s.render.maxDepth = 1;
         s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(albedo), glm::vec3(0.0f)});
@@ -116,13 +124,14 @@ TEST_CASE("a diffuse plane under a point light and a spot light", "[gpu][integra
         light.direction = glm::vec3(0, 0, -1);
         light.innerAngle = c.inner;
         light.outerAngle = c.outer;
+        light.falloff = c.falloff;
         s.lights.push_back(light);
         s.camera.position = p + glm::vec3(0, 0, 1);
         s.camera.lookAt = p;
         s.camera.fovDegrees = 0.5f;  // the image covers a spot 9 mm wide: cos/r^2 varies < 0.3%
         Film film = test::renderFilm(*renderer, s, 4);
         test::ImageStats st = test::imageStats(film);
-        INFO("light type " << int(c.type) << " inner " << c.inner);
+        INFO("light type " << int(c.type) << " inner " << c.inner << " falloff " << int(c.falloff));
         CHECK(st.mean.g == Approx(expected * c.factor).epsilon(0.005).margin(1e-6));
     }
 }

@@ -23,11 +23,12 @@
 //   - max depth = the maximum number of scattering events on a path: emission is collected at
 //     the first maxDepth + 1 surface hits (0: only emitters seen directly);
 //   - every material emits from both faces, except primitives flagged
-//     PRIM_FLAG_ONE_SIDED_EMITTER, which emit from their front only (a quad's front normal is
-//     cross(edge u, edge v); a sphere's is outward);
+//     PRIM_FLAG_ONE_SIDED_EMITTER (rect lights, objects with their own emission), which emit
+//     from their front only (a quad's front normal is cross(edge u, edge v); a sphere's is
+//     outward); an emitter also scatters by its material (the Cornell box's light is white);
 //   - every surface is two-sided Lambertian (MAT_DIFFUSE is the only material so far);
 //   - rays that leave the scene see the environment (none / constant / sky; other kinds are
-//     refused).
+//     refused); meshes are refused too.
 // Russian roulette (unbiased) shortens long paths. Delta lights (point, spot) cannot be hit by a
 // BSDF-sampled ray, so scenes with them are refused.
 //
@@ -164,6 +165,10 @@ public:
                 q.quad.gInv[2] = a / det;
             }
             m_prims.push_back(q);
+        }
+        if (!compiled.instances.empty()) {  // it would miss them silently
+            *error = "reference tracer: meshes are not supported";
+            return;
         }
         for (const Light& l : scene.lights) {
             if (l.type == LightType::Point || l.type == LightType::Spot) {
