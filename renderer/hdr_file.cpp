@@ -2,6 +2,7 @@
 
 #include "renderer/file_util.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -40,6 +41,24 @@ bool readRadianceHdr(const std::string& path, ImageData* out, std::string* error
     if (std::string why = imageSizeProblem(path, w, h, 3); !why.empty()) {
         *error = why;
         return false;
+    }
+    // The bytes the declared size needs at the least (every row in the densest encoding: flat
+    // pixels, 4 bytes each; or run-length, each of the 4 components in runs of at most 127, 2
+    // bytes a run), against what the file holds: a few bytes declaring 16384x8192 must not make
+    // the reader allocate and clear 1.6 GB before it finds out.
+    {
+        const std::streamoff here = in.tellg();
+        in.seekg(0, std::ios::end);
+        const std::streamoff end = in.tellg();
+        in.seekg(here);
+        const long long flatRow = 4LL * w;
+        const long long rleRow = 4 + 4 * 2 * ((w + 126) / 127);
+        const long long minRow = w >= 8 && w <= 0x7fff ? std::min(flatRow, rleRow) : flatRow;
+        if (here < 0 || end < 0 || !in) return fail("cannot read");
+        if (static_cast<long long>(end - here) < minRow * h)
+            return fail("truncated: declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels, which need at least " +
+                        std::to_string(minRow * h) + " bytes, but the file has " + std::to_string(end - here) +
+                        " after the header");
     }
     std::vector<std::uint8_t> scan(static_cast<size_t>(w) * 4);
     out->width = w;

@@ -19,7 +19,8 @@ struct ImageData {
 // most, no side over 65536, at most 4 channels are kept.
 inline constexpr long long kMaxImageDimension = 65536;
 inline constexpr long long kMaxImagePixels = 16384LL * 8192;
-inline constexpr int kMaxImageChannels = 64;  // what a file may declare (extra ones are still read)
+inline constexpr int kMaxImageChannels = 64;  // what a file may declare
+inline constexpr int kMaxKeptImageChannels = 4;  // what a reader keeps (the first ones: RGBA)
 
 // "" when a file declaring width x height x channels may be read, else why not:
 // "<path>: declares 100000x100000 pixels, more than the limit of 134217728 (16384x8192)".

@@ -5,6 +5,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace caustic {
@@ -104,11 +105,21 @@ bool readImage(const std::string& path, ImageData* out, std::string* error) {
             *error = why;
             return false;
         }
+        // read_image fills width x height x depth pixels: a volume (TIFF's image depth, a deep
+        // EXR) would overrun a 2D buffer, and nothing here uses one.
+        if (spec.depth > 1 || spec.deep) {
+            *error = path + ": " + (spec.deep ? std::string("a deep image") : "a volume image (depth " + std::to_string(spec.depth) + ")") +
+                     ", not a 2D image";
+            return false;
+        }
+        // At most 4 channels are kept (RGBA; what the renderer uses), so a file declaring 64
+        // channels costs no more memory than an RGBA one.
+        const int channels = std::min(spec.nchannels, kMaxKeptImageChannels);
         out->width = spec.width;
         out->height = spec.height;
-        out->channels = spec.nchannels;
-        out->pixels.assign(static_cast<size_t>(spec.width) * spec.height * spec.nchannels, 0.0f);
-        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
+        out->channels = channels;
+        out->pixels.assign(static_cast<size_t>(spec.width) * spec.height * channels, 0.0f);
+        if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
             *error = path + ": cannot decode image: " + in->geterror();
             out->pixels = {};
             return false;

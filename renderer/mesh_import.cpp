@@ -19,7 +19,23 @@
 #include <filesystem>
 #include <map>
 #include <new>
+#include <stdexcept>
 #include <system_error>
+
+// Debian's Assimp 5.2.5 is built with its internal assertions on (its defs.h defines
+// ASSIMP_BUILD_DEBUG whenever NDEBUG is not defined), and a failed one calls
+// Assimp::aiAssertViolation, which prints and aborts the process: a corrupt PLY file
+// (TriangulateProcess.cpp:238, found by tests/fuzz) killed the CLI and the editor. The library
+// calls that function through its PLT, so this definition in the program is the one bound: the
+// failed assertion becomes an exception, which Importer::ReadFile (or importMeshFile below)
+// catches, and the file is refused with a message. Assimp versions without the assertions never
+// call it.
+namespace Assimp {
+void aiAssertViolation(const char* failedExpression, const char* file, int line) {
+    throw std::runtime_error(std::string("Assimp's internal check '") + failedExpression + "' failed (" + file + ":" +
+                             std::to_string(line) + "): the file is inconsistent");
+}
+}  // namespace Assimp
 
 namespace caustic {
 
@@ -273,11 +289,10 @@ std::string implausibleHeader(const std::string& path, std::uintmax_t size) {
     if (ext != ".off" && ext != ".ply") return {};
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {};
-    char buf[4096];
-    const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+    // PLY: up to 1 MiB, to find the end of the header (below); OFF: the counts come first.
+    std::string head(ext == ".ply" ? std::size_t(1) << 20 : 4096, '\0');
+    head.resize(std::fread(head.data(), 1, head.size(), f));
     std::fclose(f);
-    buf[n] = 0;
-    const std::string head(buf, n);
     if (ext == ".off") {
         // "[ST][C][N][4][n]OFF" then (after comments) "nv nf ne".
         std::size_t pos = head.find("OFF");
@@ -305,9 +320,14 @@ std::string implausibleHeader(const std::string& path, std::uintmax_t size) {
                    " bytes can hold";
         return {};
     }
-    // PLY: "element <name> <count>" lines up to "end_header".
+    // PLY: "element <name> <count>" lines up to "end_header". Without that line Assimp 5.2's PLY
+    // reader never stops looking for it (a hang found by tests/fuzz: one corrupt byte in the
+    // line), so a header that does not end within the first MiB (or the file) is refused.
     std::size_t pos = 0;
     const std::size_t endHeader = head.find("end_header");
+    if (head.rfind("ply", 0) == 0 && endHeader == std::string::npos)
+        return path + ": the PLY header has no end_header line" +
+               (size > head.size() ? " in its first " + std::to_string(head.size()) + " bytes" : std::string());
     while ((pos = head.find("element ", pos)) != std::string::npos && pos < endHeader) {
         pos += 8;
         const std::size_t sp = head.find(' ', pos);

@@ -407,17 +407,31 @@ std::uint64_t Renderer::raysTraced() const {
     return (std::uint64_t(counters[COUNTER_RAYS_HI]) << 32) | counters[COUNTER_RAYS_LO];
 }
 
+std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel, std::size_t maxBytes) {
+    std::vector<RowBand> bands;
+    if (width <= 0 || height <= 0) return bands;
+    const std::size_t rowBytes = std::size_t(width) * bytesPerPixel;
+    const int perBand = static_cast<int>(std::clamp<std::size_t>(maxBytes / std::max<std::size_t>(rowBytes, 1), 1,
+                                                                 std::size_t(height)));
+    for (int y = 0; y < height; y += perBand) bands.push_back({y, std::min(perBand, height - y)});
+    return bands;
+}
+
 Film Renderer::readFilm() const {
     Film film;
     film.width = m_width;
     film.height = m_height;
     const size_t n = static_cast<size_t>(m_width) * m_height;
     std::vector<glm::vec4> sum(n), sumSq(n), albedo(n), normal(n);
-    const auto bytes = static_cast<GLsizei>(n * sizeof(glm::vec4));
-    glGetTextureImage(m_accum, 0, GL_RGBA, GL_FLOAT, bytes, sum.data());
-    glGetTextureImage(m_accumSq, 0, GL_RGBA, GL_FLOAT, bytes, sumSq.data());
-    glGetTextureImage(m_albedo, 0, GL_RGBA, GL_FLOAT, bytes, albedo.data());
-    glGetTextureImage(m_normal, 0, GL_RGBA, GL_FLOAT, bytes, normal.data());
+    // In bands of rows: one call's byte count is a GLsizei (readBackBands).
+    for (const RowBand& band : readBackBands(m_width, m_height, sizeof(glm::vec4))) {
+        const size_t offset = size_t(band.y0) * size_t(m_width);
+        const auto bytes = static_cast<GLsizei>(size_t(band.rows) * size_t(m_width) * sizeof(glm::vec4));
+        for (const auto& [texture, out] : {std::pair{m_accum, &sum}, std::pair{m_accumSq, &sumSq},
+                                           std::pair{m_albedo, &albedo}, std::pair{m_normal, &normal}})
+            glGetTextureSubImage(texture, 0, 0, band.y0, 0, m_width, band.rows, 1, GL_RGBA, GL_FLOAT, bytes,
+                                 out->data() + offset);
+    }
     film.mean.resize(n);
     film.varianceOfMean.resize(n);
     film.count.resize(n);

@@ -12,8 +12,19 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace caustic {
+
+// Reading an image back takes a GLsizei (32-bit) byte count, so a film larger than 2^31 bytes
+// (134 M RGBA float pixels, inside the 16384x16384 render limit) is read in bands of whole rows,
+// each at most maxBytes: the first row and the row count of each, covering [0, height) in order.
+struct RowBand {
+    int y0 = 0, rows = 0;
+};
+inline constexpr std::size_t kMaxReadBackBytes = std::size_t(1) << 30;
+std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel,
+                                   std::size_t maxBytes = kMaxReadBackBytes);
 
 class Renderer {
 public:

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (docs/reliability.md).
+#
+#   tests/sanitize.sh              configure build-asan/, build everything, run every ctest test
+#   tests/sanitize.sh -R 'cpu: '   the same, passing the arguments on to ctest
+#
+# The build uses the normal compiler (GCC) with -fsanitize=address,undefined and
+# -fno-sanitize-recover=all, so any report makes its test fail. Leaks are checked at exit
+# (LeakSanitizer); the only suppressions are third-party ones (Mesa/llvmpipe, the GL loader, OIDN's
+# TBB), listed with their reasons in tests/sanitize/lsan.supp and tests/sanitize/ubsan.supp.
+# Run after ./setup.sh (which installs the packages and fills .deps/); nothing else is needed.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${CAUSTIC_ASAN_BUILD_DIR:-$root/build-asan}"
+jobs="${CAUSTIC_JOBS:-$(nproc)}"
+flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >&2
+cmake --build "$build" -j "$jobs" >&2
+
+supp="$root/tests/sanitize"
+# detect_leaks: on (the default on x86-64 Linux, said explicitly). abort_on_error: a report kills
+# the process with SIGABRT, so no test can pass over one.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:${ASAN_OPTIONS:-}"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
+export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+cd "$build"
+ctest --output-on-failure -j "$jobs" "$@"
