@@ -323,8 +323,17 @@ std::string implausibleHeader(const std::string& path, std::uintmax_t size) {
     // PLY: "element <name> <count>" lines up to "end_header". Without that line Assimp 5.2's PLY
     // reader never stops looking for it (a hang found by tests/fuzz: one corrupt byte in the
     // line), so a header that does not end within the first MiB (or the file) is refused.
+    // The line must be exactly that (trailing blanks allowed): "end_header22e-16 ..." hangs too.
     std::size_t pos = 0;
-    const std::size_t endHeader = head.find("end_header");
+    std::size_t endHeader = std::string::npos;
+    for (std::size_t at = head.find("\nend_header"); at != std::string::npos; at = head.find("\nend_header", at + 1)) {
+        std::size_t k = at + 11;
+        while (k < head.size() && (head[k] == ' ' || head[k] == '\t' || head[k] == '\r')) ++k;
+        if (k < head.size() && head[k] == '\n') {
+            endHeader = at + 1;
+            break;
+        }
+    }
     if (head.rfind("ply", 0) == 0 && endHeader == std::string::npos)
         return path + ": the PLY header has no end_header line" +
                (size > head.size() ? " in its first " + std::to_string(head.size()) + " bytes" : std::string());

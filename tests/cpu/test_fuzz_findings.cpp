@@ -56,6 +56,9 @@ TEST_CASE("fuzz findings: a PLY header without end_header is refused instead of 
     const std::string file = dir.file("no-end.ply");
     std::ofstream(file, std::ios::binary) << kPlyCubeHeader << "d_heNaNader\n0 0 0\n0 0 1\n0 1 1\n0 1 0\n4 0 1 2 3\n";
     CHECK(importFailsInChild(file, "the PLY header has no end_header line", 60));
+    // The word glued to the data that follows hung it as well (found by fuzz_mesh).
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << kPlyCubeHeader << "end_header22e-16 0.5\n0 0 0\n";
+    CHECK(importFailsInChild(file, "the PLY header has no end_header line", 60));
 }
 
 TEST_CASE("fuzz findings: a short HDR file declaring a large image is refused before its pixels are allocated",
