@@ -109,9 +109,9 @@ TEST_CASE("Open Image Denoise reduces the error of a noisy Cornell box and keeps
     // et al. 2011), over the whole image. RMSE is over the pixels whose reference is below 1 in
     // every channel: the directly seen light (radiance ~17) and its partly covered edge pixels would
     // otherwise make up most of the sum, and they are not where the noise is.
-    struct Errors { double rmse, relMse; glm::dvec3 mean; };
+    struct Errors { double rmse, relMse; glm::dvec3 mean, dimMean; };
     auto errors = [&](const std::vector<glm::vec3>& img) {
-        Errors e{0.0, 0.0, glm::dvec3(0.0)};
+        Errors e{0.0, 0.0, glm::dvec3(0.0), glm::dvec3(0.0)};
         double dim = 0.0;
         for (size_t i = 0; i < img.size(); ++i) {
             const bool lit = glm::max(ref.mean[i].x, glm::max(ref.mean[i].y, ref.mean[i].z)) >= 1.0f;
@@ -120,6 +120,7 @@ TEST_CASE("Open Image Denoise reduces the error of a noisy Cornell box and keeps
                 const double d = double(img[i][c]) - ref.mean[i][c];
                 const double se = d * d - ref.varianceOfMean[i][c];
                 if (!lit) e.rmse += se;
+                if (!lit) e.dimMean[c] += img[i][c];
                 e.relMse += se / (double(ref.mean[i][c]) * ref.mean[i][c] + 0.01);
                 e.mean[c] += img[i][c];
             }
@@ -128,6 +129,7 @@ TEST_CASE("Open Image Denoise reduces the error of a noisy Cornell box and keeps
         e.rmse = std::sqrt(std::max(e.rmse / dim, 0.0));
         e.relMse /= 3.0 * count;
         e.mean /= count;
+        e.dimMean /= dim / 3.0;
         return e;
     };
     const Errors before = errors(noisy.mean);
@@ -154,11 +156,17 @@ TEST_CASE("Open Image Denoise reduces the error of a noisy Cornell box and keeps
         // guides; 2.8x / 6.6x with raw guides; 3.4x / 8.9x with colour alone.
         CHECK(after.rmse < (opt.prefilterGuides ? 1.0 / 3.0 : 0.5) * before.rmse);
         CHECK(after.relMse < (opt.prefilterGuides ? 1.0 / 8.0 : 0.25) * before.relMse);
-        // The mean is kept (the default, prefiltered guides; the others are reported above).
+        // The mean is kept (the default, prefiltered guides; the others are reported above):
+        // within 2% where the noise is (the pixels the RMSE counts), within 4% over the whole
+        // image, where the directly seen light (radiance ~17, a white reflecting quad since
+        // issue 13, so its albedo guide is white, not black) dominates the sum and OIDN reshapes
+        // its edge pixels (measured: -2.3% in G and B over the whole image).
         if (opt.prefilterGuides)
             for (int c = 0; c < 3; ++c) {
-                INFO("channel " << c << ": noisy mean " << before.mean[c] << ", denoised mean " << after.mean[c]);
-                CHECK(std::abs(after.mean[c] - before.mean[c]) < 0.02 * before.mean[c]);
+                INFO("channel " << c << ": noisy mean " << before.mean[c] << ", denoised mean " << after.mean[c]
+                                << "; below 1: " << before.dimMean[c] << " -> " << after.dimMean[c]);
+                CHECK(std::abs(after.dimMean[c] - before.dimMean[c]) < 0.02 * before.dimMean[c]);
+                CHECK(std::abs(after.mean[c] - before.mean[c]) < 0.04 * before.mean[c]);
             }
     }
 }
