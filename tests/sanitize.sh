@@ -24,8 +24,15 @@ cmake --build "$build" -j "$jobs" >&2
 supp="$root/tests/sanitize"
 # detect_leaks: on (the default on x86-64 Linux, said explicitly). abort_on_error: a report kills
 # the process with SIGABRT, so no test can pass over one.
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:${ASAN_OPTIONS:-}"
+# fast_unwind_on_malloc=0: Debian's libraries have no frame pointers, and without the slow
+# unwinder a leak's stack stops at the first of them, too short for the suppressions to match.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:fast_unwind_on_malloc=0:${ASAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+# Left out: the mesh import smoke, whose mutations make Assimp allocate what a corrupt count
+# declares (24-64 GB): a normal build gets std::bad_alloc and refuses the file (the smoke passes in
+# the normal suite), but under AddressSanitizer a failed throwing new always aborts
+# (docs/reliability.md, "Fuzzing"). CAUSTIC_ASAN_EXCLUDE='' runs it too.
+exclude="${CAUSTIC_ASAN_EXCLUDE-^fuzz smoke: mesh import\$}"
 cd "$build"
-ctest --output-on-failure -j "$jobs" "$@"
+ctest --output-on-failure -j "$jobs" ${exclude:+-E "$exclude"} "$@"
