@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include <map>
 
 namespace caustic::test {
@@ -81,6 +83,15 @@ ImageStats imageStats(const Film& film) {
     s.mean /= n;
     s.standardError = glm::sqrt(var) / n;
     return s;
+}
+
+void checkSameMean(const Film& a, const Film& b, double k) {
+    const ImageStats sa = imageStats(a), sb = imageStats(b);
+    for (int c = 0; c < 3; ++c) {
+        const double se = std::sqrt(sa.standardError[c] * sa.standardError[c] + sb.standardError[c] * sb.standardError[c]);
+        INFO("channel " << c << ": " << sa.mean[c] << " vs " << sb.mean[c] << ", combined standard error " << se);
+        CHECK(std::abs(sa.mean[c] - sb.mean[c]) < k * se);
+    }
 }
 
 }  // namespace caustic::test

@@ -26,5 +26,8 @@ Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission);
 // Mean over all pixels and its standard error (from the per-pixel variances), per channel.
 struct ImageStats { glm::dvec3 mean{0.0}; glm::dvec3 standardError{0.0}; };
 ImageStats imageStats(const Film& film);
+// CHECKs that two renders of the same integral have the same image mean per channel, within k
+// combined standard errors.
+void checkSameMean(const Film& a, const Film& b, double k = 4.0);
 
 }  // namespace caustic::test
