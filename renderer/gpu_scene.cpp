@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <limits>
@@ -23,7 +24,7 @@ static_assert(sizeof(GpuMaterial) == 112);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 96);
-static_assert(sizeof(GpuFrame) == 288);
+static_assert(sizeof(GpuFrame) == 304);
 static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
@@ -35,6 +36,24 @@ static_assert(offsetof(GpuFrame, envZenith) == 160);
 
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
+
+// Light areas and powers are computed in double and must fit the float the GPU uses (issue 12):
+// an area below ~1e-38 underflows to 0 and one above 3.4e38 overflows, making the light's pdf
+// (distance^2 / (cos * area)) infinite or zero. The lower bound 1e-30 leaves room for that
+// division by a small area at any distance up to 1e4; the upper 1e30 for the power pi * A * L.
+constexpr double kMinLightArea = 1e-30, kMaxLightArea = 1e30;
+
+// A selection weight as a float: saturates at the largest float instead of overflowing to
+// infinity (which would make every pmf inf / inf = NaN).
+float saturatedPower(double power) {
+    return static_cast<float>(std::min(power, double(std::numeric_limits<float>::max())));
+}
+
+std::string formatShort(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
 
 float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -248,10 +267,19 @@ struct Builder {
         out.lightBounds.push_back(bounds);
     }
 
-    void addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided) {
+    bool lightAreaFits(double area, const std::string& where) {
+        if (area >= kMinLightArea && area <= kMaxLightArea) return true;
+        *error = where + ": the emitter's area (" + formatShort(area) +
+                 ") is outside what the renderer's 32-bit floats handle (1e-30 to 1e30 square units); scale it";
+        return false;
+    }
+
+    bool addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided, const std::string& where) {
         const auto& p = out.primitives[prim];
         gpu::GpuLight l{};
-        float area = glm::length(glm::cross(glm::vec3(p.b), glm::vec3(p.c)));
+        const double areaD = glm::length(glm::cross(glm::dvec3(glm::vec3(p.b)), glm::dvec3(glm::vec3(p.c))));
+        if (!lightAreaFits(areaD, where)) return false;
+        const float area = static_cast<float>(areaD);
         l.p0 = p.a;
         l.p1 = glm::vec4(glm::vec3(p.b), area);
         l.p2 = p.c;
@@ -264,8 +292,10 @@ struct Builder {
         const glm::vec3 n = glm::cross(u, v);
         bounds.axis = glm::length(n) > 0.0f ? n / glm::length(n) : glm::vec3(0, 0, 1);
         bounds.cosThetaO = twoSided ? -1.0f : 1.0f;
-        bounds.intensity = area * luminance(radiance);
-        addLight(l, kPi * area * luminance(radiance) * (twoSided ? 2.0f : 1.0f), static_cast<int>(prim), bounds);
+        bounds.intensity = saturatedPower(areaD * luminance(radiance));
+        addLight(l, saturatedPower(kPi * areaD * luminance(radiance) * (twoSided ? 2.0 : 1.0)), static_cast<int>(prim),
+                 bounds);
+        return true;
     }
 
     // A sphere light needs a similarity transform (sampled by the cone it subtends). One-sided: it
@@ -280,6 +310,7 @@ struct Builder {
             *error = where + ": an emissive sphere must be uniformly scaled (it is sampled as a sphere light)";
             return false;
         }
+        if (!lightAreaFits(4.0 * kPi * double(sx) * sx, where)) return false;
         gpu::GpuLight l{};
         l.p0 = glm::vec4(glm::vec3(m[3]), sx);
         l.color = glm::vec4(radiance, 0);
@@ -287,8 +318,8 @@ struct Builder {
         LightBounds bounds;
         bounds.boundsMin = glm::vec3(m[3]) - sx;
         bounds.boundsMax = glm::vec3(m[3]) + sx;
-        bounds.intensity = kPi * sx * sx * luminance(radiance);
-        addLight(l, kPi * 4.0f * kPi * sx * sx * luminance(radiance), static_cast<int>(prim), bounds);
+        bounds.intensity = saturatedPower(kPi * double(sx) * sx * luminance(radiance));
+        addLight(l, saturatedPower(kPi * 4.0 * kPi * double(sx) * sx * luminance(radiance)), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -668,7 +699,7 @@ struct Builder {
                 }
                 case Shape::Quad: {
                     std::uint32_t p = addQuad(m, mat, primFlags);
-                    if (emissive) addRectLight(p, emission, twoSided);
+                    if (emissive && !addRectLight(p, emission, twoSided, where)) return false;
                     break;
                 }
                 case Shape::Box: {
@@ -685,7 +716,7 @@ struct Builder {
                     };
                     for (const glm::mat4& f : faces) {
                         std::uint32_t p = addQuad(m * f, mat, primFlags);
-                        if (emissive) addRectLight(p, emission, twoSided);
+                        if (emissive && !addRectLight(p, emission, twoSided, where)) return false;
                     }
                     break;
                 }
@@ -698,13 +729,13 @@ struct Builder {
                 case LightType::Rect: {
                     std::uint32_t p = addQuad(L.transform.toMatrix(), internalMaterial(L.color),
                                               L.twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER);
-                    addRectLight(p, L.color, L.twoSided);
+                    if (!addRectLight(p, L.color, L.twoSided, where + ".transform")) return false;
                     break;
                 }
                 case LightType::Sphere: {
                     glm::mat4 m = glm::scale(glm::translate(glm::mat4(1.0f), L.position), glm::vec3(L.radius));
                     std::uint32_t p = addSphere(m, internalMaterial(L.color));
-                    if (!addSphereLight(p, m, L.color, where)) return false;
+                    if (!addSphereLight(p, m, L.color, where + ".radius")) return false;
                     break;
                 }
                 case LightType::Point:
@@ -719,7 +750,9 @@ struct Builder {
                         // smoothstep needs edge0 < edge1.
                         if (cosInner <= cosOuter) cosInner = cosOuter + 1e-6f;
                         const float outer = glm::radians(L.outerAngle), inner = glm::radians(L.innerAngle);
-                        l.p1 = glm::vec4(glm::normalize(L.direction), cosOuter);
+                        // Normalised in double: a direction as short as 1e-44 (a float denormal)
+                        // has a length whose square underflows in float.
+                        l.p1 = glm::vec4(glm::vec3(glm::normalize(glm::dvec3(L.direction))), cosOuter);
                         l.p2 = glm::vec4(outer, inner, 0, cosInner);
                         if (L.falloff == SpotFalloff::Smoothstep) {
                             // PBRT 4th ed. eq. 12.3 (the smoothstep falloff's approximate power).
@@ -777,6 +810,16 @@ struct Builder {
                 *error = "environment.file: " + why;
                 return false;
             }
+            // The same bound as the scene reader's on emitted radiance (renderer/scene_io.cpp,
+            // kMaxRadiance: the film's float sums of squares stay finite).
+            float brightest = 0.0f;
+            for (size_t k = 0; k < image.pixels.size(); ++k)
+                if (image.channels < 4 || k % 4 != 3) brightest = std::max(brightest, image.pixels[k]);
+            if (double(brightest) * env.intensity > 1e12) {
+                *error = "environment.file: " + file.string() + ": the brightest texel (" + formatShort(brightest) +
+                         ") times the intensity exceeds 1e12, the most a channel may emit";
+                return false;
+            }
         }
         if (env.type != EnvironmentType::None) {
             glm::vec3 average = env.type == EnvironmentType::Constant ? env.radiance
@@ -785,15 +828,17 @@ struct Builder {
                                     // mean of sqrt(y) over the upper half (y uniform) is 2/3.
                                     : env.horizon + (env.zenith - env.horizon) / 3.0f;
             average *= env.intensity;
-            float radius = 0.5f * glm::length(out.boundsMax - out.boundsMin);
-            radius = std::max(radius, 1e-3f);
+            // In double: the bounds of an object at 1e19 give a radius whose square, times pi^2,
+            // overflows a float (the pmfs became inf / inf = NaN).
+            double radius = 0.5 * glm::length(glm::dvec3(out.boundsMax) - glm::dvec3(out.boundsMin));
+            radius = std::max(radius, 1e-3);
             gpu::GpuLight l{};
             l.info = glm::uvec4(LIGHT_ENV, 0, 0, 0);
             out.envLightIndex = static_cast<int>(out.lights.size());
             // Power an infinite light delivers into the scene's bounding sphere: pi * pi r^2 * L
             // (power selection). The light tree weighs it by the irradiance it gives a surface,
             // pi * L, in the same unit as a tree node's importance (lights/light_select.glsl).
-            addLight(l, kPi * kPi * radius * radius * luminance(average), -1, LightBounds{});
+            addLight(l, saturatedPower(kPi * kPi * radius * radius * luminance(average)), -1, LightBounds{});
             out.envImportance = kPi * luminance(average);
         }
         // The light tree over every other light.
@@ -1084,9 +1129,13 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     gpu::GpuFrame f{};
     const Camera& c = scene.camera;
     const int w = scene.render.width, h = scene.render.height;
-    glm::vec3 forward = glm::normalize(c.lookAt - c.position);
-    glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
-    glm::vec3 up = glm::cross(right, forward);
+    // The basis in double, then rounded: in float, an up or view vector as short as 1e-30 (its
+    // squared length underflows) or a view between points near +-3e38 (the difference overflows)
+    // normalised to NaN and the image was black.
+    const glm::dvec3 forwardD = glm::normalize(glm::dvec3(c.lookAt) - glm::dvec3(c.position));
+    const glm::dvec3 rightD = glm::normalize(glm::cross(forwardD, glm::normalize(glm::dvec3(c.up))));
+    glm::vec3 forward(forwardD), right(rightD);
+    glm::vec3 up(glm::cross(rightD, forwardD));
     if (c.rollDegrees != 0.0f) {  // turn the image counter-clockwise by the roll angle
         const float r = glm::radians(c.rollDegrees);
         const glm::vec3 r2 = std::cos(r) * right + std::sin(r) * up;
@@ -1114,8 +1163,9 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.envInfo = glm::uvec4(envType, compiled.envMap.width, compiled.envMap.height, compiled.envMap.tableScale);
     const float rot = glm::radians(env.rotation);
     f.envMap = glm::vec4(std::cos(rot), std::sin(rot), env.intensity, 0);
-    float focal = c.focalDistance > 0.0f ? c.focalDistance : glm::length(c.lookAt - c.position);
-    if (c.focusPoint) focal = glm::dot(*c.focusPoint - c.position, forward);
+    float focal = c.focalDistance > 0.0f ? c.focalDistance
+                                         : static_cast<float>(glm::length(glm::dvec3(c.lookAt) - glm::dvec3(c.position)));
+    if (c.focusPoint) focal = static_cast<float>(glm::dot(glm::dvec3(*c.focusPoint) - glm::dvec3(c.position), forwardD));
     f.camLens = glm::vec4(c.apertureRadius, focal, c.squeeze, glm::radians(c.bladeRotationDegrees));
     const std::uint32_t filter = scene.render.filter == PixelFilter::Tent       ? FILTER_TENT
                                  : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
@@ -1133,6 +1183,15 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
                             compiled.lightTree.nodes.size());
     f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
+    // The ray offset's floor (geometry/intersect.glsl): the largest coordinate magnitude of the
+    // scene and the camera, at most 1, so a scene of size 1 or more keeps the floor 1 and a
+    // scene scaled down keeps its offsets in proportion (issue 12: the Cornell box at 1e-4 was 22%
+    // darker with a fixed floor). In double: bounds may reach 1e19 and beyond.
+    double extent = 0.0;
+    for (const glm::vec3& v : {compiled.boundsMin, compiled.boundsMax, c.position})
+        for (int k = 0; k < 3; ++k)
+            if (std::isfinite(v[k])) extent = std::max(extent, std::abs(double(v[k])));
+    f.rayOffset = glm::vec4(static_cast<float>(std::clamp(extent, 1e-30, 1.0)), 0, 0, 0);
     packTables(compiled, &f.tables);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);

@@ -161,6 +161,23 @@ constexpr Range between(double min, double max) {
     return range;
 }
 
+// Limits that keep the renderer's 32-bit float arithmetic finite (issue 12; docs/reliability.md):
+//  - positions of the camera and of lights within +-1e18: the shaders square distances between
+//    them and surfaces (a distance up to 3.5e18 squared is 1.2e37, below FLT_MAX = 3.4e38);
+//  - emitted radiance (and light intensity) at most 1e12 per channel, about 600 times the sun's
+//    luminance: the film sums squared samples in float, (1e12)^2 times 2^24 samples is 1.7e31;
+//  - a custom conductor's eta within [1e-3, 1e3] and k within [0, 1e3]: the complex Fresnel
+//    equations divide by |eta + ik|^4 (at k = 1e38 it was inf / inf); at k = 1e3 a conductor
+//    already reflects all but 4e-6 of the light.
+constexpr double kMaxCoordinate = 1e18;
+constexpr double kMaxRadiance = 1e12;
+constexpr Range coordinate() {
+    Range range;
+    range.min = -kMaxCoordinate;
+    range.max = kMaxCoordinate;
+    return range;
+}
+
 constexpr Range nonZero() {
     Range range;
     range.nonZero = true;
@@ -629,8 +646,8 @@ Json toJson(const Transform& t) {
 
 const Fields<Camera>& cameraFields() {
     static const Fields<Camera> kFields = {
-        field("position", &Camera::position),
-        field("look_at", &Camera::lookAt),
+        field("position", &Camera::position, coordinate()),
+        field("look_at", &Camera::lookAt, coordinate()),
         field("up", &Camera::up),
         field("fov", &Camera::fovDegrees, [] {
             Range r = between(0.0, 180.0);
@@ -641,7 +658,7 @@ const Fields<Camera>& cameraFields() {
         field("roll", &Camera::rollDegrees),
         field("aperture_radius", &Camera::apertureRadius, atLeast(0.0)),
         field("focal_distance", &Camera::focalDistance, atLeast(0.0)),
-        optionalField("focus_point", &Camera::focusPoint),
+        optionalField("focus_point", &Camera::focusPoint, coordinate()),
         field("squeeze", &Camera::squeeze, [] {
             Range r = atLeast(0.0);
             r.minExclusive = true;
@@ -724,7 +741,7 @@ const Fields<Material>& materialFields(MaterialType type) {
     };
     // Every type may emit and carry textures.
     static const Fields<Material> kTail = {
-        field("emission", &Material::emission, atLeast(0.0)),
+        field("emission", &Material::emission, between(0.0, kMaxRadiance)),
         optionalFile("albedo_texture", &Material::albedoTexture),
         optionalFile("normal_texture", &Material::normalTexture),
         optionalFile("roughness_texture", &Material::roughnessTexture),
@@ -759,8 +776,8 @@ const Fields<Material>& materialFields(MaterialType type) {
     }), kTail);
     static const Fields<Material> kConductor = concat(concat(kCommon, {
         field("metal", &Material::metal),
-        customMetalField("eta", &Material::eta, greaterThan(0.0)),
-        customMetalField("k", &Material::k, atLeast(0.0)),
+        customMetalField("eta", &Material::eta, between(1e-3, 1e3)),
+        customMetalField("k", &Material::k, between(0.0, 1e3)),
         field("tint", &Material::tint, unit),
         field("roughness", &Material::roughness, unit),
         field("energy_compensation", &Material::energyCompensation),
@@ -816,7 +833,7 @@ const Fields<Object>& objectFields(Shape shape) {
         field("shape", &Object::shape),
         field("material", &Object::material),
         field("transform", &Object::transform),
-        whenEmitting(field("emission", &Object::emission, atLeast(0.0))),
+        whenEmitting(field("emission", &Object::emission, between(0.0, kMaxRadiance))),
         whenEmitting(field("two_sided", &Object::twoSided)),
     };
     static const Fields<Object> kMesh = concat(kFields, {field("file", &Object::file)});
@@ -840,21 +857,21 @@ const Fields<Light>& lightFields(LightType type) {
     static const Fields<Light> kCommon = {
         nameField(&Light::name),
         field("type", &Light::type),
-        field("color", &Light::color, atLeast(0.0)),
+        field("color", &Light::color, between(0.0, kMaxRadiance)),
     };
     static const Fields<Light> kRect = concat(kCommon, {
         field("transform", &Light::transform),
         field("two_sided", &Light::twoSided),
     });
     static const Fields<Light> kSphere = concat(kCommon, {
-        field("position", &Light::position),
+        field("position", &Light::position, coordinate()),
         field("radius", &Light::radius, greaterThan(0.0)),
     });
     static const Fields<Light> kPoint = concat(kCommon, {
-        field("position", &Light::position),
+        field("position", &Light::position, coordinate()),
     });
     static const Fields<Light> kSpot = concat(kCommon, {
-        field("position", &Light::position),
+        field("position", &Light::position, coordinate()),
         field("direction", &Light::direction),
         field("inner_angle", &Light::innerAngle, between(0.0, 180.0)),
         field("outer_angle", &Light::outerAngle, [] {
@@ -895,18 +912,19 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
         field("type", &Environment::type),
     };
     static const Fields<Environment> kConstant = concat(kNone, {
-        field("radiance", &Environment::radiance, atLeast(0.0)),
-        field("intensity", &Environment::intensity, atLeast(0.0)),
+        field("radiance", &Environment::radiance, between(0.0, kMaxRadiance)),
+        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
     });
     static const Fields<Environment> kSky = concat(kNone, {
-        field("horizon", &Environment::horizon, atLeast(0.0)),
-        field("zenith", &Environment::zenith, atLeast(0.0)),
-        field("intensity", &Environment::intensity, atLeast(0.0)),
+        // Read (and checked) by readValue before the other keys, never written: a saved scene
+        field("horizon", &Environment::horizon, between(0.0, kMaxRadiance)),
+        field("zenith", &Environment::zenith, between(0.0, kMaxRadiance)),
+        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
     });
     static const Fields<Environment> kMap = concat(kNone, {
         field("file", &Environment::file),
         field("rotation", &Environment::rotation),
-        field("intensity", &Environment::intensity, atLeast(0.0)),
+        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
     });
     switch (type) {
     case EnvironmentType::None: return kNone;
@@ -919,6 +937,15 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
 
 void readValue(const Json& value, const std::string& path, Environment& out, const Range&) {
     readTyped(value, path, out, &Environment::type, environmentFields, "environment");
+    // The product is what the shaders use (times a map's texels, which the compiler checks).
+    const glm::dvec3 c = out.type == EnvironmentType::Constant ? glm::dvec3(out.radiance)
+                         : out.type == EnvironmentType::Sky
+                             ? glm::max(glm::dvec3(out.horizon), glm::dvec3(out.zenith))
+                             : glm::dvec3(0.0);
+    const double peak = std::max({c.x, c.y, c.z}) * double(out.intensity);
+    if (peak > kMaxRadiance)
+        fail(member(path, "intensity"), "times the radiance gives " + formatNumber(peak) + ", more than " +
+                                            formatNumber(kMaxRadiance) + " (the most a channel may emit)");
 }
 
 Json toJson(const Environment& environment) {

@@ -123,10 +123,20 @@ bool sceneOccluded(Ray r, float tMax) {
     return traceScene(r.o, r.d, tMax, true, th);
 }
 
-// Offsets a ray origin off the surface on the side of `dir`, by an amount that grows with the
-// magnitude of the position (float spacing), so secondary rays do not re-hit their own surface.
+// Offsets a ray origin off the surface on the side of `dir`, so secondary rays do not re-hit their
+// own surface. The error of a computed hit point grows with the magnitude of the numbers it was
+// computed from, so the offset is relative to the hit's largest coordinate (about 840 to 1700
+// float spacings of it), as in Waechter and Binder 2019, "A Fast and Robust Method for Avoiding
+// Self-Intersection" (Ray Tracing Gems, ch. 6). Near the origin the hit's own magnitude says
+// little (a point near 0 computed as o + t d carries the error of o and t d), so it needs a floor.
+// Waechter and Binder switch to a fixed offset (1/65536) below 1/32, which assumes a scene of size
+// about 1, as did the fixed floor used here before, which made a Cornell box scaled by 1e-4
+// render 22% darker (its light sits 1e-6 below the ceiling). Here the
+// floor is the scene's own scale (frame.rayOffset.x: its largest coordinate and the camera's, at
+// most 1; renderer/gpu_scene.cpp, makeFrame), so scaling a whole scene scales its offsets and
+// scenes of size 1 or more offset exactly as before.
 vec3 offsetRayOrigin(vec3 p, vec3 ng, vec3 dir) {
-    float eps = 1e-4 * max(1.0, maxComponent(abs(p)));
+    float eps = 1e-4 * max(frame.rayOffset.x, maxComponent(abs(p)));
     return p + (dot(ng, dir) >= 0.0 ? eps : -eps) * ng;
 }
 

@@ -251,6 +251,8 @@ CAUSTIC_STRUCT(GpuFrame) {
     uvec4 sampling;    // x: SAMPLER_*, y: LIGHT_SELECT_*, z: RR_*, w: light tree nodes (0: none)
     vec4 envSelect;    // x: the environment's importance for light selection (its irradiance,
                        //    pi * mean luminance), y: 1 when every light is an environment
+    vec4 rayOffset;    // x: the scale below which ray offsets stop shrinking with the hit's
+                       //    magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
 };
 
 #ifdef __cplusplus

@@ -346,3 +346,122 @@ TEST_CASE("hostile: --set with an index past any array says so", "[hostile][scen
                              std::to_string(loadScene(kCornellBox).scene->objects.size()) + ")");
     }
 }
+
+// ---- 7. Valid numbers that 32-bit floats cannot carry -----------------------------------------------
+// Each of these rendered a black or NaN image with exit 0 (issue 12, item 5); each is now either
+// refused naming the JSON path or computed in double so that it renders correctly.
+
+namespace {
+
+std::string parseError(const std::string& body) {
+    const SceneLoadResult r = parseScene(R"({"version": 1, )" + body + "}", "s.json");
+    return r ? std::string("loaded") : r.error;
+}
+
+std::string compileError(const Scene& scene) {
+    CompiledScene compiled;
+    std::string error;
+    if (compileScene(scene, nullptr, &compiled, &error)) return "compiled";
+    return error;
+}
+
+Scene withLight(const Light& light) {
+    Scene s = *loadScene(kCornellBox).scene;
+    s.lights.push_back(light);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("hostile: parameters beyond what the renderer's floats carry are refused, naming the JSON path", "[hostile][scene_io]") {
+    CHECK(parseError(R"("materials": [{"name": "m", "type": "conductor", "metal": "custom", "k": [1e38, 1, 1]}])") ==
+          "s.json: materials[0].k[0]: must be <= 1000, got 1e+38");
+    CHECK(parseError(R"("materials": [{"name": "m", "type": "conductor", "metal": "custom", "eta": [1e-9, 1, 1]}])") ==
+          "s.json: materials[0].eta[0]: must be >= 0.001, got 1e-09");
+    CHECK(parseError(R"("environment": {"type": "constant", "radiance": [3e38, 1, 1]})") ==
+          "s.json: environment.radiance[0]: must be <= 1e+12, got 3e+38");
+    CHECK(parseError(R"("environment": {"type": "constant", "radiance": [1e10, 1, 1], "intensity": 1e10})").find(
+              "s.json: environment.intensity: times the radiance gives 1e+20, more than 1e+12") == 0);
+    CHECK(parseError(R"("materials": [{"name": "m", "emission": [0, 3e38, 0]}])") ==
+          "s.json: materials[0].emission[1]: must be <= 1e+12, got 3e+38");
+    CHECK(parseError(R"("camera": {"position": [0, 0, 3e38]})") == "s.json: camera.position[2]: must be <= 1e+18, got 3e+38");
+    CHECK(parseError(R"("camera": {"position": [0, 0, 1], "look_at": [-3e38, 0, 0]})") ==
+          "s.json: camera.look_at[0]: must be >= -1e+18, got -3e+38");
+    CHECK(parseError(R"("lights": [{"type": "point", "position": [2e19, 0, 0]}])") ==
+          "s.json: lights[0].position[0]: must be <= 1e+18, got 2e+19");
+    CHECK(parseError(R"("lights": [{"type": "sphere", "color": [1e13, 1, 1]}])") ==
+          "s.json: lights[0].color[0]: must be <= 1e+12, got 1e+13");
+    // The limits themselves are accepted.
+    CHECK(parseError(R"("camera": {"position": [0, 0, 1e18]}, "environment": {"type": "constant", "radiance": [1e12, 0, 0]})") ==
+          "loaded");
+}
+
+TEST_CASE("hostile: an emitter whose area underflows or overflows a float is refused, naming the JSON path", "[hostile][gpu_scene]") {
+    Light rect;
+    rect.type = LightType::Rect;
+    for (float scale : {1e-25f, 1e20f}) {
+        INFO(scale);
+        rect.transform.scale = glm::vec3(scale);
+        CHECK(compileError(withLight(rect)).find("lights[0].transform: the emitter's area (") == 0);
+    }
+    rect.transform.scale = glm::vec3(1e-6f);  // area 4e-12: fine
+    CHECK(compileError(withLight(rect)) == "compiled");
+    Light sphere;
+    sphere.type = LightType::Sphere;
+    sphere.radius = 9e18f;
+    CHECK(compileError(withLight(sphere)).find("lights[0].radius: the emitter's area (1.02e+39)") == 0);
+    // An emitting object: the Cornell box's own light scaled down 1e-20 (area 1.7e-41).
+    Scene s = *loadScene(kCornellBox).scene;
+    s.objects.back().transform.scale *= 1e-20f;
+    CHECK(compileError(s).find("objects[7]: the emitter's area (") == 0);
+}
+
+TEST_CASE("hostile: an object far away (1e30) with an environment keeps every light's pmf finite", "[hostile][gpu_scene]") {
+    Scene s = *loadScene(kCornellBox).scene;
+    Object far = s.objects[0];
+    far.transform.translate = glm::vec3(1e30f, 0.0f, 0.0f);
+    s.objects.push_back(far);
+    s.environment.type = EnvironmentType::Constant;
+    s.environment.radiance = glm::vec3(0.2f);
+    s.render.lightSelection = LightSelection::Power;
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, nullptr, &c, &error));
+    double sum = 0.0;
+    for (const auto& l : c.lights) {
+        CHECK(std::isfinite(l.color.w));
+        sum += l.color.w;
+    }
+    CHECK(sum == Approx(1.0));
+    for (float v : c.lightCdf) CHECK(std::isfinite(v));
+    // The environment's radius (5e29) squared saturates at the largest float: it takes almost all
+    // the probability, the ceiling light keeps a positive share.
+    REQUIRE(c.envLightIndex >= 0);
+    CHECK(c.lights[size_t(c.envLightIndex)].color.w > 0.99f);
+    for (size_t i = 0; i < c.lights.size(); ++i)
+        if (int(i) != c.envLightIndex) CHECK(c.lights[i].color.w > 0.0f);
+}
+
+TEST_CASE("hostile: a camera up or view vector of length 1e-30 and a spot direction of 1e-44 give a finite unit basis", "[hostile][gpu_scene]") {
+    Scene s = *loadScene(kCornellBox).scene;
+    s.camera.up = glm::vec3(0.0f, 1e-30f, 0.0f);
+    s.camera.position = glm::vec3(0.0f);
+    s.camera.lookAt = glm::vec3(0.0f, 0.0f, -1e-30f);
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.direction = glm::vec3(0.0f, -1e-44f, 0.0f);
+    s.lights.push_back(spot);
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, nullptr, &c, &error));
+    const gpu::GpuFrame f = makeFrame(s, c, 0);
+    auto unit = [](glm::vec4 v) { return std::abs(glm::length(glm::vec3(v)) - 1.0f) < 1e-5f; };
+    CHECK(unit(f.camForward));
+    CHECK(f.camForward.z == Approx(-1.0f));
+    CHECK(glm::normalize(glm::vec3(f.camUp)).y == Approx(1.0f));
+    CHECK(glm::normalize(glm::vec3(f.camRight)).x == Approx(1.0f));
+    CHECK(std::isfinite(f.camLens.y));
+    const gpu::GpuLight& l = c.lights.back();
+    CHECK(unit(glm::vec4(glm::vec3(l.p1), 0.0f)));
+    CHECK(l.p1.y == Approx(-1.0f));
+}

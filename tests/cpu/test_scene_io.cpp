@@ -88,7 +88,7 @@ const char* kEverything = R"({
   "render": { "width": 17, "height": 3000, "samples": 16777216, "max_depth": 0,
               "seed": 4294967295, "light_selection": "uniform" },
   "materials": [
-    { "name": "a", "type": "diffuse", "albedo": [0.1, 0.2, 0.3], "emission": [0, 1e-7, 3.4e38] },
+    { "name": "a", "type": "diffuse", "albedo": [0.1, 0.2, 0.3], "emission": [0, 1e-7, 1e12] },
     { "name": "b", "albedo": [1, 0, 0.333333343] }
   ],
   "objects": [
@@ -278,7 +278,7 @@ TEST_CASE("The every-feature scene reads as written", "[scene_io]") {
     CHECK(s.render.maxDepth == 0);
     CHECK(s.render.lightSelection == LightSelection::Uniform);
     CHECK(s.materials[1].type == MaterialType::Diffuse);
-    CHECK(s.materials[0].emission.z == 3.4e38f);
+    CHECK(s.materials[0].emission.z == 1e12f);
     CHECK(s.objects[0].transform.scale == glm::vec3(0.5f));
     CHECK(s.objects[1].name.empty());
     CHECK(s.objects[1].transform.scale == glm::vec3(2, -3, 1e-3f));
@@ -325,12 +325,14 @@ TEST_CASE("Floats survive the round trip bit for bit", "[scene_io]") {
         Material m;
         m.name = "m" + std::to_string(i);
         m.albedo = {unit(rng), unit(rng), std::nextafter(1.0f, 0.0f)};
-        m.emission = {std::pow(10.0f, exponent(rng)), std::numeric_limits<float>::denorm_min(),
-                      std::numeric_limits<float>::max()};
+        // Emission stays within its limit (1e12); the largest float goes through a translation.
+        m.emission = {std::pow(10.0f, 0.4f * exponent(rng)), std::numeric_limits<float>::denorm_min(),
+                      std::nextafter(1e12f, 0.0f)};
         scene.materials.push_back(m);
         Object o;
         o.material = m.name;
-        o.transform.translate = {-std::pow(10.0f, exponent(rng)), unit(rng) * 1000.0f, 0.1f};
+        o.transform.translate = {-std::pow(10.0f, exponent(rng)), unit(rng) * 1000.0f,
+                                 i == 0 ? std::numeric_limits<float>::max() : 0.1f};
         o.transform.rotate = {unit(rng) * 360.0f - 180.0f, -0.0f, 1e-30f};
         scene.objects.push_back(o);
     }

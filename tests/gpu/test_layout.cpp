@@ -113,6 +113,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_FRAME(geometry);
     CHECK_FRAME(sampling);
     CHECK_FRAME(envSelect);
+    CHECK_FRAME(rayOffset);
     CHECK_FRAME(tables);
 #undef CHECK_FRAME
 }
