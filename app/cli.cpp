@@ -1,5 +1,7 @@
 #include "app/cli.h"
 
+#include "renderer/scene.h"
+
 #include <charconv>
 #include <optional>
 #include <functional>
@@ -45,7 +47,10 @@ options:
                         contact sheet <scene>-sheet.png with a labelled cell per variant
   --strategy <s>        mis (default), light or bsdf: direct lighting by multiple importance
                         sampling, or by one strategy alone (all three converge to the same image)
-  --sky                 replace the scene's environment with the procedural sky
+  --sky                 replace the scene's environment with the procedural sky (its default
+                        look: a white horizon to a blue zenith, a key light)
+  --sky-preset <name>   the same with a named look: default, or original (a dark teal horizon
+                        to a white zenith, scaled down to fill light); see docs/scene-format.md
   --envmap <file.hdr>   light the scene with an equirectangular HDR environment map (wins
                         over --sky and the scene's own environment)
   --oidn                denoise with Intel Open Image Denoise (filter RT, HDR, albedo and normal
@@ -133,6 +138,17 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
         {"--envmap", [&](const std::string& v, std::string* why) {
              if (v.empty()) { *why = "expected an image file, got ''"; return false; }
              o.envmap = v;
+             return true;
+         }},
+        {"--sky-preset", [&](const std::string& v, std::string* why) {
+             if (!findSkyPreset(v)) {
+                 std::string names;
+                 for (const SkyPreset& p : skyPresets()) names += (names.empty() ? "" : ", ") + std::string(p.name);
+                 *why = "expected " + names + ", got '" + v + "'";
+                 return false;
+             }
+             o.skyPreset = v;
+             o.sky = true;
              return true;
          }},
         {"--oidn-guides", [&](const std::string& v, std::string* why) {

@@ -25,6 +25,7 @@ struct CliOptions {
     std::string oidnGuides = "prefilter";    // --oidn-guides: prefilter | raw | none
     bool half = false;                       // --half: EXR channels as 16-bit half floats
     std::optional<std::string> envmap;
+    std::optional<std::string> skyPreset;    // --sky-preset: a named sky look (implies --sky)
     bool help = false, version = false;
 };
 

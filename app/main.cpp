@@ -151,6 +151,7 @@ void applyFlags(const CliOptions& o, Scene& scene) {
     } else if (o.sky) {
         scene.environment = Environment{};
         scene.environment.type = EnvironmentType::Sky;
+        if (o.skyPreset) applySkyPreset(*findSkyPreset(*o.skyPreset), scene.environment);  // checked by parseCli
     }
 }
 

@@ -22,4 +22,30 @@ const Material* Scene::findMaterial(const std::string& name) const {
     return nullptr;
 }
 
+std::span<const SkyPreset> skyPresets() {
+    // "original": the original renderer's sky as its issue describes it (a dark teal horizon, a
+    // white zenith, scaled down to fill light); its exact numbers are not in this repository, so
+    // these are chosen to match that description: the horizon a dark teal (linear 0.1, 0.3, 0.35
+    // reads as sRGB (89, 149, 160) before tone mapping), the zenith white, and intensity 0.3, which
+    // puts the zenith's radiance at 0.3 and the horizon's at (0.03, 0.09, 0.105).
+    static constexpr SkyPreset kPresets[] = {
+        {"default", {1.0f, 1.0f, 1.0f}, {0.3f, 0.5f, 1.0f}, 1.0f},
+        {"original", {0.1f, 0.3f, 0.35f}, {1.0f, 1.0f, 1.0f}, 0.3f},
+    };
+    return kPresets;
+}
+
+const SkyPreset* findSkyPreset(std::string_view name) {
+    for (const SkyPreset& p : skyPresets())
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+void applySkyPreset(const SkyPreset& preset, Environment& env) {
+    env.type = EnvironmentType::Sky;
+    env.horizon = preset.horizon;
+    env.zenith = preset.zenith;
+    env.intensity = preset.intensity;
+}
+
 }  // namespace caustic

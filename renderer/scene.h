@@ -7,7 +7,9 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace caustic {
@@ -168,6 +170,23 @@ struct Environment {
 struct Scene {
     int version = kSceneVersion;
     Camera camera;
+// Named looks of the sky (docs/scene-format.md, "environment"): a preset is a shorthand for the
+// sky's horizon, zenith and intensity, applied when a scene is read (`"preset"`, then any of the
+// three keys the file gives override it) or by `caustic --sky-preset`; it is not stored, so a
+// saved scene holds the values. "default" is Environment's own sky (a white horizon to a blue
+// zenith at full strength: a key light); "original" is the original renderer's look, a dark teal
+// horizon to a white zenith scaled down to read as fill light.
+struct SkyPreset {
+    std::string_view name;
+    glm::vec3 horizon;
+    glm::vec3 zenith;
+    float intensity;
+};
+std::span<const SkyPreset> skyPresets();
+const SkyPreset* findSkyPreset(std::string_view name);   // null when there is none of that name
+// Makes env a sky with the preset's horizon, zenith and intensity (other members untouched).
+void applySkyPreset(const SkyPreset& preset, Environment& env);
+
     RenderSettings render;
     std::vector<Material> materials;
     std::vector<Object> objects;

@@ -918,6 +918,8 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
     static const Fields<Environment> kSky = concat(kNone, {
         // Read (and checked) by readValue before the other keys, never written: a saved scene
         field("horizon", &Environment::horizon, between(0.0, kMaxRadiance)),
+        // holds the preset's values instead.
+        {"preset", [](const Json&, const std::string&, Environment&) {}, {}, {}},
         field("zenith", &Environment::zenith, between(0.0, kMaxRadiance)),
         field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
     });
@@ -937,6 +939,21 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
 
 void readValue(const Json& value, const std::string& path, Environment& out, const Range&) {
     readTyped(value, path, out, &Environment::type, environmentFields, "environment");
+    // A sky preset first, so that the horizon, zenith or intensity the file gives override it
+    // wherever they stand. "preset" on another type is left to readTyped's unknown-key error.
+    const auto type = value.is_object() ? value.find("type") : value.end();
+    const bool sky = type != value.end() ? *type == "sky" : out.type == EnvironmentType::Sky;
+    if (const auto preset = value.is_object() ? value.find("preset") : value.end(); sky && preset != value.end()) {
+        std::string name;
+        readValue(*preset, member(path, "preset"), name, kAnyValue);
+        const SkyPreset* found = findSkyPreset(name);
+        if (!found) {
+            std::vector<std::string> names;
+            for (const SkyPreset& p : skyPresets()) names.emplace_back(p.name);
+            fail(member(path, "preset"), "unknown value '" + name + "' (allowed: " + join(names) + ")");
+        }
+        applySkyPreset(*found, out);
+    }
     // The product is what the shaders use (times a map's texels, which the compiler checks).
     const glm::dvec3 c = out.type == EnvironmentType::Constant ? glm::dvec3(out.radiance)
                          : out.type == EnvironmentType::Sky

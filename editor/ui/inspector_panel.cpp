@@ -351,6 +351,15 @@ void environmentInspector(EditorUi& ui) {
         case EnvironmentType::Sky:
             e.track(ImGui::ColorEdit3("Horizon", &env.horizon.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR));
             e.track(ImGui::ColorEdit3("Zenith", &env.zenith.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR));
+            // The named looks (docs/scene-format.md): one click sets horizon, zenith and intensity.
+            ImGui::TextUnformatted("Preset:");
+            for (const SkyPreset& preset : skyPresets()) {
+                ImGui::SameLine();
+                if (ImGui::SmallButton(std::string(preset.name).c_str())) {
+                    applySkyPreset(preset, env);
+                    e.changed = e.seal = true;
+                }
+            }
             break;
         case EnvironmentType::Map: {
             static char file[512];

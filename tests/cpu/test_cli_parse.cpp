@@ -112,6 +112,20 @@ TEST_CASE("parseCli: a switch given a value is an error", "[cli]") {
     CHECK(contains(parseError({"--png=yes"}), "takes no value"));
 }
 
+TEST_CASE("parseCli: --sky-preset names a look and implies --sky", "[cli]") {
+    const CliOptions o = parseOk({"--sky-preset", "original"});
+    CHECK(o.sky);
+    REQUIRE(o.skyPreset);
+    CHECK(*o.skyPreset == "original");
+    CHECK(parseOk({"--sky-preset=default"}).skyPreset == std::optional<std::string>("default"));
+    CHECK_FALSE(parseOk({"--sky"}).skyPreset);
+    const std::string e = parseError({"--sky-preset", "dusk"});
+    CHECK(contains(e, "--sky-preset"));
+    CHECK(contains(e, "'dusk'"));
+    CHECK(contains(e, "default, original"));
+    CHECK(contains(cliUsage(), "--sky-preset"));
+}
+
 TEST_CASE("parseCli: later values override earlier ones", "[cli]") {
     const CliOptions o = parseOk({"--samples", "4", "--samples=9"});
     CHECK(o.samples == 9);

@@ -316,6 +316,31 @@ TEST_CASE("Absent keys take the defaults of scene.h", "[scene_io]") {
     CHECK(mustParse(R"({"version": 1, "render": {"width": 1e3, "height": 20.0}})").render.width == 1000);
 }
 
+TEST_CASE("A sky preset sets horizon, zenith and intensity; the file's own keys override it", "[scene_io]") {
+    const Scene original = mustParse(R"({"version": 1, "environment": {"type": "sky", "preset": "original"}})");
+    CHECK(original.environment.type == EnvironmentType::Sky);
+    // The values docs/scene-format.md gives for "original".
+    CHECK(original.environment.horizon == glm::vec3(0.1f, 0.3f, 0.35f));
+    CHECK(original.environment.zenith == glm::vec3(1.0f));
+    CHECK(original.environment.intensity == 0.3f);
+    // "default" is the sky's defaults of scene.h.
+    const Scene byDefault = mustParse(R"({"version": 1, "environment": {"type": "sky", "preset": "default"}})");
+    const Scene plain = mustParse(R"({"version": 1, "environment": {"type": "sky"}})");
+    CHECK(byDefault == plain);
+    // An explicit key wins wherever it stands, before or after "preset".
+    for (const char* json : {R"({"version": 1, "environment": {"intensity": 2, "type": "sky", "preset": "original"}})",
+                             R"({"version": 1, "environment": {"type": "sky", "preset": "original", "intensity": 2}})"}) {
+        INFO(json);
+        const Scene s = mustParse(json);
+        CHECK(s.environment.intensity == 2.0f);
+        CHECK(s.environment.horizon == original.environment.horizon);
+    }
+    // Saved as the values (the preset is a shorthand, not stored) and read back the same.
+    const std::string saved = sceneToJson(original);
+    CHECK(saved.find("preset") == std::string::npos);
+    CHECK(mustParse(saved) == original);
+}
+
 TEST_CASE("Floats survive the round trip bit for bit", "[scene_io]") {
     std::mt19937 rng(12345);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -508,7 +533,13 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"unknown environment type", scene(R"("environment": {"type": "hdri"})"), "environment.type",
          "unknown value 'hdri' (allowed: none, constant, sky, map)"},
         {"key of another environment type", scene(R"("environment": {"type": "sky", "radiance": [1, 1, 1]})"),
-         "environment.radiance", "unknown key for a 'sky' environment (allowed: type, horizon, zenith, intensity)"},
+         "environment.radiance", "unknown key for a 'sky' environment (allowed: type, preset, horizon, zenith, intensity)"},
+        {"unknown sky preset", scene(R"("environment": {"type": "sky", "preset": "dusk"})"), "environment.preset",
+         "unknown value 'dusk' (allowed: default, original)"},
+        {"sky preset as number", scene(R"("environment": {"type": "sky", "preset": 1})"), "environment.preset",
+         "must be a string, got number 1"},
+        {"preset on a constant environment", scene(R"("environment": {"type": "constant", "preset": "original"})"),
+         "environment.preset", "unknown key for a 'constant' environment"},
         {"negative intensity", scene(R"("environment": {"type": "constant", "intensity": -1})"),
          "environment.intensity", "must be >= 0, got -1"},
     };
