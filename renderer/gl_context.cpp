@@ -92,6 +92,7 @@ bool initAndCreate(EGLDisplay display, EGLContext* ctxOut, std::string* why) {
 }  // namespace
 
 int glDebugErrorCount() { return g_debugErrors.load(); }
+int takeGlDebugErrors() { return g_debugErrors.exchange(0); }
 
 bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::string* error) {
     const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(getProc));

@@ -40,5 +40,7 @@ bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::strin
 
 // Number of GL errors reported through the debug callback so far (tests assert it stays zero).
 int glDebugErrorCount();
+// Returns that number and sets it to zero (for a test that provokes GL errors on purpose).
+int takeGlDebugErrors();
 
 }  // namespace caustic

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -24,6 +25,24 @@ void uploadBuffer(unsigned buffer, const std::vector<T>& data) {
     glNamedBufferData(buffer, static_cast<GLsizeiptr>(padded.size() * sizeof(T)), padded.data(), GL_STATIC_DRAW);
 }
 
+// Drains the GL error queue: the names of the errors raised since the last call ("" if none).
+std::string glErrorsSince() {
+    std::string out;
+    for (int i = 0; i < 16; ++i) {   // the queue holds one flag per kind; a lost context repeats
+        const GLenum e = glGetError();
+        if (e == GL_NO_ERROR) break;
+        const char* name = e == GL_OUT_OF_MEMORY       ? "GL_OUT_OF_MEMORY"
+                           : e == GL_INVALID_VALUE     ? "GL_INVALID_VALUE"
+                           : e == GL_INVALID_OPERATION ? "GL_INVALID_OPERATION"
+                           : e == GL_INVALID_ENUM      ? "GL_INVALID_ENUM"
+                                                       : nullptr;
+        char buf[32];
+        if (!name) std::snprintf(buf, sizeof buf, "GL error 0x%04x", unsigned(e));
+        out += (out.empty() ? "" : ", ") + std::string(name ? name : buf);
+    }
+    return out;
+}
+
 void waitFence(GLsync fence) {
     while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000) == GL_TIMEOUT_EXPIRED) {}
     glDeleteSync(fence);
@@ -39,6 +58,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     if (!program) return nullptr;
     std::unique_ptr<Renderer> r(new Renderer());
     r->m_program = program;
+    r->m_limits = queryGpuLimits();
     unsigned buffers[6];
     glCreateBuffers(6, buffers);
     r->m_frameUbo = buffers[0];
@@ -82,13 +102,14 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     const std::size_t previousNodes = m_compiled.bvhNodes.size();
     const std::uint32_t previousReserve = m_compiled.tlasNodeCapacity;
     CompiledScene compiled;
-    if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache, &m_compiled)) return false;
+    if (!compileChecked(scene, &compiled, error)) return false;
     const bool meshesInPlace = m_uploaded && !compiled.meshEntries.empty() && compiled.meshEntries == previousMeshes &&
                                compiled.bvhNodes.size() == previousNodes && compiled.tlasNodeCapacity == previousReserve;
+    glErrorsSince();   // errors of earlier work are not this upload's
     m_scene = scene;
     m_compiled = std::move(compiled);
-    upload(!meshesInPlace);
-    m_uploaded = true;
+    std::string glErrors = upload(!meshesInPlace);
+    m_uploaded = glErrors.empty();
     if (m_width != scene.render.width || m_height != scene.render.height) {
         unsigned textures[4] = {m_accum, m_accumSq, m_albedo, m_normal};
         if (m_accum) glDeleteTextures(4, textures);
@@ -100,9 +121,31 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         m_width = scene.render.width;
         m_height = scene.render.height;
         for (unsigned t : textures) glTextureStorage2D(t, 1, GL_RGBA32F, m_width, m_height);
+        if (glErrors.empty()) glErrors = glErrorsSince();
+    }
+    if (!glErrors.empty()) {
+        // What the driver refused despite the limit checks (out of GPU memory, most likely): the
+        // buffers are incomplete, so the next scene uploads everything.
+        m_uploaded = false;
+        *error = "uploading the scene to the GPU failed: " + glErrors;
+        return false;
     }
     resetAccumulation();
     return true;
+}
+
+bool Renderer::compileChecked(const Scene& scene, CompiledScene* out, std::string* error) {
+    if (!compileScene(scene, m_readImage, out, error, &m_meshCache, &m_compiled)) return false;
+    const std::string problem = gpuLimitProblem(scene, *out, m_limits);
+    if (problem.empty()) return true;
+    *error = problem;
+    // The compile moved the last scene's mesh data into *out; compiling that scene again (its
+    // meshes and images come from the caches) puts m_compiled back as the GPU holds it.
+    CompiledScene previous;
+    std::string ignored;
+    if (m_uploaded && compileScene(m_scene, m_readImage, &previous, &ignored, &m_meshCache, out))
+        m_compiled = std::move(previous);
+    return false;
 }
 
 void Renderer::setImageReader(ImageReader reader) {
@@ -148,13 +191,18 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
                           lights = m_compiled.lights.size();
         const std::uint32_t tlasNodes = m_compiled.tlasNodeCount;
         CompiledScene compiled;
-        if (!compileScene(scene, m_readImage, &compiled, error, &m_meshCache, &m_compiled)) return false;
+        if (!compileChecked(scene, &compiled, error)) return false;
         const bool sameLayout = compiled.bvhNodes.size() == nodes && compiled.tlasNodeCount == tlasNodes &&
                                 compiled.triangles.size() == triangles && compiled.lights.size() == lights;
+        glErrorsSince();
         m_scene = scene;
         if (!sameLayout) {
             m_compiled = std::move(compiled);
-            upload();
+            if (const std::string glErrors = upload(); !glErrors.empty()) {
+                m_uploaded = false;
+                *error = "uploading the scene to the GPU failed: " + glErrors;
+                return false;
+            }
         } else {
             if (dirty & kDirtyTransforms) {
                 uploadBuffer(m_primitives, compiled.primitives);
@@ -177,6 +225,11 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
                 uploadBuffer(m_textures, compiled.textures);
             }
             m_compiled = std::move(compiled);
+            if (const std::string glErrors = glErrorsSince(); !glErrors.empty()) {
+                m_uploaded = false;
+                *error = "uploading the scene to the GPU failed: " + glErrors;
+                return false;
+            }
         }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
@@ -184,7 +237,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
     return true;
 }
 
-void Renderer::upload(bool meshes) {
+std::string Renderer::upload(bool meshes) {
     uploadBuffer(m_primitives, m_compiled.primitives);
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
@@ -215,6 +268,7 @@ void Renderer::upload(bool meshes) {
     uploadBuffer(m_geometry[2], m_compiled.instances);
     uploadBuffer(m_texels, m_compiled.texels);
     uploadBuffer(m_textures, m_compiled.textures);
+    return glErrorsSince();
 }
 
 void Renderer::setStrategy(std::uint32_t strategy) {

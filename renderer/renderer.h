@@ -4,6 +4,7 @@
 
 #include "renderer/dirty.h"
 #include "renderer/film.h"
+#include "renderer/gpu_limits.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/scene.h"
 #include "renderer/shader_loader.h"
@@ -102,9 +103,18 @@ public:
     unsigned countersBuffer() const { return m_counters; }  // bound at BINDING_COUNTERS by bindScene
     unsigned program() const { return m_program; }
 
+    // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
+    // from the context by create(); tests inject smaller ones.
+    const GpuLimits& limits() const { return m_limits; }
+    void setLimits(const GpuLimits& limits) { m_limits = limits; }
+
 private:
     Renderer() = default;
-    void upload(bool meshes = true);   // meshes = false: all but the meshes' data, already there
+    // Compiles and checks against m_limits; on failure m_compiled still holds the last good scene.
+    bool compileChecked(const Scene& scene, CompiledScene* out, std::string* error);
+    // meshes = false: all but the meshes' data, already there. Returns the GL errors the uploads
+    // raised (empty: none).
+    std::string upload(bool meshes = true);
     void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0 = 0, std::uint32_t tile1 = ~0u);
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
     long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
@@ -120,6 +130,7 @@ private:
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
     ImageReader m_readImage;
+    GpuLimits m_limits;
     MeshCache m_meshCache;      // imported meshes and their BVHs, reused across edits
     int m_width = 0, m_height = 0;
     Scene m_scene;

@@ -7,6 +7,7 @@
 // with EFBIG like a full disk fails it with ENOSPC; each such case runs in a forked child so the
 // limit and the signals stay out of the test process.
 #include "renderer/file_util.h"
+#include "renderer/gpu_limits.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/hdr_file.h"
 #include "renderer/scene_io.h"
@@ -464,4 +465,41 @@ TEST_CASE("hostile: a camera up or view vector of length 1e-30 and a spot direct
     const gpu::GpuLight& l = c.lights.back();
     CHECK(unit(glm::vec4(glm::vec3(l.p1), 0.0f)));
     CHECK(l.p1.y == Approx(-1.0f));
+}
+
+// ---- 8. GL limits ---------------------------------------------------------------------------------
+
+TEST_CASE("hostile: a compiled scene is checked against injected GL limits before upload", "[hostile][gpu_limits]") {
+    Scene s = *loadScene(kCornellBox).scene;
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, nullptr, &c, &error));
+    GpuLimits limits;
+    limits.maxTextureSize = 16384;
+    limits.maxStorageBlockSize = std::int64_t(1) << 27;
+    CHECK(gpuLimitProblem(s, c, limits).empty());
+    CHECK(gpuLimitProblem(s, c, GpuLimits{}).empty());   // unknown limits: nothing to check
+
+    // An environment map one texel wider than the texture limit names the file and both sizes.
+    s.environment.type = EnvironmentType::Map;
+    s.environment.file = "sky.hdr";
+    c.envMap.width = 16385;
+    c.envMap.height = 100;
+    CHECK(gpuLimitProblem(s, c, limits) ==
+          "environment.file: sky.hdr: the map is 16385 x 100 pixels; this GPU's textures may be at most 16384 "
+          "per side (GL_MAX_TEXTURE_SIZE); resample the map");
+    c.envMap.width = 16384;
+    CHECK(gpuLimitProblem(s, c, limits).empty());
+    // The render size against the same limit (a GPU whose limit is below the scene format's).
+    limits.maxTextureSize = 8192;
+    c.envMap.width = 4096;
+    s.render.width = 8193;
+    CHECK(gpuLimitProblem(s, c, limits).find("render: 8193 x ") == 0);
+    s.render.width = 256;
+    // A storage buffer over the limit names the buffer and both sizes.
+    limits.maxStorageBlockSize = 4096;
+    c.triangles.resize(1000);
+    CHECK(gpuLimitProblem(s, c, limits) ==
+          "the scene's mesh triangles need 62.5 KiB of GPU storage; this GPU allows 4.0 KiB per buffer "
+          "(GL_MAX_SHADER_STORAGE_BLOCK_SIZE)");
 }
