@@ -24,7 +24,7 @@ static_assert(sizeof(GpuMaterial) == 112);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 96);
-static_assert(sizeof(GpuFrame) == 304);
+static_assert(sizeof(GpuFrame) == 320);
 static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
@@ -1183,6 +1183,7 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
                             compiled.lightTree.nodes.size());
     f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
+    f.options = glm::uvec4(r.glassSplit ? OPTION_GLASS_SPLIT : 0u, 0, 0, 0);
     // The ray offset's floor (geometry/intersect.glsl): the largest coordinate magnitude of the
     // scene and the camera, at most 1, so a scene of size 1 or more keeps the floor 1 and a
     // scene scaled down keeps its offsets in proportion (issue 12: the Cornell box at 1e-4 was 22%

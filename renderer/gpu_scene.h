@@ -5,6 +5,7 @@
 #include "renderer/bvh.h"
 #include "renderer/image.h"
 #include "renderer/light_tree.h"
+#include "renderer/mesh.h"
 #include "renderer/scene.h"
 #include "shaders/shared/layout.h"
 
@@ -79,6 +80,9 @@ struct MeshCacheEntry {
     std::vector<gpu::GpuVertex> vertices;
     std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material
     std::vector<Material> materials;           // the file's materials, mapped (mapImportedMaterial)
+    std::vector<ImportedMaterial> imported;    // the same as the file gives them: those with a
+                                               // metallic-roughness texture are mapped again once
+                                               // it is read (compileScene, bakeMetallicRoughness)
     std::vector<std::string> mappingWarnings;  // what of them could not be mapped
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
@@ -136,7 +140,27 @@ bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScen
 // maps: transmission -> dielectric (ior, alpha = roughness^2), metallic -> conductor (complex IOR
 // from the base colour as both reflectivity and edge tint, Gulbrandsen 2014), otherwise diffuse;
 // base colour and normal textures, emission. What does not map is appended to *unmapped.
-Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped);
+//
+// glTF's metallic-roughness texture (glTF 2.0 spec, section 3.9.2: roughness in G, metalness in
+// B, linear, each multiplied by its factor) is mapped once it is read, with mr (from
+// bakeMetallicRoughness): the material is a conductor or not by where most of its texels' metalness
+// lies (above or below 0.5), reported when the texture holds both; a conductor or dielectric gets
+// the texture's roughness as a roughness map (mr->alpha, wired by compileScene; m.roughnessTexture
+// is set to the texture's path so the material is a rough one). Without mr a material with such a
+// texture is mapped by its factors alone, silently: compileScene maps it again.
+Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped,
+                             const struct MetallicRoughnessMap* mr = nullptr);
+
+// A glTF metallic-roughness texture, read: the GGX alpha per texel, (roughnessFactor * G)^2 (glTF
+// roughness is perceptual, alpha its square, as for the factor), and what its metalness
+// (metallicFactor * B) does over the texels. Fails for an empty image or non-finite texels.
+struct MetallicRoughnessMap {
+    ImageData alpha;              // one channel, the texture's size
+    float metalMin = 0.0f, metalMax = 0.0f, metalMean = 0.0f;
+    float metalFraction = 0.0f;   // the fraction of texels whose metalness is above 0.5
+};
+bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float metallicFactor,
+                           MetallicRoughnessMap* out, std::string* error);
 
 // The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
 // selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
