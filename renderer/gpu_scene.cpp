@@ -433,6 +433,58 @@ struct Builder {
     std::vector<std::vector<std::string>> meshMappingWarnings;  // reported once an object uses them
     std::vector<bool> meshTexturesLoaded;                 // per BLAS: its file materials' textures
 
+    // The textures of a file's material k; one with a glTF metallic-roughness texture is first
+    // mapped again with the texture read (mapImportedMaterial, bakeMetallicRoughness), and its
+    // roughness, as GGX alpha, goes into the roughness slot.
+    bool addFileMaterialTextures(std::uint32_t blas, size_t k, const std::string& file, const std::string& where) {
+        Material& m = meshMaterials[blas][k];
+        gpu::GpuMaterial& g = out.materials[meshMaterialBase[blas] + k];
+        const std::vector<ImportedMaterial>& imported = out.meshEntries[blas]->imported;
+        const ImportedMaterial* im = k < imported.size() ? &imported[k] : nullptr;
+        if (!im || im->metallicRoughnessTexture.empty() || im->metallicRoughnessTexture[0] == '*')
+            return addTextures(m, where, "", &g);
+        const std::string& texture = im->metallicRoughnessTexture;
+        const std::string context = where + ".metallic_roughness_texture (material '" + m.name + "'): ";
+        ImageData image;
+        MetallicRoughnessMap mr;
+        std::string why;
+        if (!readImage) {
+            *error = context + texture + ": this build cannot read images";
+            return false;
+        }
+        if (!readImage(texture, &image, &why)) {
+            *error = context + (why.find(texture) == std::string::npos ? texture + ": " : "") + why;
+            return false;
+        }
+        if (!bakeMetallicRoughness(image, im->roughness, im->metallic, &mr, &why)) {
+            *error = context + texture + ": " + why;
+            return false;
+        }
+        std::vector<std::string> unmapped;
+        m = mapImportedMaterial(*im, &unmapped, &mr);
+        for (const std::string& u : unmapped) out.warnings.push_back(file + ": " + u);
+        Material others = m;   // albedo and normal maps as usual; the roughness slot is filled here
+        others.roughnessTexture.clear();
+        g = convertMaterial(m);
+        if (!addTextures(others, where, "", &g)) return false;
+        if (m.roughnessTexture.empty()) return true;  // diffuse: no roughness to map
+        // One baked texture per (file, roughness factor): the factor is part of every texel.
+        char factor[32];
+        std::snprintf(factor, sizeof factor, "%.9g", double(im->roughness));
+        const auto cacheKey = std::make_pair("glTF alpha x" + std::string(factor) + " " + texture, TextureEncoding::Linear);
+        if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
+            g.textures.z = found->second + 1;
+            return true;
+        }
+        if (!addTexture(mr.alpha, TextureEncoding::Linear, &out, &why)) {
+            *error = context + texture + ": " + why;
+            return false;
+        }
+        g.textures.z = static_cast<std::uint32_t>(out.textures.size());
+        textureIndex.emplace(cacheKey, g.textures.z - 1);
+        return true;
+    }
+
     bool addMeshInstance(const Object& o, std::uint32_t objectIndex, const glm::mat4& m, std::uint32_t material,
                          const glm::vec3* emission, bool twoSided, const std::string& where) {
         std::uint32_t blas = 0;
@@ -455,9 +507,9 @@ struct Builder {
         gi.objectToWorld2 = o2wRows[2];
         const bool fromFile = material == kFileMaterials;
         if (fromFile && !meshTexturesLoaded[blas]) {
+            const std::string file = meshCacheKey(scene, o.file);
             for (size_t k = 0; k < meshMaterials[blas].size(); ++k)
-                if (!addTextures(meshMaterials[blas][k], where + ".file (" + meshCacheKey(scene, o.file) + ") material " + std::to_string(k),
-                                 "", &out.materials[meshMaterialBase[blas] + k]))
+                if (!addFileMaterialTextures(blas, k, file, where + ".file (" + file + ") material " + std::to_string(k)))
                     return false;
             meshTexturesLoaded[blas] = true;
         }
@@ -866,19 +918,41 @@ struct Builder {
 
 }  // namespace
 
-Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped) {
+Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped,
+                             const MetallicRoughnessMap* mr) {
     Material m;
     m.name = in.name;
     m.emission = glm::max(in.emission, glm::vec3(0.0f));
     const float alpha = std::clamp(in.roughness * in.roughness, 0.0f, 1.0f);  // glTF roughness is perceptual
     const glm::vec3 base = glm::clamp(in.baseColor, glm::vec3(0.0f), glm::vec3(1.0f));
     const std::string who = "material '" + in.name + "': ";
+    // A texture not yet read (mr null): map by the factors, and leave the reports to the mapping
+    // that reads it. An embedded one ('*N') is never read: the factors it is.
+    const bool packed = !in.metallicRoughnessTexture.empty() && in.metallicRoughnessTexture[0] != '*';
+    const bool provisional = packed && !mr;
+    std::vector<std::string> ignored;
+    if (provisional) unmapped = &ignored;
+    // Metalness: the factor, or where most of the texture's texels lie (glTF multiplies the two).
+    float metallic = in.metallic;
+    if (mr) {
+        metallic = mr->metalFraction > 0.5f ? 1.0f : 0.0f;
+        if (mr->metalMin <= 0.5f && mr->metalMax > 0.5f) {
+            char pct[32];
+            std::snprintf(pct, sizeof pct, "%.1f%%", 100.0 * double(mr->metalFraction));
+            unmapped->push_back(who + "metalness varies over its metallic-roughness texture (" + pct +
+                                " of texels above 0.5): mapped as " +
+                                (metallic > 0.5f ? "a conductor" : "a non-metal") +
+                                " throughout (a per-texel blend needs a layered material)");
+        } else {
+            metallic = mr->metalMean;  // uniform on one side of 0.5: rounded (and reported) below
+        }
+    }
     if (in.transmission > 0.5f) {
         m.type = MaterialType::Dielectric;
         m.ior = in.ior;
         m.roughness = alpha;
         m.tint = base;
-    } else if (in.metallic > 0.5f) {
+    } else if (metallic > 0.5f) {
         // Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4), eqs. 6-7, with the
         // reflectivity r and the edge tint g both the base colour.
         m.type = MaterialType::Conductor;
@@ -892,22 +966,64 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
             m.eta[c] = std::max(n, 1e-3f);
             m.k[c] = std::sqrt(std::max(k2, 0.0f));
         }
-        if (in.metallic < 0.99f) unmapped->push_back(who + "metallic " + std::to_string(in.metallic) + " rounded to 1");
+        if (metallic < 0.99f) unmapped->push_back(who + "metallic " + std::to_string(metallic) + " rounded to 1");
     } else {
         m.type = MaterialType::Diffuse;
         m.albedo = base;
-        if (in.metallic > 0.01f) unmapped->push_back(who + "metallic " + std::to_string(in.metallic) + " rounded to 0");
+        if (metallic > 0.01f) unmapped->push_back(who + "metallic " + std::to_string(metallic) + " rounded to 0");
         unmapped->push_back(who + "the specular reflection of a non-metal is not modelled (diffuse only)");
     }
     if (in.transmission > 0.0f && in.transmission <= 0.5f)
         unmapped->push_back(who + "transmission " + std::to_string(in.transmission) + " rounded to 0");
     if (!in.baseColorTexture.empty() && in.baseColorTexture[0] != '*') m.albedoTexture = in.baseColorTexture;
     if (!in.normalTexture.empty() && in.normalTexture[0] != '*') m.normalTexture = in.normalTexture;
-    if (!in.metallicRoughnessTexture.empty())
-        unmapped->push_back(who + "metallic-roughness texture not mapped (the factors are used)");
+    // The texture's roughness becomes a roughness map where the model has a roughness (conductor,
+    // dielectric); the path marks the material rough, compileScene wires mr->alpha in its slot.
+    if (mr && m.type != MaterialType::Diffuse) m.roughnessTexture = in.metallicRoughnessTexture;
+    if (!in.metallicRoughnessTexture.empty() && !packed)
+        unmapped->push_back(who + "embedded metallic-roughness texture not read (the factors are used)");
     if (!in.emissionTexture.empty()) unmapped->push_back(who + "emission texture not mapped (the factor is used)");
     if (in.opacity < 1.0f) unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
     return m;
+}
+
+bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float metallicFactor,
+                           MetallicRoughnessMap* out, std::string* error) {
+    const int w = image.width, h = image.height, ch = image.channels;
+    if (w <= 0 || h <= 0 || ch <= 0 || image.pixels.size() < size_t(w) * size_t(h) * size_t(ch)) {
+        *error = "empty or truncated image";
+        return false;
+    }
+    // glTF 2.0 section 3.9.2: G is roughness, B metalness; a grey image has both in its one channel.
+    const int g = ch >= 3 ? 1 : 0, b = ch >= 3 ? 2 : 0;
+    const float rf = std::clamp(roughnessFactor, 0.0f, 1.0f), mf = std::clamp(metallicFactor, 0.0f, 1.0f);
+    MetallicRoughnessMap m;
+    m.alpha.width = w;
+    m.alpha.height = h;
+    m.alpha.channels = 1;
+    m.alpha.pixels.resize(size_t(w) * size_t(h));
+    m.metalMin = 1.0f;
+    m.metalMax = 0.0f;
+    double sum = 0.0;
+    size_t metal = 0;
+    for (size_t i = 0; i < m.alpha.pixels.size(); ++i) {
+        const float* px = &image.pixels[i * size_t(ch)];
+        if (!std::isfinite(px[g]) || !std::isfinite(px[b])) {
+            *error = "non-finite pixel at (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) + ")";
+            return false;
+        }
+        const float r = rf * std::clamp(px[g], 0.0f, 1.0f);
+        m.alpha.pixels[i] = r * r;
+        const float mt = mf * std::clamp(px[b], 0.0f, 1.0f);
+        m.metalMin = std::min(m.metalMin, mt);
+        m.metalMax = std::max(m.metalMax, mt);
+        sum += mt;
+        metal += mt > 0.5f ? 1 : 0;
+    }
+    m.metalMean = float(sum / double(m.alpha.pixels.size()));
+    m.metalFraction = float(double(metal) / double(m.alpha.pixels.size()));
+    *out = std::move(m);
+    return true;
 }
 
 bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error) {
@@ -1216,6 +1332,7 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
         return false;
     }
     entry->warnings = imported.warnings;
+    entry->imported = imported.materials;
     for (const ImportedMaterial& im : imported.materials) {
         std::vector<std::string> unmapped;
         entry->materials.push_back(mapImportedMaterial(im, &unmapped));

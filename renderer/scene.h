@@ -70,6 +70,9 @@ struct RenderSettings {
     SamplerType sampler = SamplerType::Sobol;
     RussianRoulette russianRoulette = RussianRoulette::Mitsuba;
     PixelFilter filter = PixelFilter::Box;
+    // At a smooth glass vertex, also trace the lobe not taken for the emission it sees (splitting;
+    // shaders/integrator/path.glsl, docs/design.md). Unbiased either way; on by default.
+    bool glassSplit = true;
     bool operator==(const RenderSettings&) const = default;
 };
 
@@ -167,9 +170,6 @@ struct Environment {
     bool operator==(const Environment&) const = default;
 };
 
-struct Scene {
-    int version = kSceneVersion;
-    Camera camera;
 // Named looks of the sky (docs/scene-format.md, "environment"): a preset is a shorthand for the
 // sky's horizon, zenith and intensity, applied when a scene is read (`"preset"`, then any of the
 // three keys the file gives override it) or by `caustic --sky-preset`; it is not stored, so a
@@ -187,6 +187,9 @@ const SkyPreset* findSkyPreset(std::string_view name);   // null when there is n
 // Makes env a sky with the preset's horizon, zenith and intensity (other members untouched).
 void applySkyPreset(const SkyPreset& preset, Environment& env);
 
+struct Scene {
+    int version = kSceneVersion;
+    Camera camera;
     RenderSettings render;
     std::vector<Material> materials;
     std::vector<Object> objects;

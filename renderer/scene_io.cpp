@@ -700,6 +700,7 @@ const Fields<RenderSettings>& renderFields() {
         field("sampler", &RenderSettings::sampler),
         field("russian_roulette", &RenderSettings::russianRoulette),
         field("filter", &RenderSettings::filter),
+        field("glass_split", &RenderSettings::glassSplit),
     };
     return kFields;
 }
@@ -917,9 +918,9 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
     });
     static const Fields<Environment> kSky = concat(kNone, {
         // Read (and checked) by readValue before the other keys, never written: a saved scene
-        field("horizon", &Environment::horizon, between(0.0, kMaxRadiance)),
         // holds the preset's values instead.
         {"preset", [](const Json&, const std::string&, Environment&) {}, {}, {}},
+        field("horizon", &Environment::horizon, between(0.0, kMaxRadiance)),
         field("zenith", &Environment::zenith, between(0.0, kMaxRadiance)),
         field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
     });
@@ -938,7 +939,6 @@ const Fields<Environment>& environmentFields(EnvironmentType type) {
 }
 
 void readValue(const Json& value, const std::string& path, Environment& out, const Range&) {
-    readTyped(value, path, out, &Environment::type, environmentFields, "environment");
     // A sky preset first, so that the horizon, zenith or intensity the file gives override it
     // wherever they stand. "preset" on another type is left to readTyped's unknown-key error.
     const auto type = value.is_object() ? value.find("type") : value.end();
@@ -954,6 +954,7 @@ void readValue(const Json& value, const std::string& path, Environment& out, con
         }
         applySkyPreset(*found, out);
     }
+    readTyped(value, path, out, &Environment::type, environmentFields, "environment");
     // The product is what the shaders use (times a map's texels, which the compiler checks).
     const glm::dvec3 c = out.type == EnvironmentType::Constant ? glm::dvec3(out.radiance)
                          : out.type == EnvironmentType::Sky

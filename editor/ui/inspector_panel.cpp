@@ -302,6 +302,10 @@ void renderInspector(EditorUi& ui) {
     int rr = static_cast<int>(r.russianRoulette);
     e.track(combo("Russian roulette", &rr, roulettes), true);
     r.russianRoulette = static_cast<RussianRoulette>(rr);
+    e.track(ImGui::Checkbox("Glass splitting", &r.glassSplit), true);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("At smooth glass, also trace the reflection or refraction not taken for the light it sees "
+                          "directly: less noise in highlights and reflected lights, the same image on average");
     e.commit(e.changed ? makeSetRender(s, r) : nullptr);
 
     ImGui::SeparatorText("Display (not saved in the scene)");

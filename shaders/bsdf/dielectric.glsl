@@ -63,6 +63,31 @@ BsdfSample smoothDielectricSample(GpuMaterial m, vec3 wo, float uc) {
     return s;
 }
 
+// The smooth dielectric's other lobe: given the lobe `taken` (a smoothDielectricSample), the
+// sample the other choice would have given (its direction, f and pdf = its selection probability),
+// or an invalid sample when that lobe is absent (total internal reflection, R = 0). For glass
+// splitting (integrator/path.glsl).
+BsdfSample smoothDielectricOtherLobe(GpuMaterial m, vec3 wo, BsdfSample taken) {
+    float eta = m.params.y;
+    float R = fresnelDielectric(wo.z, eta), T = 1.0 - R;
+    BsdfSample s;
+    if ((taken.flags & BSDF_FLAG_TRANSMISSION) != 0u) {  // refraction taken: the other is reflection
+        if (!(R > 0.0)) return bsdfInvalidSample();
+        s.wi = reflectLocal(wo);
+        s.pdf = R;
+        s.f = m.albedo.rgb * (R / abs(s.wi.z));
+        s.flags = BSDF_FLAG_DELTA;
+        return s;
+    }
+    float etap;
+    if (!(T > 0.0) || !refractDir(wo, vec3(0.0, 0.0, 1.0), eta, etap, s.wi) || s.wi.z == 0.0)
+        return bsdfInvalidSample();
+    s.pdf = T;
+    s.f = m.albedo.rgb * (T / (abs(s.wi.z) * etap * etap));
+    s.flags = BSDF_FLAG_DELTA | BSDF_FLAG_TRANSMISSION;
+    return s;
+}
+
 // The generalized half vector for the pair (wo, wi), wm.z > 0; false for degenerate pairs and for
 // microfacets that face away from wo or wi.
 bool dielectricHalfVector(vec3 wo, vec3 wi, float eta, out vec3 wm, out float etap) {

@@ -9,6 +9,13 @@
 // costs one continuation ray and one shadow ray. Vertices whose material is purely specular skip
 // next event estimation (no light sample can have a non-zero BSDF value there).
 //
+// Glass splitting (frame.options.x & OPTION_GLASS_SPLIT; docs/design.md derives it): at a smooth
+// dielectric vertex the lobe not taken, when it leaves the medium, is traced too, by a probe ray
+// that only adds the emission it sees (with the lobe's weight, not over its probability); the
+// taken lobe's next emission term is scaled by its probability when the other choice would have
+// probed it, so each lobe's direct emission is counted once in expectation. The probe waits its
+// turn in the loop (`probing`, `pending`), so the loop keeps one closest-hit call site.
+//
 // Depth: `bounces` counts the scattering events on the path so far. frame.counts.z (max depth)
 // caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on.
 // Russian roulette (frame.sampling.z, RR_*; docs/design.md says how the default was chosen) acts
@@ -60,6 +67,17 @@ bool russianRouletteEnds(uint bounces, float rrBeta, float u, out float q) {
     return q < 1.0 && u >= q;
 }
 
+// What a glass-splitting probe ray sees: the emission of the surface it hits (unless one-sided and
+// seen from behind), or the environment's radiance when it escapes. No MIS weight: the probe
+// leaves a delta vertex, where no light sample could have found the same path.
+vec3 probeEmission(bool found, Hit hit, vec3 d) {
+    if (!found) return frame.envInfo.x != ENV_NONE ? environmentRadiance(d) : vec3(0.0);
+    vec3 Le = materials[hit.material].emission.rgb;
+    bool frontFacing = dot(hit.ng, d) < 0.0;
+    if (!frontFacing && (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) != 0u) return vec3(0.0);
+    return Le;
+}
+
 vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
     aov.albedo = vec3(0.0);
     aov.normal = vec3(0.0);
@@ -81,14 +99,33 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
     float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
     float pathLength = 0.0;
 
-    for (uint bounces = 0u;; ++bounces) {
+    // Glass splitting (see the header): whether the ray traced next is a probe, the weight of
+    // what it sees, the continuation ray waiting behind it (none when the path ends after the
+    // probe), and the factor (the chosen lobe's probability) that scales the continuation's next
+    // emission term.
+    bool split = (frame.options.x & OPTION_GLASS_SPLIT) != 0u && frame.counts.y > 0u;
+    bool probing = false;
+    bool pendingEnds = false;
+    vec3 probeBeta = vec3(0.0);
+    Ray pending = ray;
+    float emitScale = 1.0;
+
+    for (uint bounces = 0u;;) {
         Hit hit;
-        if (!sceneIntersect(ray, FLT_MAX, hit)) {
+        bool found = sceneIntersect(ray, FLT_MAX, hit);  // the integrator's one closest-hit call
+        if (probing) {
+            L += probeBeta * probeEmission(found, hit, ray.d);
+            probing = false;
+            if (pendingEnds) break;
+            ray = pending;
+            continue;
+        }
+        if (!found) {
             uint envIndex = frame.dispatch.y;
             if (frame.envInfo.x != ENV_NONE) {
                 vec3 Le = environmentRadiance(ray.d);
                 if (countEmitted || !useLights) {
-                    L += beta * Le;
+                    L += beta * Le * emitScale;
                 } else if (misOn && envIndex > 0u) {
                     float pl = lightSelectPmf(envIndex - 1u, prevP, prevN, prevTwoSided) *
                                lightPdf(envIndex - 1u, prevP, ray.d, vec3(0.0), vec3(0.0));
@@ -106,7 +143,7 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         if (maxComponent(mat.emission.rgb) > 0.0 &&
             (frontFacing || (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u)) {
             if (countEmitted || !useLights) {
-                L += beta * mat.emission.rgb;
+                L += beta * mat.emission.rgb * emitScale;
             } else if (misOn && hit.light > 0u) {
                 uint li = hit.light - 1u;
                 float pl = lightSelectPmf(li, prevP, prevN, prevTwoSided) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
@@ -181,24 +218,57 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
         if (bs.pdf <= 0.0) break;
         vec3 wiW = toWorld(f, bs.wi);
-        if ((woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0)) break;
-        beta *= bs.f * abs(bs.wi.z) / bs.pdf;
-        countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
-        prevBsdfPdf = bs.pdf;
-        prevP = hit.p;
-        prevN = n;
-        prevTwoSided = keepFront;
-        if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
-            float eta = mat.params.y;
-            etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
-        }
-        ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
-        ray.d = wiW;
+        // Reflection or transmission as the geometry sees it must agree with the shading frame's.
+        bool ends = (woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0);
 
-        float q;
-        if (russianRouletteEnds(bounces, maxComponent(beta) * etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q)) break;
-        beta /= q;
-        if (maxComponent(beta) <= 0.0) break;
+        // Glass splitting: the lobe not taken is traced next, for the emission it sees alone. Only
+        // lobes that leave the medium are probed (wi.z > 0: the dielectric's frame keeps the outward
+        // normal): a probe that stays inside a closed glass object would see that object again.
+        // A lobe that is probed when not taken has its emission scaled by its probability when
+        // taken, so that in expectation its emission is counted once (docs/design.md). The probe
+        // is traced even when the continuation is refused or ended by Russian roulette.
+        emitScale = 1.0;
+        vec3 probeDir = vec3(0.0);
+        if (split && mat.info.x == MAT_DIELECTRIC) {
+            if (bs.wi.z > 0.0) emitScale = bs.pdf;
+            BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
+            probeDir = toWorld(f, other.wi);
+            if (other.pdf > 0.0 && other.wi.z > 0.0 &&
+                (woL.z * other.wi.z > 0.0) == (ngWo * dot(hit.ng, probeDir) > 0.0)) {
+                probing = true;
+                probeBeta = beta * other.f * abs(other.wi.z);  // the lobe's weight, not over its pdf
+            }
+        }
+
+        if (!ends) {
+            beta *= bs.f * abs(bs.wi.z) / bs.pdf;
+            countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
+            prevBsdfPdf = bs.pdf;
+            prevP = hit.p;
+            prevN = n;
+            prevTwoSided = keepFront;
+            if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
+                float eta = mat.params.y;
+                etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
+            }
+            ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
+            ray.d = wiW;
+            float q;
+            ends = russianRouletteEnds(bounces, maxComponent(beta) * etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q);
+            if (!ends) {
+                beta /= q;
+                ends = maxComponent(beta) <= 0.0;
+            }
+        }
+        if (probing) {  // the probe goes first; the continuation waits (or ends after it)
+            pending = ray;
+            pendingEnds = ends;
+            ray.o = offsetRayOrigin(hit.p, hit.ng, probeDir);
+            ray.d = probeDir;
+        } else if (ends) {
+            break;
+        }
+        ++bounces;
     }
     return L;
 }

@@ -105,6 +105,9 @@ using uint = std::uint32_t;
 #define RR_PBRT 2u                  // after 1 bounce, when max(beta eta^2) < 1: survive with it
 #define RR_OFF 3u                   // never (max depth ends the path)
 
+// Integrator options (GpuFrame::options.x, bits).
+#define OPTION_GLASS_SPLIT 1u       // smooth glass: trace the lobe not taken for its emission (path.glsl)
+
 // Environment types (GpuFrame::envInfo.x).
 #define ENV_NONE 0u
 #define ENV_CONSTANT 1u
@@ -253,6 +256,7 @@ CAUSTIC_STRUCT(GpuFrame) {
                        //    pi * mean luminance), y: 1 when every light is an environment
     vec4 rayOffset;    // x: the scale below which ray offsets stop shrinking with the hit's
                        //    magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
+    uvec4 options;     // x: OPTION_* bits (integrator options); y, z, w: unused
 };
 
 #ifdef __cplusplus

@@ -114,6 +114,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_FRAME(sampling);
     CHECK_FRAME(envSelect);
     CHECK_FRAME(rayOffset);
+    CHECK_FRAME(options);
     CHECK_FRAME(tables);
 #undef CHECK_FRAME
 }

@@ -15,7 +15,7 @@ For every scene of the suite (scenes.py) and every configuration, renders K inde
            relMSE falls as 1/time.
 The caustic configurations: "default" (Sobol sampler, light tree, the default Russian roulette),
 "indep" (the independent sampler, otherwise default), "uniform" (uniform light selection,
-otherwise default), "power" (power selection), and, with --rr, every Russian roulette rule.
+otherwise default), "power" (power selection), "nosplit" (no glass splitting), and, with --rr, every Russian roulette rule.
 Mitsuba 3 (llvm_ad_rgb, its path integrator and independent sampler) renders the same scenes.
 The reference is caustic's default configuration at --ref-spp samples per pixel (kept in --out).
 
@@ -109,6 +109,7 @@ def main():
         "indep": ["render.sampler=independent"],
         "uniform": ["render.light_selection=uniform"],
         "power": ["render.light_selection=power"],
+        "nosplit": ["render.glass_split=false"],
     }
     chosen = [c for c in args.configs.split(",") if c]
     if args.rr:
