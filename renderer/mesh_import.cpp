@@ -468,7 +468,7 @@ bool isMeshFileExtensionSupported(const std::string& path) {
     }
 }
 
-MeshImportResult importMeshFile(const std::string& path) {
+MeshImportResult importMeshFileInProcess(const std::string& path) {
     const auto t0 = std::chrono::steady_clock::now();
     MeshImportResult r;
     try {

@@ -44,7 +44,20 @@ struct MeshImportResult {
 // time bound; the warning makes slow files visible).
 inline constexpr double kSlowImportSeconds = 5.0;
 
+// Imports in a forked child process (renderer/mesh_import_child.cpp), so that a crash inside
+// Assimp on a corrupt file becomes an error ("<path>: the importer crashed (signal 11, SIGSEGV)
+// inside Assimp; ..."), not the end of the program. Otherwise the same result as
+// importMeshFileInProcess, which is what the child runs.
 MeshImportResult importMeshFile(const std::string& path);
+
+// The import in this process: what the child runs, and what the fuzzers call (they must see the
+// crashes, and their coverage counters live in this process).
+MeshImportResult importMeshFileInProcess(const std::string& path);
+
+// The child's result as bytes and back (everything but `seconds`); deserializeImport returns
+// false for a stream that is truncated or malformed.
+std::string serializeImport(const MeshImportResult& result);
+bool deserializeImport(const std::string& bytes, MeshImportResult* out);
 
 // Whether Assimp has an importer for the file's extension (".obj", ".glb", ...), case-insensitive.
 bool isMeshFileExtensionSupported(const std::string& path);

@@ -1,4 +1,4 @@
-// Fuzz harness: the mesh importer (renderer/mesh_import.h importMeshFile: Assimp, then caustic's
+// Fuzz harness: the mesh importer (renderer/mesh_import.h importMeshFileInProcess: Assimp, then caustic's
 // conversion and validation) on arbitrary bytes.
 // Input: a file extension on the first line ("obj", "gltf", "ply", ...: it picks Assimp's
 // importer), then the file's bytes. An extension Assimp does not read ends the run.
@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!isMeshFileExtensionSupported("input" + dotExt)) return 0;
     const std::string file = fuzz::ScratchDir::get().write(reinterpret_cast<const std::uint8_t*>(body.data()),
                                                             body.size(), dotExt);
-    const MeshImportResult r = importMeshFile(file);
+    const MeshImportResult r = importMeshFileInProcess(file);   // in this process: crashes must show
     for (const std::string& w : r.warnings) FUZZ_CHECK(w.rfind(file, 0) == 0, "a warning does not name the file: " + w);
     if (!r.ok()) {
         FUZZ_CHECK(r.error.rfind(file, 0) == 0, "the error does not name the file: " + r.error);
