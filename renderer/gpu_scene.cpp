@@ -1,5 +1,6 @@
 #include "renderer/gpu_scene.h"
 
+#include "renderer/camera.h"
 #include "renderer/mesh_import.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -1245,29 +1246,11 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     gpu::GpuFrame f{};
     const Camera& c = scene.camera;
     const int w = scene.render.width, h = scene.render.height;
-    // The basis in double, then rounded: in float, an up or view vector as short as 1e-30 (its
-    // squared length underflows) or a view between points near +-3e38 (the difference overflows)
-    // normalised to NaN and the image was black.
-    const glm::dvec3 forwardD = glm::normalize(glm::dvec3(c.lookAt) - glm::dvec3(c.position));
-    const glm::dvec3 rightD = glm::normalize(glm::cross(forwardD, glm::normalize(glm::dvec3(c.up))));
-    glm::vec3 forward(forwardD), right(rightD);
-    glm::vec3 up(glm::cross(rightD, forwardD));
-    if (c.rollDegrees != 0.0f) {  // turn the image counter-clockwise by the roll angle
-        const float r = glm::radians(c.rollDegrees);
-        const glm::vec3 r2 = std::cos(r) * right + std::sin(r) * up;
-        up = std::cos(r) * up - std::sin(r) * right;
-        right = r2;
-    }
-    float t = std::tan(glm::radians(c.fovDegrees) * 0.5f);
-    float aspect = float(w) / float(h);
-    bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
-                  (c.fovAxis == FovAxis::Larger && w > h);
-    float tanX = alongX ? t : t * aspect;
-    float tanY = alongX ? t / aspect : t;
+    const CameraFrame cam = cameraFrame(c, w, h);  // renderer/camera.h, in double, rounded here
     f.camPosition = glm::vec4(c.position, 0);
-    f.camRight = glm::vec4(right * tanX, 0);
-    f.camUp = glm::vec4(up * tanY, 0);
-    f.camForward = glm::vec4(forward, 0);
+    f.camRight = glm::vec4(glm::vec3(cam.right * cam.tanX), 0);
+    f.camUp = glm::vec4(glm::vec3(cam.up * cam.tanY), 0);
+    f.camForward = glm::vec4(glm::vec3(cam.forward), 0);
     f.image = glm::uvec4(w, h, 0, scene.render.seed);
     f.counts = glm::uvec4(compiled.primitives.size(), compiled.lights.size(), scene.render.maxDepth, strategy);
     f.dispatch = glm::uvec4(1, compiled.envLightIndex + 1, 0, 0);
@@ -1279,10 +1262,7 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.envInfo = glm::uvec4(envType, compiled.envMap.width, compiled.envMap.height, compiled.envMap.tableScale);
     const float rot = glm::radians(env.rotation);
     f.envMap = glm::vec4(std::cos(rot), std::sin(rot), env.intensity, 0);
-    float focal = c.focalDistance > 0.0f ? c.focalDistance
-                                         : static_cast<float>(glm::length(glm::dvec3(c.lookAt) - glm::dvec3(c.position)));
-    if (c.focusPoint) focal = static_cast<float>(glm::dot(glm::dvec3(*c.focusPoint) - glm::dvec3(c.position), forwardD));
-    f.camLens = glm::vec4(c.apertureRadius, focal, c.squeeze, glm::radians(c.bladeRotationDegrees));
+    f.camLens = glm::vec4(c.apertureRadius, static_cast<float>(cam.focalDistance), c.squeeze, glm::radians(c.bladeRotationDegrees));
     const std::uint32_t filter = scene.render.filter == PixelFilter::Tent       ? FILTER_TENT
                                  : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
                                                                                 : FILTER_BOX;

@@ -1,5 +1,7 @@
 #include "editor/model/viewport_math.h"
 
+#include "renderer/camera.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -10,20 +12,11 @@
 namespace caustic::editor {
 namespace {
 
-// Half extents of the image plane at distance 1, exactly as makeFrame computes them.
-glm::vec2 tanHalfExtents(const Camera& c, int w, int h) {
-    const float t = std::tan(glm::radians(c.fovDegrees) * 0.5f);
-    const float aspect = float(w) / float(h);
-    const bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
-                        (c.fovAxis == FovAxis::Larger && w > h);
-    return alongX ? glm::vec2(t, t / aspect) : glm::vec2(t * aspect, t);
-}
-
+// The camera's basis (with roll) as the renderer sees it, in float.
 struct Basis { glm::vec3 forward, right, up; };
 Basis basisOf(const Camera& c) {
-    glm::vec3 f = glm::normalize(c.lookAt - c.position);
-    glm::vec3 r = glm::normalize(glm::cross(f, c.up));
-    return {f, r, glm::cross(r, f)};
+    const CameraFrame f = cameraFrame(c, 1.0);  // the basis does not depend on the aspect
+    return {glm::vec3(f.forward), glm::vec3(f.right), glm::vec3(f.up)};
 }
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -104,11 +97,8 @@ std::pair<glm::vec3, glm::vec3> boundsOfUnitCube(const glm::mat4& m, bool flatZ)
 }  // namespace
 
 Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel) {
-    const Basis b = basisOf(camera);
-    const glm::vec2 t = tanHalfExtents(camera, width, height);
-    const float ndcX = 2.0f * pixel.x / float(width) - 1.0f;
-    const float ndcY = 1.0f - 2.0f * pixel.y / float(height);
-    return {camera.position, glm::normalize(b.forward + ndcX * t.x * b.right + ndcY * t.y * b.up)};
+    const CameraFrame f = cameraFrame(camera, width, height);
+    return {camera.position, glm::vec3(f.pixelDirection(glm::dvec2(pixel), width, height))};
 }
 
 std::optional<PickHit> pick(const Scene& scene, const Ray& ray) {
@@ -216,11 +206,8 @@ Camera frameBounds(const Camera& c, glm::vec3 lo, glm::vec3 hi, float aspect) {
     const glm::vec3 centre = 0.5f * (lo + hi);
     const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
     // The smaller half-angle of the view must hold the bounding sphere.
-    float halfFov = glm::radians(c.fovDegrees) * 0.5f;
-    if (aspect < 1.0f && (c.fovAxis == FovAxis::Y || c.fovAxis == FovAxis::Larger))
-        halfFov = std::atan(std::tan(halfFov) * aspect);
-    if (aspect > 1.0f && (c.fovAxis == FovAxis::X || c.fovAxis == FovAxis::Larger))
-        halfFov = std::atan(std::tan(halfFov) / aspect);
+    const CameraFrame f = cameraFrame(c, double(aspect));
+    const float halfFov = float(std::atan(std::min(f.tanX, f.tanY)));
     const float distance = radius / std::sin(halfFov) * 1.1f;
     Camera out = c;
     const glm::vec3 dir = glm::normalize(c.position - c.lookAt);
@@ -229,11 +216,12 @@ Camera frameBounds(const Camera& c, glm::vec3 lo, glm::vec3 hi, float aspect) {
     return out;
 }
 
-glm::mat4 viewMatrix(const Camera& c) { return glm::lookAt(c.position, c.lookAt, c.up); }
+// The rolled up vector: the gizmo's view turns with the rendered image.
+glm::mat4 viewMatrix(const Camera& c) { return glm::lookAt(c.position, c.lookAt, basisOf(c).up); }
 
 glm::mat4 projectionMatrix(const Camera& c, int width, int height, float zNear, float zFar) {
-    const glm::vec2 t = tanHalfExtents(c, width, height);
-    return glm::perspective(2.0f * std::atan(t.y), t.x / t.y, zNear, zFar);
+    const CameraFrame f = cameraFrame(c, width, height);
+    return glm::perspective(float(2.0 * std::atan(f.tanY)), float(f.tanX / f.tanY), zNear, zFar);
 }
 
 Transform transformFromMatrix(const glm::mat4& m) {

@@ -1,5 +1,5 @@
-// The viewport's geometry on the CPU: camera rays that match the GPU camera exactly
-// (renderer/gpu_scene.cpp makeFrame, shaders/integrator/camera.glsl), picking against the
+// The viewport's geometry on the CPU: camera rays that match the GPU camera exactly (both come
+// from renderer/camera.h's cameraFrame; shaders/integrator/camera.glsl; tested on the GPU), picking against the
 // scene's canonical shapes and lights, bounds for "frame selected", camera navigation (orbit,
 // pan, dolly, fly, frame), the view/projection matrices for the gizmo, and the inverse of
 // Transform::toMatrix. Pure functions, unit-tested.

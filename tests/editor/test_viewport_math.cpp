@@ -34,11 +34,13 @@ void checkNear(glm::vec3 a, glm::vec3 b, float eps = 1e-4f) {
 
 TEST_CASE("camera rays match the GPU camera's frame constants", "[editor]") {
     EditorState s = cornell();
-    for (auto [w, h, axis] : {std::tuple{256, 256, FovAxis::Smaller}, std::tuple{400, 200, FovAxis::Smaller},
-                              std::tuple{200, 400, FovAxis::Larger}, std::tuple{300, 200, FovAxis::Y}}) {
+    for (auto [w, h, axis, roll] : {std::tuple{256, 256, FovAxis::Smaller, 0.0f}, std::tuple{400, 200, FovAxis::Smaller, 0.0f},
+                                    std::tuple{200, 400, FovAxis::Larger, 30.0f}, std::tuple{300, 200, FovAxis::Y, -115.0f},
+                                    std::tuple{200, 100, FovAxis::X, 30.0f}}) {
         s.scene.render.width = w;
         s.scene.render.height = h;
         s.scene.camera.fovAxis = axis;
+        s.scene.camera.rollDegrees = roll;
         CompiledScene compiled;
         std::string error;
         REQUIRE(compileScene(s.scene, &compiled, &error));

@@ -18,8 +18,9 @@
 // not pixels.
 //
 // Semantics it must share with the GPU (they define the integral, not the estimator):
-//   - the camera of makeFrame() (renderer/gpu_scene.cpp): a pinhole, fov along the axis the scene
-//     names, row 0 at the top;
+//   - the camera: its frame comes from renderer/camera.h's cameraFrame (the one module the
+//     renderer and the editor use too; the shader's rays are tested against it on the GPU), as a
+//     pinhole, row 0 at the top;
 //   - max depth = the maximum number of scattering events on a path: emission is collected at
 //     the first maxDepth + 1 surface hits (0: only emitters seen directly);
 //   - every material emits from both faces, except primitives flagged
@@ -36,6 +37,7 @@
 // stream, and the chunk sums are added in order, so the result does not depend on the threads.
 #pragma once
 
+#include "renderer/camera.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/scene.h"
 
@@ -182,19 +184,12 @@ public:
             *error = "reference tracer: only no, constant and sky environments are supported";
             return;
         }
-        // The camera of makeFrame(), in double.
-        const Camera& c = scene.camera;
-        const int w = scene.render.width, h = scene.render.height;
-        m_camPos = glm::dvec3(c.position);
-        m_forward = glm::normalize(glm::dvec3(c.lookAt) - m_camPos);
-        const glm::dvec3 right = glm::normalize(glm::cross(m_forward, glm::dvec3(c.up)));
-        const glm::dvec3 up = glm::cross(right, m_forward);
-        const double t = std::tan(double(c.fovDegrees) * kPi / 360.0);
-        const double aspect = double(w) / double(h);
-        const bool alongX = c.fovAxis == FovAxis::X || (c.fovAxis == FovAxis::Smaller && w <= h) ||
-                            (c.fovAxis == FovAxis::Larger && w > h);
-        m_right = right * (alongX ? t : t * aspect);
-        m_up = up * (alongX ? t / aspect : t);
+        // The camera's frame (renderer/camera.h, the one the renderer and the editor use).
+        const CameraFrame cam = cameraFrame(scene.camera, scene.render.width, scene.render.height);
+        m_camPos = cam.position;
+        m_forward = cam.forward;
+        m_right = cam.right * cam.tanX;
+        m_up = cam.up * cam.tanY;
         m_maxDepth = scene.render.maxDepth;
     }
 

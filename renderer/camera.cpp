@@ -1,0 +1,39 @@
+#include "renderer/camera.h"
+
+#include <cmath>
+
+namespace caustic {
+
+bool fovAlongX(FovAxis axis, double aspect) {
+    return axis == FovAxis::X || (axis == FovAxis::Smaller && aspect <= 1.0) || (axis == FovAxis::Larger && aspect > 1.0);
+}
+
+CameraFrame cameraFrame(const Camera& c, double aspect) {
+    CameraFrame f;
+    f.position = glm::dvec3(c.position);
+    f.forward = glm::normalize(glm::dvec3(c.lookAt) - glm::dvec3(c.position));
+    f.right = glm::normalize(glm::cross(f.forward, glm::normalize(glm::dvec3(c.up))));
+    f.up = glm::cross(f.right, f.forward);
+    if (c.rollDegrees != 0.0f) {  // turns the image counter-clockwise by the roll angle
+        const double r = glm::radians(double(c.rollDegrees));
+        const glm::dvec3 right = std::cos(r) * f.right + std::sin(r) * f.up;
+        f.up = std::cos(r) * f.up - std::sin(r) * f.right;
+        f.right = right;
+    }
+    const double t = std::tan(glm::radians(double(c.fovDegrees)) * 0.5);
+    const bool alongX = fovAlongX(c.fovAxis, aspect);
+    f.tanX = alongX ? t : t * aspect;
+    f.tanY = alongX ? t / aspect : t;
+    f.apertureRadius = c.apertureRadius;
+    f.focalDistance = c.focalDistance > 0.0f ? double(c.focalDistance)
+                                             : glm::length(glm::dvec3(c.lookAt) - glm::dvec3(c.position));
+    if (c.focusPoint) f.focalDistance = glm::dot(glm::dvec3(*c.focusPoint) - f.position, f.forward);
+    return f;
+}
+
+glm::dvec3 CameraFrame::pixelDirection(glm::dvec2 pixel, int width, int height) const {
+    const glm::dvec2 ndc(2.0 * pixel.x / double(width) - 1.0, 1.0 - 2.0 * pixel.y / double(height));
+    return glm::normalize(planePoint(ndc));
+}
+
+}  // namespace caustic
