@@ -12,10 +12,16 @@ into the folder:
                  the tiles are raised with bevelled edges, grooves between them
   roughness.png  GGX alpha in the first channel (linear, x 255): polished, satin and brushed
                  tiles (0.02, 0.15, 0.45) and rough grout (0.7)
+  torus.gltf, torus.bin, metallic_roughness.png
+                 the same torus as glTF 2.0 with its own material: base colour albedo.png, normal
+                 map normal.png, and the metallic-roughness texture glTF defines (section 3.9.2:
+                 G = perceptual roughness, the square root of the alpha above; B = metalness, 1
+                 everywhere; R unused), for caustic's mapping of a file's materials
 
 The top row of an image is v = 1 (docs/scene-format.md, textures). The PNGs are written with
 zlib directly (filter 0 rows), 256 x 256 RGB.
 """
+import json
 import math
 import os
 import struct
@@ -104,6 +110,68 @@ def textures():
     return albedo, normal, rough
 
 
+def torus_arrays(rings=72, sides=28, major=1.0, minor=0.35, repeat_u=3.0, repeat_v=1.0):
+    """(positions, normals, uvs, triangles) of the torus torus() writes, 0-based."""
+    pos, nor, uv, tris = [], [], [], []
+    for i in range(rings + 1):
+        phi = 2.0 * math.pi * i / rings
+        for j in range(sides + 1):
+            theta = 2.0 * math.pi * j / sides
+            nor.append((math.cos(theta) * math.cos(phi), math.sin(theta), math.cos(theta) * math.sin(phi)))
+            pos.append(((major + minor * math.cos(theta)) * math.cos(phi), minor * math.sin(theta),
+                        (major + minor * math.cos(theta)) * math.sin(phi)))
+            uv.append((repeat_u * i / rings, repeat_v * j / sides))
+    stride = sides + 1
+    for i in range(rings):
+        for j in range(sides):
+            a, b = i * stride + j, (i + 1) * stride + j
+            tris += [(a, a + 1, b + 1), (a, b + 1, b)]
+    return pos, nor, uv, tris
+
+
+def gltf(folder, mr_name="metallic_roughness.png"):
+    """torus.gltf + torus.bin: the torus with a metallic-roughness material (glTF 2.0)."""
+    pos, nor, uv, tris = torus_arrays()
+    blob = bytearray()
+    views = []
+    for data, fmt in ((pos, "<3f"), (nor, "<3f"), ([(u, 1.0 - v) for u, v in uv], "<2f")):
+        start = len(blob)
+        for item in data:
+            blob += struct.pack(fmt, *item)
+        views.append((start, len(blob) - start))
+    start = len(blob)
+    for t in tris:
+        blob += struct.pack("<3H", *t)
+    views.append((start, len(blob) - start))
+    with open(os.path.join(folder, "torus.bin"), "wb") as f:
+        f.write(blob)
+    lo = [min(p[k] for p in pos) for k in range(3)]
+    hi = [max(p[k] for p in pos) for k in range(3)]
+    doc = {
+        "asset": {"version": "2.0", "generator": "caustic assets/make_textured.py"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "torus"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                                    "indices": 3, "material": 0}]}],
+        "materials": [{"name": "metal tiles",
+                       "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 1.0,
+                                                "roughnessFactor": 1.0, "metallicRoughnessTexture": {"index": 1}},
+                       "normalTexture": {"index": 2}}],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}],
+        "images": [{"uri": "albedo.png"}, {"uri": mr_name}, {"uri": "normal.png"}],
+        "buffers": [{"uri": "torus.bin", "byteLength": len(blob)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": n} for o, n in views],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(pos), "type": "VEC3", "min": lo, "max": hi},
+            {"bufferView": 1, "componentType": 5126, "count": len(nor), "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": len(uv), "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": 3 * len(tris), "type": "SCALAR"},
+        ],
+    }
+    with open(os.path.join(folder, "torus.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
 def torus(path, rings=72, sides=28, major=1.0, minor=0.35, repeat_u=3.0, repeat_v=1.0):
     lines = ["# torus with UVs, caustic assets/make_textured.py"]
     for i in range(rings + 1):           # the seam is duplicated so the UVs can run 0..repeat
@@ -136,8 +204,13 @@ def main():
     write_png(os.path.join(folder, "albedo.png"), SIZE, SIZE, albedo)
     write_png(os.path.join(folder, "normal.png"), SIZE, SIZE, normal)
     write_png(os.path.join(folder, "roughness.png"), SIZE, SIZE, rough)
+    # glTF's packed texture: G = perceptual roughness = sqrt(alpha), B = metalness (all metal).
+    packed = [[(0.0, math.sqrt(r[0]), 1.0) for r in row] for row in rough]
+    write_png(os.path.join(folder, "metallic_roughness.png"), SIZE, SIZE, packed)
     torus(os.path.join(folder, "torus.obj"))
-    for name in ("torus.obj", "albedo.png", "normal.png", "roughness.png"):
+    gltf(folder)
+    for name in ("torus.obj", "albedo.png", "normal.png", "roughness.png", "metallic_roughness.png",
+                 "torus.gltf", "torus.bin"):
         p = os.path.join(folder, name)
         print(p, os.path.getsize(p), "bytes")
 
