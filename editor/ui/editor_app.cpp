@@ -1,5 +1,6 @@
 #include "editor/ui/editor_app.h"
 
+#include "editor/model/shortcuts.h"
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/script_runner.h"
@@ -174,7 +175,8 @@ void handleShortcuts(EditorUi& ui) {
         std::string why;
         if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
     }
-    if (ImGui::IsKeyPressed(ImGuiKey_Delete, false) && ui.state.selection && !io.WantCaptureKeyboard) {
+    const KeyFocus focus{io.WantTextInput, ImGui::IsAnyItemActive(), ui.viewportFocused || ui.outlinerFocused};
+    if (ImGui::IsKeyPressed(ImGuiKey_Delete, false) && ui.state.selection && deleteKeyDeletes(focus)) {
         std::string why;
         if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
         else if (!why.empty()) notify(ui, why, true);

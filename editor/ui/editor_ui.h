@@ -58,6 +58,8 @@ struct EditorUi {
     bool interacting = false;         // something is being dragged this frame (preview resolution)
     double lastInteraction = -1.0;
     bool viewportHovered = false;
+    bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
+    bool outlinerFocused = false;
 
     // Rendering.
     int previewDivisor = 1;           // 1 = full resolution

@@ -102,7 +102,9 @@ void section(EditorUi& ui, const char* title, const List& list, EntityKind kind,
 }  // namespace
 
 void drawOutlinerPanel(EditorUi& ui) {
-    if (!ImGui::Begin("Outliner")) {
+    const bool open = ImGui::Begin("Outliner");
+    ui.outlinerFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
+    if (!open) {
         ImGui::End();
         return;
     }

@@ -319,6 +319,34 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         markEdit();
         return true;
     }
+    if (op == "focus") {   // as a click on the panel's title would
+        const char* window = a[0] == "viewport" ? "Viewport" : a[0] == "outliner" ? "Outliner" : a[0] == "inspector" ? "Inspector" : nullptr;
+        if (!window) { fail(ui, line, "unknown panel '" + a[0] + "'"); return true; }
+        ImGui::SetWindowFocus(window);
+        m_waitFrames = 1;   // focused from the next frame on
+        ++m_next;
+        return false;
+    }
+    if (op == "key") {   // through ImGui's input queue, as GLFW's key callback feeds it
+        static const std::pair<const char*, ImGuiKey> keys[] = {
+            {"Delete", ImGuiKey_Delete}, {"F", ImGuiKey_F}, {"W", ImGuiKey_W}, {"E", ImGuiKey_E}, {"R", ImGuiKey_R}};
+        const auto k = std::find_if(std::begin(keys), std::end(keys), [&](const auto& e) { return a[0] == e.first; });
+        if (k == std::end(keys)) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
+        ImGui::GetIO().AddKeyEvent(k->second, true);
+        ImGui::GetIO().AddKeyEvent(k->second, false);   // trickled: down next frame, up the one after
+        m_waitFrames = 2;
+        ++m_next;
+        markEdit();
+        return false;
+    }
+    if (op == "expect_count") {
+        const std::size_t n = a[0] == "objects" ? s.scene.objects.size() : a[0] == "lights" ? s.scene.lights.size()
+                            : a[0] == "materials" ? s.scene.materials.size() : ~std::size_t(0);
+        if (n == ~std::size_t(0)) { fail(ui, line, "unknown list '" + a[0] + "'"); return true; }
+        if (n != static_cast<std::size_t>(num(a[1])))
+            fail(ui, line, "expected " + a[1] + " " + a[0] + ", have " + std::to_string(n));
+        return true;
+    }
     if (op == "quit") {
         ui.quit = true;
         return true;

@@ -184,6 +184,7 @@ void drawViewportPanel(EditorUi& ui) {
     const bool open = ImGui::Begin("Viewport");
     ImGui::PopStyleVar();
     ui.interacting = false;
+    ui.viewportFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
     if (!open) {
         ImGui::End();
         return;
