@@ -1,6 +1,7 @@
 #include "editor/model/commands.h"
 
 #include "editor/model/editor_state.h"
+#include "editor/model/scene_paths.h"
 #include "renderer/scene_io.h"
 
 #include <type_traits>
@@ -138,6 +139,11 @@ bool CommandStack::redo(EditorState& state) {
     return true;
 }
 
+void CommandStack::rebasePaths(const std::string& fromFolder, const std::string& toFolder) {
+    for (Entry& e : m_done) e.command->rebasePaths(fromFolder, toFolder);
+    for (Entry& e : m_undone) e.command->rebasePaths(fromFolder, toFolder);
+}
+
 void CommandStack::clear() {
     m_done.clear();
     m_undone.clear();
@@ -206,6 +212,12 @@ template <class T>
 std::string SetCommand<T>::check() const { return checkEntity(m_after, placeOf<T>(m_index)); }
 
 template <class T>
+void SetCommand<T>::rebasePaths(const std::string& from, const std::string& to) {
+    editor::rebasePaths(m_before, from, to);
+    editor::rebasePaths(m_after, from, to);
+}
+
+template <class T>
 std::string SetCommand<T>::name() const {
     if constexpr (kIsList<T>) {
         if (m_before.name != m_after.name) return "Rename " + describe(m_before) + " to '" + m_after.name + "'";
@@ -238,6 +250,9 @@ template <class T>
 std::string InsertCommand<T>::check() const { return checkEntity(m_value, placeOf<T>(m_index)); }
 
 template <class T>
+void InsertCommand<T>::rebasePaths(const std::string& from, const std::string& to) { editor::rebasePaths(m_value, from, to); }
+
+template <class T>
 std::string InsertCommand<T>::name() const { return m_verb + " " + describe(m_value); }
 
 template <class T>
@@ -258,6 +273,9 @@ void RemoveCommand<T>::undo(EditorState& state) {
 
 template <class T>
 std::uint32_t RemoveCommand<T>::dirty() const { return listChangeDirty(Access<T>::kind); }
+
+template <class T>
+void RemoveCommand<T>::rebasePaths(const std::string& from, const std::string& to) { editor::rebasePaths(m_value, from, to); }
 
 template <class T>
 std::string RemoveCommand<T>::name() const { return "Delete " + describe(m_value); }

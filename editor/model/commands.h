@@ -44,6 +44,10 @@ public:
     // "objects[2].transform.translate[0]: must be a finite 32-bit float, got nan". EditorState
     // refuses a command that reports something, so an edit can never make the scene unsaveable.
     virtual std::string check() const { return {}; }
+    // The scene was saved into another folder: the files the command's values name (mesh files,
+    // textures, the environment map; editor/model/scene_paths.h) are rebased with it, so undo and
+    // redo put back paths that resolve from the new folder.
+    virtual void rebasePaths(const std::string& fromFolder, const std::string& toFolder) { (void)fromFolder; (void)toFolder; }
 };
 
 // The undo history. push() executes; an unsealed top absorbs the next command if it merges.
@@ -69,6 +73,8 @@ public:
     // back with an undo to an earlier state). A background open compares it to tell whether the
     // scene it replaces was edited meanwhile.
     std::uint64_t revision() const { return topSerial(); }
+    // Every command's paths (undone ones too), after the scene was saved into another folder.
+    void rebasePaths(const std::string& fromFolder, const std::string& toFolder);
 
 private:
     struct Entry { std::unique_ptr<Command> command; std::uint64_t serial; };
@@ -93,6 +99,7 @@ public:
     std::uint32_t dirty() const override;
     std::string name() const override;
     std::string check() const override;
+    void rebasePaths(const std::string& fromFolder, const std::string& toFolder) override;
     const T& before() const { return m_before; }
     const T& after() const { return m_after; }
 
@@ -113,6 +120,7 @@ public:
     std::uint32_t dirty() const override;
     std::string name() const override;
     std::string check() const override;
+    void rebasePaths(const std::string& fromFolder, const std::string& toFolder) override;
 
 private:
     int m_index;
@@ -130,6 +138,7 @@ public:
     void undo(EditorState& state) override;
     std::uint32_t dirty() const override;
     std::string name() const override;
+    void rebasePaths(const std::string& fromFolder, const std::string& toFolder) override;
 
 private:
     int m_index;

@@ -1,5 +1,6 @@
 #include "editor/model/editor_state.h"
 
+#include "editor/model/scene_paths.h"
 #include "renderer/file_util.h"
 #include "renderer/scene_io.h"
 
@@ -94,9 +95,16 @@ bool EditorState::save(std::string* error) {
 }
 
 bool EditorState::saveAs(const std::string& file, std::string* error) {
-    if (!saveScene(scene, file, error)) return false;
+    // Into another folder, the files the scene names are rebased to stay the same files (and
+    // the undo history's with them); in memory too, since they now resolve from the new folder.
+    const std::string from = sceneFolderOf(path), to = sceneFolderOf(file);
+    Scene saved = scene;
+    rebaseScenePaths(saved, from, to);
+    saved.sourcePath = file;
+    if (!saveScene(saved, file, error)) return false;
+    scene = std::move(saved);
+    if (from != to) history.rebasePaths(from, to);
     path = file;
-    scene.sourcePath = file;
     history.markClean();
     return true;
 }

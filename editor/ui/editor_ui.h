@@ -31,6 +31,7 @@ struct FileBrowserState {
     Mode mode = Mode::Open;
     std::string directory;
     std::string fileName;
+    std::string confirmOverwrite;   // the existing file Save As / Render to file asks to replace
 };
 
 struct EditorUi {

@@ -1,6 +1,9 @@
 // The in-app file browser (a modal): folders and .json scenes (or .png images when choosing a
 // render's output, or model files), a path field, Up, and OK/Cancel. Used for Open, Save As,
-// Render to file, Import mesh and a mesh object's file.
+// Render to file, Import mesh and a mesh object's file. Save As proposes a name that exists
+// nowhere in the folder (suggestSaveAsName), and Save As and Render to file ask before they
+// replace an existing file.
+#include "editor/model/scene_paths.h"
 #include "editor/ui/editor_ui.h"
 #include "renderer/mesh_import.h"
 
@@ -9,6 +12,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -22,7 +26,8 @@ void openFileBrowser(EditorUi& ui, FileBrowserState::Mode mode) {
     std::error_code ec;
     const fs::path current = ui.state.path.empty() ? fs::current_path(ec) : fs::absolute(ui.state.path, ec).parent_path();
     if (b.directory.empty() || mode != FileBrowserState::Mode::RenderTo) b.directory = current.string();
-    if (mode == FileBrowserState::Mode::SaveAs) b.fileName = ui.state.path.empty() ? "scene.json" : fs::path(ui.state.path).filename().string();
+    b.confirmOverwrite.clear();
+    if (mode == FileBrowserState::Mode::SaveAs) b.fileName = suggestSaveAsName(b.directory, ui.state.path);
     else if (mode == FileBrowserState::Mode::RenderTo) b.fileName = (ui.state.path.empty() ? std::string("render") : fs::path(ui.state.path).stem().string()) + ".png";
     else b.fileName.clear();
 }
@@ -95,11 +100,8 @@ void drawFileBrowser(EditorUi& ui) {
         b.open = false;
         ui.afterUnsavedPrompt = nullptr;
     }
-    if (accept && !b.fileName.empty()) {
-        std::string path = (fs::path(b.directory) / b.fileName).string();
-        if ((b.mode == FileBrowserState::Mode::SaveAs || b.mode == FileBrowserState::Mode::RenderTo) &&
-            fs::path(path).extension() != wanted)
-            path += wanted;
+    // Does what the browser was opened for; false keeps it open (a failed open or save).
+    auto finish = [&](const std::string& path) {
         bool ok = true;
         switch (b.mode) {
             case FileBrowserState::Mode::Open: ok = openFile(ui, path); break;
@@ -120,6 +122,31 @@ void drawFileBrowser(EditorUi& ui) {
                 break;
         }
         if (ok) b.open = false;
+    };
+    if (accept && !b.fileName.empty()) {
+        std::string path = (fs::path(b.directory) / b.fileName).string();
+        const bool writes = b.mode == FileBrowserState::Mode::SaveAs || b.mode == FileBrowserState::Mode::RenderTo;
+        if (writes && fs::path(path).extension() != wanted) path += wanted;
+        std::error_code existsError;
+        if (writes && fs::exists(path, existsError)) {
+            b.confirmOverwrite = path;   // asked below; nothing is written until "Replace"
+            ImGui::OpenPopup("Replace file?");
+        } else {
+            finish(path);
+        }
+    }
+    if (ImGui::BeginPopupModal("Replace file?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("'%s' exists. Replace it?", b.confirmOverwrite.c_str());
+        if (ImGui::Button("Replace")) {
+            ImGui::CloseCurrentPopup();
+            finish(std::exchange(b.confirmOverwrite, std::string()));
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel##replace") || ImGui::IsKeyPressed(ImGuiKey_Escape)) {
+            b.confirmOverwrite.clear();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
     }
     if (!b.open) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();

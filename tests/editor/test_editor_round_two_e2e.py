@@ -1,16 +1,19 @@
 """The real editor under Xvfb with Mesa (issue 15, the bugs a new user hit): scripted sessions on
 the Cornell box. EditorDeleteKey: Del deletes the selection when the viewport or the outliner has
 the keyboard (keyboard navigation made ImGui's WantCaptureKeyboard always true, so it never did),
-and not when another panel does.
+and not when another panel does. EditorSaveAsElsewhere: the sky-spheres scene (which names
+../assets/sky.hdr) saved into a sub-folder and into the parent of its folder still batch-renders,
+to the same image as the original (its relative paths used to be written unchanged).
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
 import json
 import os
 import shutil
+import subprocess
 import unittest
 
-from test_editor_e2e import CORNELL, EditorSessionCase, run_editor
+from test_editor_e2e import BIN, CORNELL, SOURCE_DIR, EditorSessionCase, diff_stats, read_png, run_editor
 
 DELETE_SCRIPT = """
 wait_samples 1
@@ -50,6 +53,55 @@ class EditorDeleteKey(EditorSessionCase):
 
     def test_delete_key(self):
         self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+
+SAVE_AS_SCRIPT = """
+save sub/deeper/sky.json
+save up.json
+quit
+"""
+
+
+class EditorSaveAsElsewhere(EditorSessionCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-saveas-")
+        # The session saves the scene from its own folder into tmp/sub/deeper/ and tmp/: neither
+        # is where ../assets/sky.hdr resolves from scenes/.
+        os.makedirs(os.path.join(cls.tmp, "sub", "deeper"))
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(SAVE_AS_SCRIPT)
+        cls.original = os.path.join(SOURCE_DIR, "scenes", "sky-spheres.json")
+        cls.editor = run_editor(cls.tmp, "script.txt", cls.original)
+        cls.renders = {}
+        for name, scene in (("original", cls.original), ("deeper", os.path.join(cls.tmp, "sub", "deeper", "sky.json")),
+                            ("up", os.path.join(cls.tmp, "up.json"))):
+            out = os.path.join(cls.tmp, "out-" + name)
+            cls.renders[name] = (subprocess.run(
+                [BIN, "--scene", scene, "--samples", "2", "--set", "render.width=96", "--set", "render.height=64",
+                 "--output", out], capture_output=True, text=True, timeout=1200), out)
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_saved_copies_name_the_same_map(self):
+        with open(self.original) as f:
+            self.assertEqual(json.load(f)["environment"]["file"], "../assets/sky.hdr")
+        sky = os.path.abspath(os.path.join(SOURCE_DIR, "assets", "sky.hdr"))
+        # Relative still, from the new folder.
+        self.assertEqual(self.load(os.path.join("sub", "deeper", "sky.json"))["environment"]["file"],
+                         os.path.relpath(sky, os.path.join(self.tmp, "sub", "deeper")))
+        self.assertEqual(self.load("up.json")["environment"]["file"], os.path.relpath(sky, self.tmp))
+
+    def test_3_copies_render_the_same_image_in_batch(self):
+        for name, (run, out) in self.renders.items():
+            self.assertEqual(run.returncode, 0, name + ": " + run.stderr)
+        original = read_png(os.path.join(self.renders["original"][1], "sky-spheres.png"))[1]
+        for name, png in (("deeper", "sky.png"), ("up", "up.png")):
+            copy = read_png(os.path.join(self.renders[name][1], png))[1]
+            mean, changed, _ = diff_stats(original, copy)
+            self.assertLess(mean, 0.01, name)
+            self.assertEqual(changed, 0.0, name)
 
 
 if __name__ == "__main__":
