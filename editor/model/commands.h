@@ -44,6 +44,9 @@ public:
     // "objects[2].transform.translate[0]: must be a finite 32-bit float, got nan". EditorState
     // refuses a command that reports something, so an edit can never make the scene unsaveable.
     virtual std::string check() const { return {}; }
+    // The command would leave the scene as it is (a gizmo turn of a light that has no rotation,
+    // a field set to its own value): EditorState records no undo step for it and dirties nothing.
+    virtual bool changesNothing() const { return false; }
     // The scene was saved into another folder: the files the command's values name (mesh files,
     // textures, the environment map; editor/model/scene_paths.h) are rebased with it, so undo and
     // redo put back paths that resolve from the new folder.
@@ -100,6 +103,7 @@ public:
     std::string name() const override;
     std::string check() const override;
     void rebasePaths(const std::string& fromFolder, const std::string& toFolder) override;
+    bool changesNothing() const override { return m_before == m_after; }
     const T& before() const { return m_before; }
     const T& after() const { return m_after; }
 

@@ -23,6 +23,7 @@ bool EditorState::apply(std::unique_ptr<Command> command, std::string* why) {
         if (why) *why = "edit refused: " + wrong;
         return false;
     }
+    if (command->changesNothing()) return true;   // no undo step, nothing dirty (issue 15)
     history.push(std::move(command), *this, false);
     return true;
 }
@@ -33,6 +34,7 @@ bool EditorState::applyContinuous(std::unique_ptr<Command> command, std::string*
         if (why) *why = "edit refused: " + wrong;
         return false;
     }
+    if (command->changesNothing()) return true;   // no undo step, nothing dirty (issue 15)
     history.push(std::move(command), *this, true);
     return true;
 }

@@ -252,4 +252,52 @@ glm::vec3 snapTo(glm::vec3 v, float step) {
     return glm::round(v / step) * step;
 }
 
+GizmoOps gizmoOpsFor(const Scene& scene, EntityRef ref) {
+    if (ref.kind == EntityKind::Object) return {true, true, true};
+    if (ref.kind == EntityKind::Light && ref.index >= 0 && static_cast<size_t>(ref.index) < scene.lights.size()) {
+        switch (scene.lights[static_cast<size_t>(ref.index)].type) {
+            case LightType::Rect: return {true, true, true};
+            case LightType::Spot: return {true, true, false};
+            default: return {true, false, false};
+        }
+    }
+    return {false, false, false};
+}
+
+glm::mat4 lightGizmoMatrix(const Light& light) {
+    if (light.type == LightType::Rect) return light.transform.toMatrix();
+    glm::mat4 m(1.0f);
+    if (light.type == LightType::Spot) {
+        // Any orthonormal frame with z along the direction: the spot has no roll.
+        const float len = glm::length(light.direction);
+        const glm::vec3 z = len > 0.0f ? light.direction / len : glm::vec3(0.0f, -1.0f, 0.0f);
+        const glm::vec3 helper = std::abs(z.y) < 0.99f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+        const glm::vec3 x = glm::normalize(glm::cross(helper, z));
+        m[0] = glm::vec4(x, 0.0f);
+        m[1] = glm::vec4(glm::cross(z, x), 0.0f);
+        m[2] = glm::vec4(z, 0.0f);
+    }
+    m[3] = glm::vec4(light.position, 1.0f);
+    return m;
+}
+
+Light lightFromGizmo(const Light& light, const glm::mat4& m) {
+    Light l = light;
+    if (l.type == LightType::Rect) {
+        l.transform = transformFromMatrix(m);
+        return l;
+    }
+    l.position = glm::vec3(m[3]);
+    if (l.type == LightType::Spot) {
+        const glm::vec3 z(m[2]);
+        const float len = glm::length(z);
+        const float oldLen = glm::length(light.direction);
+        // A turn about the spot's own axis (or rounding) leaves the direction as it was.
+        if (len > 0.0f && std::isfinite(len) &&
+            (oldLen <= 0.0f || glm::length(z / len - light.direction / oldLen) > 1e-6f))
+            l.direction = z / len;
+    }
+    return l;
+}
+
 }  // namespace caustic::editor

@@ -59,6 +59,20 @@ glm::mat4 projectionMatrix(const Camera& c, int width, int height, float zNear, 
 // toMatrix can make (up to rounding).
 Transform transformFromMatrix(const glm::mat4& m);
 
+// The gizmo on a light (issue 15: rotating a point light showed the rotation, threw it away and
+// recorded an empty undo step). What each light can be given by a gizmo: a rect light has a full
+// transform (move, rotate, scale); a spot light a position and a direction (move, and rotate,
+// which turns the direction); point and sphere lights only a position (move).
+struct GizmoOps { bool translate = true, rotate = false, scale = false; };
+GizmoOps gizmoOpsFor(const Scene& scene, EntityRef ref);
+// The light as the gizmo's matrix: the rect's transform; otherwise a translation to its position,
+// and for a spot a rotation whose +z axis is the spot's direction.
+glm::mat4 lightGizmoMatrix(const Light& light);
+// The light with the gizmo's edited matrix applied, within what gizmoOpsFor allows it (a point
+// light takes only the translation; a spot's direction becomes the matrix's +z axis). Returns the
+// light unchanged when the matrix changes nothing it has (a spot turned about its own axis).
+Light lightFromGizmo(const Light& light, const glm::mat4& m);
+
 // Snaps every component to a multiple of step (no-op for step <= 0).
 glm::vec3 snapTo(glm::vec3 v, float step);
 

@@ -23,17 +23,23 @@ namespace {
 ImTextureRef textureRef(unsigned id) { return ImTextureRef(static_cast<ImTextureID>(id)); }
 
 void drawToolbar(EditorUi& ui) {
-    auto opButton = [&](const char* label, GizmoOp op, const char* tip) {
+    // Rotate and Scale are greyed out for a selection that cannot take them (point and sphere
+    // lights have no rotation or scale, a spot no scale); the gizmo then moves it.
+    const GizmoOps ops = gizmoOpsFor(ui.state.scene, ui.state.selection);
+    auto opButton = [&](const char* label, GizmoOp op, const char* tip, bool allowed) {
         const bool active = ui.gizmoOp == op;
         if (active) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
+        ImGui::BeginDisabled(!allowed && ui.state.selection.kind == EntityKind::Light);
         if (ImGui::Button(label)) ui.gizmoOp = op;
+        ImGui::EndDisabled();
         if (active) ImGui::PopStyleColor();
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip);
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("%s", allowed || ui.state.selection.kind != EntityKind::Light ? tip : "not for this light: it has no rotation or scale (spot: rotate turns its direction)");
         ImGui::SameLine();
     };
-    opButton("Move", GizmoOp::Translate, "Translate (W)");
-    opButton("Rotate", GizmoOp::Rotate, "Rotate (E)");
-    opButton("Scale", GizmoOp::Scale, "Scale (R)");
+    opButton("Move", GizmoOp::Translate, "Translate (W)", true);
+    opButton("Rotate", GizmoOp::Rotate, "Rotate (E); a spot light: turns its direction", ops.rotate);
+    opButton("Scale", GizmoOp::Scale, "Scale (R)", ops.scale);
     if (ImGui::Button(ui.gizmoLocal ? "Local" : "World")) ui.gizmoLocal = !ui.gizmoLocal;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Gizmo axes: local or world (T)");
     ImGui::SameLine();
@@ -61,7 +67,8 @@ void drawToolbar(EditorUi& ui) {
     ImGui::EndDisabled();
 }
 
-// The gizmo's matrix for the selection, and how to write an edited matrix back.
+// The gizmo's matrix for the selection, and how to write an edited matrix back (a light takes
+// only what it has: lightFromGizmo; an edit that changes nothing records no undo step).
 bool selectionMatrix(const EditorUi& ui, glm::mat4* m) {
     const EditorState& s = ui.state;
     if (s.selection.kind == EntityKind::Object) {
@@ -69,8 +76,7 @@ bool selectionMatrix(const EditorUi& ui, glm::mat4* m) {
         return true;
     }
     if (s.selection.kind == EntityKind::Light) {
-        const Light& l = s.scene.lights[static_cast<size_t>(s.selection.index)];
-        *m = l.type == LightType::Rect ? l.transform.toMatrix() : glm::translate(glm::mat4(1.0f), l.position);
+        *m = lightGizmoMatrix(s.scene.lights[static_cast<size_t>(s.selection.index)]);
         return true;
     }
     return false;
@@ -83,10 +89,8 @@ void applyMatrix(EditorUi& ui, const glm::mat4& m) {
         o.transform = transformFromMatrix(m);
         s.applyContinuous(makeSetObject(s, s.selection.index, o));
     } else if (s.selection.kind == EntityKind::Light) {
-        Light l = s.scene.lights[static_cast<size_t>(s.selection.index)];
-        if (l.type == LightType::Rect) l.transform = transformFromMatrix(m);
-        else l.position = glm::vec3(m[3]);
-        s.applyContinuous(makeSetLight(s, s.selection.index, l));
+        const Light& l = s.scene.lights[static_cast<size_t>(s.selection.index)];
+        s.applyContinuous(makeSetLight(s, s.selection.index, lightFromGizmo(l, m)));
     }
 }
 
@@ -105,12 +109,16 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     ImGuizmo::SetOrthographic(false);
     ImGuizmo::SetDrawlist();
     ImGuizmo::SetRect(pos.x, pos.y, size.x, size.y);
-    const ImGuizmo::OPERATION op = ui.gizmoOp == GizmoOp::Translate ? ImGuizmo::TRANSLATE
-                                   : ui.gizmoOp == GizmoOp::Rotate  ? ImGuizmo::ROTATE
-                                                                    : ImGuizmo::SCALE;
+    // Only what the selection can take: point and sphere lights move, spots move and turn.
+    const GizmoOps ops = gizmoOpsFor(ui.state.scene, ui.state.selection);
+    const GizmoOp chosen = (ui.gizmoOp == GizmoOp::Rotate && !ops.rotate) || (ui.gizmoOp == GizmoOp::Scale && !ops.scale)
+                               ? GizmoOp::Translate : ui.gizmoOp;
+    const ImGuizmo::OPERATION op = chosen == GizmoOp::Translate ? ImGuizmo::TRANSLATE
+                                   : chosen == GizmoOp::Rotate  ? ImGuizmo::ROTATE
+                                                                : ImGuizmo::SCALE;
     // ImGuizmo scales in local axes only.
-    const ImGuizmo::MODE mode = ui.gizmoLocal || ui.gizmoOp == GizmoOp::Scale ? ImGuizmo::LOCAL : ImGuizmo::WORLD;
-    const float step = ui.gizmoOp == GizmoOp::Translate ? ui.snapTranslate : ui.gizmoOp == GizmoOp::Rotate ? ui.snapRotate : ui.snapScale;
+    const ImGuizmo::MODE mode = ui.gizmoLocal || chosen == GizmoOp::Scale ? ImGuizmo::LOCAL : ImGuizmo::WORLD;
+    const float step = chosen == GizmoOp::Translate ? ui.snapTranslate : chosen == GizmoOp::Rotate ? ui.snapRotate : ui.snapScale;
     const float snap[3] = {step, step, step};
     if (ImGuizmo::Manipulate(glm::value_ptr(view), glm::value_ptr(proj), op, mode, glm::value_ptr(m), nullptr,
                              ui.snap ? snap : nullptr))

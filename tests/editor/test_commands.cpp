@@ -164,7 +164,9 @@ TEST_CASE("drags of different things never merge, and a discrete edit never merg
     Object o = s.scene.objects[0];
     o.transform.scale *= 2.0f;
     s.apply(makeSetObject(s, 0, o));
+    o.transform.scale *= 2.0f;
     s.apply(makeSetObject(s, 0, o));          // discrete edits: one step each
+    s.apply(makeSetObject(s, 0, o));          // one that changes nothing: no step (issue 15)
     CHECK(s.history.undoCount() == 5);
 }
 
