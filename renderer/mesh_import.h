@@ -48,7 +48,10 @@ inline constexpr double kSlowImportSeconds = 5.0;
 // Assimp on a corrupt file becomes an error ("<path>: the importer crashed (signal 11, SIGSEGV)
 // inside Assimp; ..."), not the end of the program. Otherwise the same result as
 // importMeshFileInProcess, which is what the child runs.
-MeshImportResult importMeshFile(const std::string& path);
+// A child still running after timeoutSeconds is killed and the import fails ("did not finish
+// within ..."): Assimp loops for ever on some corrupt files.
+inline constexpr double kImportTimeoutSeconds = 300.0;
+MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds = kImportTimeoutSeconds);
 
 // The import in this process: what the child runs, and what the fuzzers call (they must see the
 // crashes, and their coverage counters live in this process).

@@ -13,17 +13,23 @@
 // other lock the parent's other threads could hold. If fork fails (no memory, process limit), the
 // import runs in this process instead, as before.
 //
+// A child that runs longer than the time-out (kImportTimeoutSeconds; Assimp loops for ever on some
+// corrupt SMD, COLLADA and OpenGEX files) is killed and the import fails saying so.
+//
 // The result is serialised field by field (below); the static_asserts on the sizes of Mesh and
 // ImportedMaterial fail the build when a field is added, so that it is not silently dropped here.
 #include "renderer/mesh_import.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <chrono>
 #include <csignal>
 #include <cstring>
 #include <type_traits>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -177,7 +183,7 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     return true;
 }
 
-MeshImportResult importMeshFile(const std::string& path) {
+MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds) {
     const auto t0 = std::chrono::steady_clock::now();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) return importMeshFileInProcess(path);
@@ -209,17 +215,33 @@ MeshImportResult importMeshFile(const std::string& path) {
     ::close(fds[1]);
     std::string bytes;
     char buf[1 << 16];
+    bool timedOut = false;
     for (;;) {
+        const double left = timeoutSeconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (left <= 0.0) {
+            timedOut = true;
+            break;
+        }
+        pollfd p{fds[0], POLLIN, 0};
+        const int ready = ::poll(&p, 1, int(std::min(left * 1000.0 + 1.0, 60000.0)));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) continue;   // the time left is checked again above
         const ssize_t n = ::read(fds[0], buf, sizeof buf);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
         bytes.append(buf, std::size_t(n));
     }
     ::close(fds[0]);
+    if (timedOut) ::kill(pid, SIGKILL);
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     MeshImportResult r;
-    if (WIFSIGNALED(status)) {
+    if (timedOut) {
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%g", timeoutSeconds);
+        r.error = path + ": the importer did not finish within " + secs +
+                  " s (Assimp hangs on some corrupt files); the import was stopped";
+    } else if (WIFSIGNALED(status)) {
         const int sig = WTERMSIG(status);
         const char* name = ::sigabbrev_np(sig);
         r.error = path + ": the importer crashed (signal " + std::to_string(sig) + (name ? std::string(", SIG") + name : "") +
