@@ -17,6 +17,10 @@
 
 namespace caustic {
 
+// Luminance of a linear Rec. 709 / sRGB colour (ITU-R BT.709 weights): light powers, selection
+// weights and the environment's sampling tables.
+inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
 // An equirectangular environment map and the tables that importance-sample it: texel (i, j) is
 // chosen with probability proportional to w_ij = luminance * sin(theta_j) (luminance taken as the
 // integral of the bilinearly filtered map over the cell, so that every direction the bilinear

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <filesystem>
+
 namespace caustic {
 
 glm::mat4 Transform::toMatrix() const {
@@ -47,5 +49,17 @@ void applySkyPreset(const SkyPreset& preset, Environment& env) {
     env.zenith = preset.zenith;
     env.intensity = preset.intensity;
 }
+
+std::string resolvePathIn(const std::string& folder, const std::string& file) {
+    const std::filesystem::path path(file);
+    if (path.is_relative() && !folder.empty()) return (std::filesystem::path(folder) / path).string();
+    return file;
+}
+
+std::string sceneFolder(const Scene& scene) {
+    return scene.sourcePath.empty() ? std::string() : std::filesystem::path(scene.sourcePath).parent_path().string();
+}
+
+std::string resolveScenePath(const Scene& scene, const std::string& file) { return resolvePathIn(sceneFolder(scene), file); }
 
 }  // namespace caustic

@@ -207,4 +207,12 @@ struct Scene {
     }
 };
 
+// The one rule for the files a scene names (textures, meshes, environment maps): a relative path
+// is relative to `folder` ("": the working directory); an absolute one stays as it is.
+std::string resolvePathIn(const std::string& folder, const std::string& file);
+// The folder of the scene's file ("" for a scene not read from a file), and a path it names
+// resolved against that folder.
+std::string sceneFolder(const Scene& scene);
+std::string resolveScenePath(const Scene& scene, const std::string& file);
+
 }  // namespace caustic

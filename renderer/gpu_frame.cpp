@@ -1,0 +1,82 @@
+// The per-dispatch constants (GpuFrame) and the packed tables buffer.
+#include "renderer/gpu_scene.h"
+
+#include "renderer/camera.h"
+
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+namespace caustic {
+
+std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
+    const size_t a = c.lightCdf.size(), b = c.envMap.marginalCdf.size(), d = c.envMap.conditionalCdf.size();
+    if (offsets) *offsets = glm::uvec4(0, a, a + b, a + b + d);
+    std::vector<float> out;
+    out.reserve(a + b + d + c.meshLightCdf.size());
+    for (const auto* t : {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf})
+        out.insert(out.end(), t->begin(), t->end());
+    return out;
+}
+
+gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::uint32_t strategy) {
+    gpu::GpuFrame f{};
+    const Camera& c = scene.camera;
+    const int w = scene.render.width, h = scene.render.height;
+    const CameraFrame cam = cameraFrame(c, w, h);  // renderer/camera.h, in double, rounded here
+    f.camPosition = glm::vec4(c.position, 0);
+    f.camRight = glm::vec4(glm::vec3(cam.right * cam.tanX), 0);
+    f.camUp = glm::vec4(glm::vec3(cam.up * cam.tanY), 0);
+    f.camForward = glm::vec4(glm::vec3(cam.forward), 0);
+    f.image = glm::uvec4(w, h, 0, scene.render.seed);
+    f.counts = glm::uvec4(compiled.primitives.size(), compiled.lights.size(), scene.render.maxDepth, strategy);
+    f.dispatch = glm::uvec4(1, compiled.envLightIndex + 1, 0, 0);
+    const Environment& env = scene.environment;
+    std::uint32_t envType = env.type == EnvironmentType::Constant ? ENV_CONSTANT
+                            : env.type == EnvironmentType::Sky    ? ENV_SKY
+                            : env.type == EnvironmentType::Map    ? ENV_MAP
+                                                                  : ENV_NONE;
+    f.envInfo = glm::uvec4(envType, compiled.envMap.width, compiled.envMap.height, compiled.envMap.tableScale);
+    const float rot = glm::radians(env.rotation);
+    f.envMap = glm::vec4(std::cos(rot), std::sin(rot), env.intensity, 0);
+    f.camLens = glm::vec4(c.apertureRadius, static_cast<float>(cam.focalDistance), c.squeeze, glm::radians(c.bladeRotationDegrees));
+    const std::uint32_t filter = scene.render.filter == PixelFilter::Tent       ? FILTER_TENT
+                                 : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
+                                                                                : FILTER_BOX;
+    f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, 0, 0);
+    f.geometry = glm::uvec4(compiled.tlasNodeCount, compiled.instances.size(), 0, 0);
+    const RenderSettings& r = scene.render;
+    const std::uint32_t selection = r.lightSelection == LightSelection::Power     ? LIGHT_SELECT_POWER
+                                    : r.lightSelection == LightSelection::Uniform ? LIGHT_SELECT_UNIFORM
+                                                                                  : LIGHT_SELECT_TREE;
+    const std::uint32_t rr = r.russianRoulette == RussianRoulette::Original ? RR_ORIGINAL
+                             : r.russianRoulette == RussianRoulette::Mitsuba ? RR_MITSUBA
+                             : r.russianRoulette == RussianRoulette::Pbrt    ? RR_PBRT
+                                                                             : RR_OFF;
+    f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
+                            compiled.lightTree.nodes.size());
+    f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
+    f.options = glm::uvec4(r.glassSplit ? OPTION_GLASS_SPLIT : 0u, 0, 0, 0);
+    // The ray offset's floor (geometry/intersect.glsl): the largest coordinate magnitude of the
+    // scene and the camera, at most 1, so a scene of size 1 or more keeps the floor 1 and a
+    // scene scaled down keeps its offsets in proportion (issue 12: the Cornell box at 1e-4 was 22%
+    // darker with a fixed floor). In double: bounds may reach 1e19 and beyond.
+    double extent = 0.0;
+    for (const glm::vec3& v : {compiled.boundsMin, compiled.boundsMax, c.position})
+        for (int k = 0; k < 3; ++k)
+            if (std::isfinite(v[k])) extent = std::max(extent, std::abs(double(v[k])));
+    f.rayOffset = glm::vec4(static_cast<float>(std::clamp(extent, 1e-30, 1.0)), 0, 0, 0);
+    packTables(compiled, &f.tables);
+    f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
+    f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
+    f.envZenith = glm::vec4(env.zenith * env.intensity, 0);
+    return f;
+}
+
+}  // namespace caustic

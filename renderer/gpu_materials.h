@@ -1,0 +1,21 @@
+// The scene's materials as the GPU sees them (renderer/gpu_materials.cpp), for the scene compiler
+// (renderer/gpu_scene.cpp). The public side (mapImportedMaterial, bakeMetallicRoughness,
+// ggxAlbedoTable) is declared in renderer/gpu_scene.h.
+#pragma once
+
+#include "renderer/scene.h"
+#include "shaders/shared/layout.h"
+
+#include <glm/glm.hpp>
+
+#include <utility>
+
+namespace caustic {
+
+// Complex IOR (eta, k) at R, G, B of a conductor: its preset's values, or its own for Custom.
+std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m);
+
+// The GPU material for a scene material (textures are filled in by the caller).
+gpu::GpuMaterial convertMaterial(const Material& m);
+
+}  // namespace caustic
