@@ -51,7 +51,7 @@ const std::map<std::string, Signature>& commands() {
         {"frame", {0, 0, ""}},                // frame the selection (F), or everything
         {"touch", {1, 1, ""}},                // set a file's modification time to now (as an outside edit would)
         {"focus", {1, 1, ""}},                // focus a panel: viewport | outliner | inspector
-        {"key", {1, 1, ""}},                  // press and release a key (Delete, F, W, E, R) as the keyboard would
+        {"key", {1, 1, ""}},                  // press and release a key (Delete, F, W, E, R, F6) as the keyboard would
         {"expect_count", {2, 2, ""}},         // expect_count objects|lights|materials N
         {"quit", {0, 0, ""}},
     };

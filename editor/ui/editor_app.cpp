@@ -221,10 +221,17 @@ void renderFrame(EditorUi& ui) {
             ui.sceneUploaded = true;
             ui.previewDivisor = divisor;
             if (!ui.renderError.empty()) ui.renderError.clear();
+            ui.sampleRate.restart(t);
+            // A stale error goes: the scene compiles again, or an edit since it went through.
+            if (ui.lastMessageIsError && errorResolved(ui.shownError, true, ui.state.history.revision())) {
+                ui.lastMessage.clear();
+                ui.lastMessageIsError = false;
+            }
         } else {
             // The renderer keeps the last scene it could compile; the message stays on screen.
             ui.renderError = error;
             notify(ui, error, true);
+            ui.shownError.fromRender = true;
         }
     }
     if (!ui.sceneUploaded) return;
@@ -248,6 +255,8 @@ void renderFrame(EditorUi& ui) {
     } else {
         ui.renderSeconds = 0.0;
     }
+    ui.sampleRate.observe(now(), ui.renderer->samplesDone() + (ui.renderer->bandInProgress() ? ui.renderer->bandProgress() : 0.0),
+                          ui.renderedThisFrame);
     if (t - ui.lastCounterRead > 0.5 || ui.samplesThisFrame == 0) {
         ui.droppedSamples = ui.renderer->droppedSamples();
         ui.lastCounterRead = t;
@@ -456,6 +465,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
 void notify(EditorUi& ui, const std::string& message, bool isError) {
     ui.lastMessage = message;
     ui.lastMessageIsError = isError;
+    if (isError) ui.shownError = {false, ui.state.history.revision()};
     if (isError) std::fprintf(stderr, "caustic: %s\n", message.c_str());
 }
 

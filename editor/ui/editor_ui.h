@@ -5,6 +5,7 @@
 
 #include "editor/model/editor_state.h"
 #include "editor/model/frame_pacer.h"
+#include "editor/model/status.h"
 #include "editor/ui/display.h"
 #include "editor/ui/mesh_import.h"
 #include "renderer/renderer.h"
@@ -67,7 +68,8 @@ struct EditorUi {
     bool sceneUploaded = false;
     std::optional<int> sampleCap;     // scripts stop at an exact sample count
     std::string renderError;          // the renderer's last failure (scene compile, shader reload)
-    double samplesPerSecond = 0.0;
+    double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
+    SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
     std::uint64_t droppedSamples = 0;
     double lastCounterRead = 0.0;
     double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
@@ -88,6 +90,7 @@ struct EditorUi {
     std::optional<std::string> renderToFile;   // written when the target sample count is reached
     std::string lastMessage;          // status bar: the latest info or error
     bool lastMessageIsError = false;
+    ShownError shownError;            // where the shown error came from (cleared when its cause is gone)
 
     // Dialogs.
     FileBrowserState browser;

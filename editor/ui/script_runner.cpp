@@ -329,7 +329,7 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     }
     if (op == "key") {   // through ImGui's input queue, as GLFW's key callback feeds it
         static const std::pair<const char*, ImGuiKey> keys[] = {
-            {"Delete", ImGuiKey_Delete}, {"F", ImGuiKey_F}, {"W", ImGuiKey_W}, {"E", ImGuiKey_E}, {"R", ImGuiKey_R}};
+            {"Delete", ImGuiKey_Delete}, {"F", ImGuiKey_F}, {"W", ImGuiKey_W}, {"E", ImGuiKey_E}, {"R", ImGuiKey_R}, {"F6", ImGuiKey_F6}};
         const auto k = std::find_if(std::begin(keys), std::end(keys), [&](const auto& e) { return a[0] == e.first; });
         if (k == std::end(keys)) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
         ImGui::GetIO().AddKeyEvent(k->second, true);

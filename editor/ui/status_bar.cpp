@@ -1,4 +1,5 @@
-// The status bar along the bottom: samples so far / target, samples per second, resolution
+// The status bar along the bottom: samples so far / target, samples per second of wall-clock
+// time, "paused" (with Resume) while Denoise now holds the render, resolution
 // (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the denoiser's
 // state, the latest message.
 #include "editor/ui/editor_ui.h"
@@ -34,7 +35,21 @@ void drawStatusBar(EditorUi& ui) {
         else
             ImGui::Text("%d / %d spp", done, rs.samples);
         ImGui::SameLine(0.0f, 16.0f);
-        ImGui::Text("%.1f spp/s", done >= rs.samples ? 0.0 : ui.samplesPerSecond);
+        // Wall clock: what the image gains per second as the user waits (the path tracer's own
+        // rate, per second of its time, is in the tooltip: the UI takes the rest of each frame).
+        if (ui.sampleRate.known()) ImGui::Text("%.2f spp/s (wall clock)", ui.sampleRate.samplesPerSecond());
+        else ImGui::TextDisabled("- spp/s (wall clock)");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("samples accumulated per second of elapsed time since the render restarted (%.1f s);\n"
+                              "per second of path-tracer time alone: %.2f spp/s",
+                              ui.sampleRate.elapsedSeconds(), ui.samplesPerSecond);
+        if (ui.denoiser && ui.denoiser->holding()) {
+            // Denoise now holds the render at its sample count: say so, and offer to go on.
+            ImGui::SameLine(0.0f, 16.0f);
+            ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "paused at %d spp (Denoise now)", done);
+            ImGui::SameLine();
+            if (ImGui::SmallButton("Resume")) ui.denoiser->resume(ui);
+        }
         ImGui::SameLine(0.0f, 16.0f);
         if (ui.previewDivisor > 1) ImGui::Text("%d x %d (preview 1/%d)", rs.width, rs.height, ui.previewDivisor);
         else ImGui::Text("%d x %d", rs.width, rs.height);
@@ -43,7 +58,8 @@ void drawStatusBar(EditorUi& ui) {
         else ImGui::TextDisabled("0 NaN");
         ImGui::SameLine(0.0f, 16.0f);
         ImGui::TextDisabled("%.1f ms/frame", ui.frameSeconds * 1e3);
-        if (const std::string dn = ui.denoiser ? ui.denoiser->status(ui) : std::string(); !dn.empty()) {
+        // ("render paused" alone is said above already, with its Resume button.)
+        if (const std::string dn = ui.denoiser ? ui.denoiser->status(ui) : std::string(); !dn.empty() && dn != "render paused") {
             ImGui::SameLine(0.0f, 16.0f);
             ImGui::TextColored(ImVec4(0.6f, 0.9f, 0.6f, 1.0f), "%s", dn.c_str());
         }

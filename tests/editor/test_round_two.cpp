@@ -1,6 +1,8 @@
-// Issue 15's editor bugs, in the model: the Del key's focus rule, light gizmo edits.
+// Issue 15's editor bugs, in the model: the Del key's focus rule, light gizmo edits, status
+// figures.
 #include "editor/model/editor_state.h"
 #include "editor/model/shortcuts.h"
+#include "editor/model/status.h"
 #include "editor/model/viewport_math.h"
 
 #include <catch2/catch.hpp>
@@ -92,4 +94,29 @@ TEST_CASE("Rotating a spot light turns its direction; turning it about its axis 
     const Light t = lightFromGizmo(before, moved);
     CHECK(t.position.x == Approx(1.5f));
     CHECK(t.direction == before.direction);
+}
+
+TEST_CASE("The sample rate is per second of elapsed time since the restart", "[editor][status]") {
+    SampleRateMeter m;
+    m.restart(10.0);
+    CHECK_FALSE(m.known());
+    // Each frame renders 0.01 s of samples in a 0.25 s frame: the wall-clock rate is what counts.
+    m.observe(10.25, 0.04, true);
+    m.observe(14.0, 0.64, true);
+    CHECK(m.samplesPerSecond() == Approx(0.16));
+    // Target reached: frames without rendering do not dilute it.
+    m.observe(30.0, 0.64, false);
+    CHECK(m.samplesPerSecond() == Approx(0.16));
+    m.restart(30.0);
+    CHECK_FALSE(m.known());
+    CHECK(m.samplesPerSecond() == 0.0);
+}
+
+TEST_CASE("A shown error clears once its cause is gone", "[editor][status]") {
+    const ShownError render{true, 7};
+    CHECK(errorResolved(render, true, 7));          // the scene compiles again
+    CHECK_FALSE(errorResolved(render, false, 8));   // still failing
+    const ShownError refused{false, 7};
+    CHECK_FALSE(errorResolved(refused, true, 7));   // nothing edited yet: a preview recompile is no fix
+    CHECK(errorResolved(refused, true, 8));         // the next edit went through
 }
