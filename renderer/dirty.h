@@ -15,6 +15,10 @@ enum Dirty : std::uint32_t {
     kDirtyGeometry = 1u << 4,     // objects added/removed, meshes changed: rebuild what changed
     kDirtyLights = 1u << 5,       // light parameters
     kDirtyEnvironment = 1u << 6,  // environment: rebuild its sampling tables
+    // Edits that change nothing on screen, so accumulation goes on (issue 15: they restarted it):
+    kDirtyTarget = 1u << 7,       // the target sample count only: render on to it, or stop where it is
+    kDirtyUnseen = 1u << 8,       // materials no object uses (added, removed, edited): nothing to redo now;
+                                  // the editor hands it over, as a full recompile, with the next edit that restarts
     kDirtyAll = 0xffffffffu,
 };
 

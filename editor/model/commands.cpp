@@ -90,6 +90,15 @@ std::uint32_t listChangeDirty(EntityKind kind) {
     }
 }
 
+// A material edit that no object sees (its name, before or after, is nobody's material) changes
+// nothing on screen: kDirtyUnseen instead of a re-upload and restart.
+std::uint32_t materialDirty(const Scene& scene, const Material& a, const Material& b, std::uint32_t d) {
+    if (!(d & kDirtyMaterials)) return d;
+    for (const Object& o : scene.objects)
+        if (o.material == a.name || o.material == b.name) return d;
+    return (d & ~std::uint32_t(kDirtyMaterials)) | kDirtyUnseen;
+}
+
 }  // namespace
 
 const char* entityKindName(EntityKind kind) {
@@ -172,7 +181,13 @@ std::uint32_t editDirty(const Material& a, const Material& b) {
     return an == bn ? kDirtyNone : kDirtyMaterials;
 }
 std::uint32_t editDirty(const Camera& a, const Camera& b) { return a == b ? kDirtyNone : kDirtyCamera; }
-std::uint32_t editDirty(const RenderSettings& a, const RenderSettings& b) { return a == b ? kDirtyNone : kDirtySettings; }
+std::uint32_t editDirty(const RenderSettings& a, const RenderSettings& b) {
+    if (a == b) return kDirtyNone;
+    RenderSettings an = a, bn = b;
+    an.samples = bn.samples = 0;
+    // The target alone: the accumulated samples stay valid (same pixels, seed and sample indices).
+    return an == bn ? kDirtyTarget : kDirtySettings;
+}
 std::uint32_t editDirty(const Environment& a, const Environment& b) { return a == b ? kDirtyNone : kDirtyEnvironment; }
 
 // ---- SetCommand ----------------------------------------------------------------------------------
@@ -181,13 +196,16 @@ template <class T>
 void SetCommand<T>::execute(EditorState& state) {
     assign(state.scene, m_index, m_before, m_after);
     m_lastDirty = editDirty(m_before, m_after);
+    if constexpr (std::is_same_v<T, Material>) m_lastDirty = materialDirty(state.scene, m_before, m_after, m_lastDirty);
     state.markDirty(m_lastDirty);
 }
 
 template <class T>
 void SetCommand<T>::undo(EditorState& state) {
     assign(state.scene, m_index, m_after, m_before);
-    state.markDirty(editDirty(m_after, m_before));
+    std::uint32_t d = editDirty(m_after, m_before);
+    if constexpr (std::is_same_v<T, Material>) d = materialDirty(state.scene, m_after, m_before, d);
+    state.markDirty(d);
     if constexpr (kIsList<T>) state.selection = {Access<T>::kind, m_index};  // show what changed back
 }
 
@@ -227,11 +245,19 @@ std::string SetCommand<T>::name() const {
 
 // ---- InsertCommand / RemoveCommand ---------------------------------------------------------------
 
+// Adding or removing a material shifts the table's indices, so once it reaches the renderer it is
+// a full recompile (kDirtyUnseen is handed over as one); until then nothing on screen changed.
+template <class T>
+std::uint32_t listEditDirty(const Scene& scene, const T& value) {
+    if constexpr (std::is_same_v<T, Material>) return materialDirty(scene, value, value, kDirtyMaterials);
+    else { (void)scene; (void)value; return listChangeDirty(Access<T>::kind); }
+}
+
 template <class T>
 void InsertCommand<T>::execute(EditorState& state) {
     auto& list = Access<T>::list(state.scene);
     list.insert(list.begin() + m_index, m_value);
-    state.markDirty(dirty());
+    state.markDirty(listEditDirty(state.scene, m_value));
     state.selection = {Access<T>::kind, m_index};
 }
 
@@ -239,7 +265,7 @@ template <class T>
 void InsertCommand<T>::undo(EditorState& state) {
     auto& list = Access<T>::list(state.scene);
     list.erase(list.begin() + m_index);
-    state.markDirty(dirty());
+    state.markDirty(listEditDirty(state.scene, m_value));
     state.selection = {};
 }
 
@@ -259,7 +285,7 @@ template <class T>
 void RemoveCommand<T>::execute(EditorState& state) {
     auto& list = Access<T>::list(state.scene);
     list.erase(list.begin() + m_index);
-    state.markDirty(dirty());
+    state.markDirty(listEditDirty(state.scene, m_value));
     state.selection = {};
 }
 
@@ -267,7 +293,7 @@ template <class T>
 void RemoveCommand<T>::undo(EditorState& state) {
     auto& list = Access<T>::list(state.scene);
     list.insert(list.begin() + m_index, m_value);
-    state.markDirty(dirty());
+    state.markDirty(listEditDirty(state.scene, m_value));
     state.selection = {Access<T>::kind, m_index};
 }
 

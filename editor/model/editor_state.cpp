@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -37,6 +38,17 @@ bool EditorState::applyContinuous(std::unique_ptr<Command> command, std::string*
     if (command->changesNothing()) return true;   // no undo step, nothing dirty (issue 15)
     history.push(std::move(command), *this, true);
     return true;
+}
+
+std::uint32_t dirtyForRenderer(std::uint32_t dirty, std::uint32_t* deferred) {
+    if (dirty == kDirtyAll) {   // a new scene: everything, nothing held back
+        *deferred = kDirtyNone;
+        return dirty;
+    }
+    if (dirty & kDirtyUnseen) *deferred |= kDirtyGeometry;
+    dirty &= ~std::uint32_t(kDirtyTarget | kDirtyUnseen);
+    if (dirty != kDirtyNone) dirty |= std::exchange(*deferred, kDirtyNone);
+    return dirty;
 }
 
 bool EditorState::undo() {

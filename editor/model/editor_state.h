@@ -73,6 +73,14 @@ private:
     std::uint64_t m_generation = 0;
 };
 
+// What of the dirty flags the edits left (EditorState::takeDirty) goes to the renderer now, so
+// that only edits that change the image restart accumulation: kDirtyTarget never does (the frame
+// loop reads the target from the scene each frame: a higher one renders on, a lower one than done
+// stops), and kDirtyUnseen (materials no object uses) waits in *deferred until something else goes
+// to the renderer, and then goes as kDirtyGeometry (a full recompile: the material table's
+// indices may have moved). kDirtyNone when nothing needs the renderer.
+std::uint32_t dirtyForRenderer(std::uint32_t dirty, std::uint32_t* deferred);
+
 // ---- Edits built from the current scene (the usual way to make a command) ---------------------
 
 std::unique_ptr<Command> makeSetObject(const EditorState& s, int index, Object after);

@@ -53,6 +53,9 @@ const std::map<std::string, Signature>& commands() {
         {"focus", {1, 1, ""}},                // focus a panel: viewport | outliner | inspector
         {"key", {1, 1, ""}},                  // press and release a key (Delete, F, W, E, R, F6) as the keyboard would
         {"expect_count", {2, 2, ""}},         // expect_count objects|lights|materials N
+        {"add_material", {0, 0, ""}},         // Add > Material (a new one, used by nothing)
+        {"mark", {0, 0, ""}},                 // remember where accumulation is (for expect_restarted)
+        {"expect_restarted", {1, 1, ""}},     // yes | no: accumulation restarted since `mark`
         {"quit", {0, 0, ""}},
     };
     return table;

@@ -195,7 +195,8 @@ void renderFrame(EditorUi& ui) {
     // The path tracer gets what the rest of the frame (UI, display, swap; measured) leaves of it,
     // less a margin for the spread of both.
     const double budget = std::clamp(kFrameTarget - ui.overheadSeconds - 0.002, 0.004, kFrameTarget);
-    std::uint32_t dirty = ui.state.takeDirty() | std::exchange(ui.heldDirty, kDirtyNone);
+    // Edits that change nothing on screen (the target samples, unused materials) restart nothing.
+    std::uint32_t dirty = dirtyForRenderer(ui.state.takeDirty(), &ui.deferredDirty) | std::exchange(ui.heldDirty, kDirtyNone);
     // A mesh the scene uses changed on disk: it is imported again in the background, and the
     // scene's updates wait for it (the renderer keeps rendering what it has), since a compile
     // now would import it here, freezing the window.

@@ -78,6 +78,7 @@ struct EditorUi {
     bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
     std::optional<std::uint64_t> displayedWholeImageOf;
+    std::uint32_t deferredDirty = 0;  // unseen material edits, handed over with the next real update (dirtyForRenderer)
     std::uint32_t heldDirty = 0;      // scene updates waiting for meshes to import again (renderFrame)
     // Bumped whenever accumulation restarts (every scene upload or update): a denoised image
     // is shown only for the generation it was read from.

@@ -347,6 +347,22 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
             fail(ui, line, "expected " + a[1] + " " + a[0] + ", have " + std::to_string(n));
         return true;
     }
+    if (op == "add_material") {
+        std::string why;
+        if (!s.apply(makeAddMaterial(s), &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "mark") {
+        m_markedGeneration = ui.accumulationGeneration;
+        return true;
+    }
+    if (op == "expect_restarted") {
+        const bool restarted = ui.accumulationGeneration != m_markedGeneration;
+        if (restarted != (a[0] == "yes"))
+            fail(ui, line, std::string("accumulation ") + (restarted ? "restarted" : "did not restart") + " since `mark`");
+        return true;
+    }
     if (op == "quit") {
         ui.quit = true;
         return true;

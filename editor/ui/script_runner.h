@@ -35,6 +35,7 @@ private:
     bool m_failed = false;
     int m_waitFrames = 0;
     int m_dragStepsLeft = 0;
+    std::uint64_t m_markedGeneration = 0;     // `mark`: accumulation's generation then (expect_restarted)
     bool m_renderStarted = false;
     float m_drag[3] = {0, 0, 0};
     std::string m_screenshotPending;

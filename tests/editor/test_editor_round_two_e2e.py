@@ -4,6 +4,8 @@ the keyboard (keyboard navigation made ImGui's WantCaptureKeyboard always true, 
 and not when another panel does. EditorSaveAsElsewhere: the sky-spheres scene (which names
 ../assets/sky.hdr) saved into a sub-folder and into the parent of its folder still batch-renders,
 to the same image as the original (its relative paths used to be written unchanged).
+EditorNoNeedlessRestart: a new target sample count and a new, unused material keep the
+accumulated image; moving an object restarts it.
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
@@ -102,6 +104,43 @@ class EditorSaveAsElsewhere(EditorSessionCase):
             mean, changed, _ = diff_stats(original, copy)
             self.assertLess(mean, 0.01, name)
             self.assertEqual(changed, 0.0, name)
+
+
+RESTART_SCRIPT = """
+wait_samples 3
+mark
+set_samples 300
+frames 3
+expect_restarted no
+add_material
+frames 3
+expect_restarted no
+expect_count materials {materials}
+set_samples 2
+frames 3
+expect_restarted no
+# The check can fail: a real edit restarts.
+select object "small box"
+translate 0.1 0 0
+frames 3
+expect_restarted yes
+quit
+"""
+
+
+class EditorNoNeedlessRestart(EditorSessionCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-restart-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(CORNELL) as f:
+            materials = len(json.load(f)["materials"]) + 1
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(RESTART_SCRIPT.format(materials=materials))
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def test_target_and_unused_material_keep_the_image(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
 
 
 if __name__ == "__main__":
