@@ -43,24 +43,33 @@
 #include "fresnel.glsl"
 #include "microfacet.glsl"
 
-BsdfSample smoothDielectricSample(GpuMaterial m, vec3 wo, float uc) {
-    if (wo.z == 0.0) return bsdfInvalidSample();
-    float eta = m.params.y;
-    float R = fresnelDielectric(wo.z, eta), T = 1.0 - R;
+// The smooth dielectric's two lobes, each with its selection probability as pdf: reflection
+// (probability R) and refraction (probability T = 1 - R; invalid where it does not exist).
+BsdfSample smoothDielectricReflection(GpuMaterial m, vec3 wo, float R) {
     BsdfSample s;
-    if (uc < R) {  // includes total internal reflection (R = 1)
-        s.wi = reflectLocal(wo);
-        s.pdf = R;
-        s.f = m.albedo.rgb * (R / abs(s.wi.z));
-        s.flags = BSDF_FLAG_DELTA;
-        return s;
-    }
+    s.wi = reflectLocal(wo);
+    s.pdf = R;
+    s.f = m.albedo.rgb * (R / abs(s.wi.z));
+    s.flags = BSDF_FLAG_DELTA;
+    return s;
+}
+
+BsdfSample smoothDielectricRefraction(GpuMaterial m, vec3 wo, float T) {
+    BsdfSample s;
     float etap;
-    if (!refractDir(wo, vec3(0.0, 0.0, 1.0), eta, etap, s.wi) || s.wi.z == 0.0) return bsdfInvalidSample();
+    if (!(T > 0.0) || !refractDir(wo, vec3(0.0, 0.0, 1.0), m.params.y, etap, s.wi) || s.wi.z == 0.0)
+        return bsdfInvalidSample();
     s.pdf = T;
     s.f = m.albedo.rgb * (T / (abs(s.wi.z) * etap * etap));
     s.flags = BSDF_FLAG_DELTA | BSDF_FLAG_TRANSMISSION;
     return s;
+}
+
+BsdfSample smoothDielectricSample(GpuMaterial m, vec3 wo, float uc) {
+    if (wo.z == 0.0) return bsdfInvalidSample();
+    float R = fresnelDielectric(wo.z, m.params.y);
+    // uc < R includes total internal reflection (R = 1)
+    return uc < R ? smoothDielectricReflection(m, wo, R) : smoothDielectricRefraction(m, wo, 1.0 - R);
 }
 
 // The smooth dielectric's other lobe: given the lobe `taken` (a smoothDielectricSample), the
@@ -68,24 +77,9 @@ BsdfSample smoothDielectricSample(GpuMaterial m, vec3 wo, float uc) {
 // or an invalid sample when that lobe is absent (total internal reflection, R = 0). For glass
 // splitting (integrator/path.glsl).
 BsdfSample smoothDielectricOtherLobe(GpuMaterial m, vec3 wo, BsdfSample taken) {
-    float eta = m.params.y;
-    float R = fresnelDielectric(wo.z, eta), T = 1.0 - R;
-    BsdfSample s;
-    if ((taken.flags & BSDF_FLAG_TRANSMISSION) != 0u) {  // refraction taken: the other is reflection
-        if (!(R > 0.0)) return bsdfInvalidSample();
-        s.wi = reflectLocal(wo);
-        s.pdf = R;
-        s.f = m.albedo.rgb * (R / abs(s.wi.z));
-        s.flags = BSDF_FLAG_DELTA;
-        return s;
-    }
-    float etap;
-    if (!(T > 0.0) || !refractDir(wo, vec3(0.0, 0.0, 1.0), eta, etap, s.wi) || s.wi.z == 0.0)
-        return bsdfInvalidSample();
-    s.pdf = T;
-    s.f = m.albedo.rgb * (T / (abs(s.wi.z) * etap * etap));
-    s.flags = BSDF_FLAG_DELTA | BSDF_FLAG_TRANSMISSION;
-    return s;
+    float R = fresnelDielectric(wo.z, m.params.y);
+    if ((taken.flags & BSDF_FLAG_TRANSMISSION) == 0u) return smoothDielectricRefraction(m, wo, 1.0 - R);
+    return R > 0.0 ? smoothDielectricReflection(m, wo, R) : bsdfInvalidSample();
 }
 
 // The generalized half vector for the pair (wo, wi), wm.z > 0; false for degenerate pairs and for

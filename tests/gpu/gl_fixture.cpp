@@ -72,6 +72,16 @@ Film renderFilm(Renderer& renderer, const Scene& scene, int samples) {
     return renderer.readFilm();
 }
 
+Object floorQuad(const std::string& material, float halfSize) {
+    Object floor;
+    floor.name = "floor";
+    floor.shape = Shape::Quad;
+    floor.material = material;
+    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
+    floor.transform.scale = glm::vec3(halfSize);
+    return floor;
+}
+
 ImageStats imageStats(const Film& film) {
     ImageStats s;
     const double n = double(film.mean.size());

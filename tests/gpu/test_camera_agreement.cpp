@@ -53,12 +53,7 @@ Scene pickingScene(int w, int h, float roll, FovAxis axis) {
     s.render.width = w;
     s.render.height = h;
     s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(0.0f)});
-    Object floor;
-    floor.shape = Shape::Quad;
-    floor.material = "grey";
-    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
-    floor.transform.scale = glm::vec3(2.0f);
-    s.objects.push_back(floor);
+    s.objects.push_back(test::floorQuad("grey", 2.0f));
     Object ball;
     ball.shape = Shape::Sphere;
     ball.material = "grey";

@@ -28,12 +28,7 @@ Scene glassScene(bool split, std::uint32_t seed) {
     glass.type = MaterialType::Dielectric;
     glass.ior = 1.5f;
     s.materials.push_back(glass);
-    Object floor;
-    floor.shape = Shape::Quad;
-    floor.material = "grey";
-    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
-    floor.transform.scale = glm::vec3(3.0f);
-    s.objects.push_back(floor);
+    s.objects.push_back(test::floorQuad("grey", 3.0f));
     Object ball;
     ball.shape = Shape::Sphere;
     ball.material = "glass";

@@ -178,12 +178,7 @@ TEST_CASE("light tree: with many small lights, far less noise than uniform selec
     s.render.maxDepth = 1;
     s.render.seed = 5;
     s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(0.0f)});
-    Object floor;
-    floor.shape = Shape::Quad;
-    floor.material = "grey";
-    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
-    floor.transform.scale = glm::vec3(3.0f);
-    s.objects.push_back(floor);
+    s.objects.push_back(test::floorQuad("grey", 3.0f));
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int i = 0; i < 12; ++i)
