@@ -79,7 +79,7 @@ struct RenderSettings {
 // The material models (docs/materials.md; shaders/bsdf/ has one file per model).
 enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor };
 
-// Conductor presets: complex IOR (eta, k) at R, G, B (see gpu_scene.cpp conductorPreset for the
+// Conductor presets: complex IOR (eta, k) at R, G, B (see gpu_materials.cpp conductorPreset for the
 // values and their sources); Custom takes Material::eta and Material::k.
 enum class Metal { Aluminium, Gold, Copper, Silver, Chromium, Platinum, Perfect, Custom };
 
