@@ -258,7 +258,9 @@ class EditorMeshImport(EditorSessionCase):
         names = [o["name"] for o in kept["objects"]]
         self.assertIn("big ball", names)
         self.assertNotIn("broken", names)
-        self.assertEqual([o["file"] for o in kept["objects"] if o["name"] == "big ball"], ["../ball-copy.obj"])
+        # Saved from sub/ into the folder above, its mesh path is rebased to name the same file
+        # from there (issue 15: it used to be written unchanged, naming a file that is not there).
+        self.assertEqual([o["file"] for o in kept["objects"] if o["name"] == "big ball"], ["ball-copy.obj"])
 
     def test_8_startup_scene_opens_in_the_background(self):
         self.assertEqual(self.startup.returncode, 0, self.startup.stderr)
