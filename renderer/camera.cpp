@@ -4,9 +4,14 @@
 
 namespace caustic {
 
+namespace {
+
+// Whether the fov angle is along the image's x axis, for an image of aspect ratio width / height.
 bool fovAlongX(FovAxis axis, double aspect) {
     return axis == FovAxis::X || (axis == FovAxis::Smaller && aspect <= 1.0) || (axis == FovAxis::Larger && aspect > 1.0);
 }
+
+}  // namespace
 
 CameraFrame cameraFrame(const Camera& c, double aspect) {
     CameraFrame f;

@@ -44,7 +44,4 @@ inline CameraFrame cameraFrame(const Camera& camera, int width, int height) {
     return cameraFrame(camera, double(width) / double(height));
 }
 
-// Whether the fov angle is along the image's x axis, for an image of aspect ratio width / height.
-bool fovAlongX(FovAxis axis, double aspect);
-
 }  // namespace caustic

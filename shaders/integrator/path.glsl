@@ -67,15 +67,19 @@ bool russianRouletteEnds(uint bounces, float rrBeta, float u, out float q) {
     return q < 1.0 && u >= q;
 }
 
-// What a glass-splitting probe ray sees: the emission of the surface it hits (unless one-sided and
-// seen from behind), or the environment's radiance when it escapes. No MIS weight: the probe
-// leaves a delta vertex, where no light sample could have found the same path.
+// The radiance a surface emits towards wo: its material's emission from both faces, unless the
+// primitive is a one-sided emitter seen from behind.
+vec3 emittedTowards(Hit hit, GpuMaterial mat, vec3 wo) {
+    bool frontFacing = dot(hit.ng, wo) > 0.0;
+    return frontFacing || (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u ? mat.emission.rgb : vec3(0.0);
+}
+
+// What a glass-splitting probe ray sees: the emission of the surface it hits, or the environment's
+// radiance when it escapes. No MIS weight: the probe leaves a delta vertex, where no light sample
+// could have found the same path.
 vec3 probeEmission(bool found, Hit hit, vec3 d) {
     if (!found) return frame.envInfo.x != ENV_NONE ? environmentRadiance(d) : vec3(0.0);
-    vec3 Le = materials[hit.material].emission.rgb;
-    bool frontFacing = dot(hit.ng, d) < 0.0;
-    if (!frontFacing && (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) != 0u) return vec3(0.0);
-    return Le;
+    return emittedTowards(hit, materials[hit.material], -d);
 }
 
 vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
@@ -138,16 +142,15 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         GpuMaterial mat = materials[hit.material];
         vec3 wo = -ray.d;
 
-        // Emission (both faces, unless the primitive is a one-sided emitter seen from behind).
-        bool frontFacing = dot(hit.ng, wo) > 0.0;
-        if (maxComponent(mat.emission.rgb) > 0.0 &&
-            (frontFacing || (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u)) {
+        // Emission.
+        vec3 Le = emittedTowards(hit, mat, wo);
+        if (maxComponent(Le) > 0.0) {
             if (countEmitted || !useLights) {
-                L += beta * mat.emission.rgb * emitScale;
+                L += beta * Le * emitScale;
             } else if (misOn && hit.light > 0u) {
                 uint li = hit.light - 1u;
                 float pl = lightSelectPmf(li, prevP, prevN, prevTwoSided) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
-                L += beta * mat.emission.rgb * powerHeuristic(prevBsdfPdf, pl);
+                L += beta * Le * powerHeuristic(prevBsdfPdf, pl);
             }
         }
 

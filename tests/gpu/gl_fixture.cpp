@@ -82,6 +82,15 @@ Object floorQuad(const std::string& material, float halfSize) {
     return floor;
 }
 
+Object sphereAt(const std::string& material, glm::vec3 centre, float radius) {
+    Object ball;
+    ball.shape = Shape::Sphere;
+    ball.material = material;
+    ball.transform.translate = centre;
+    ball.transform.scale = glm::vec3(radius);
+    return ball;
+}
+
 ImageStats imageStats(const Film& film) {
     ImageStats s;
     const double n = double(film.mean.size());

@@ -25,6 +25,8 @@ Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission);
 
 // A floor: the canonical quad turned to face +y, [-halfSize, halfSize]^2 at y = 0.
 Object floorQuad(const std::string& material, float halfSize);
+// A sphere of `radius` centred at `centre`.
+Object sphereAt(const std::string& material, glm::vec3 centre, float radius);
 
 // Mean over all pixels and its standard error (from the per-pixel variances), per channel.
 struct ImageStats { glm::dvec3 mean{0.0}; glm::dvec3 standardError{0.0}; };

@@ -54,12 +54,7 @@ Scene pickingScene(int w, int h, float roll, FovAxis axis) {
     s.render.height = h;
     s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(0.0f)});
     s.objects.push_back(test::floorQuad("grey", 2.0f));
-    Object ball;
-    ball.shape = Shape::Sphere;
-    ball.material = "grey";
-    ball.transform.translate = glm::vec3(-0.5f, 0.5f, 0.0f);
-    ball.transform.scale = glm::vec3(0.5f);
-    s.objects.push_back(ball);
+    s.objects.push_back(test::sphereAt("grey", glm::vec3(-0.5f, 0.5f, 0.0f), 0.5f));
     Object box;
     box.shape = Shape::Box;
     box.material = "grey";

@@ -40,8 +40,10 @@
 //      closed emitting sphere, L = Le / (1 - a); the directly visible one-sided light), so that a
 //      disagreement in 2 points at caustic rather than at the tracer.
 // They take about 3 + 5 + 0 + 0.2 s on 2 cores (llvmpipe for the first).
+#include "renderer/camera.h"
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
+
 #include "tests/support/reference_tracer.h"
 
 #include <catch2/catch.hpp>
@@ -271,19 +273,15 @@ TEST_CASE("the CPU reference tracer reproduces closed forms", "[gpu][cornell][cp
         REQUIRE(light != s.objects.end());
         REQUIRE(light->shape == Shape::Quad);
         REQUIRE_FALSE(light->twoSided);
-        // Project the light's corners with the pinhole of makeFrame (square image: tan(fov/2) on
-        // both axes), then the shoelace formula; the image spans [-1, 1]^2 in these coordinates.
+        // Project the light's corners with the camera's pinhole (renderer/camera.h), then the
+        // shoelace formula; the image spans [-1, 1]^2 in these coordinates.
         const glm::dmat4 m(light->transform.toMatrix());
-        const glm::dvec3 eye(s.camera.position);
-        const glm::dvec3 forward = glm::normalize(glm::dvec3(s.camera.lookAt) - eye);
-        const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(s.camera.up)));
-        const glm::dvec3 up = glm::cross(right, forward);
-        const double tanHalf = std::tan(double(s.camera.fovDegrees) * 3.14159265358979323846 / 360.0);
+        const CameraFrame cam = cameraFrame(s.camera, s.render.width, s.render.height);
         const glm::dvec2 canonical[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
         glm::dvec2 projected[4];
         for (int i = 0; i < 4; ++i) {
-            const glm::dvec3 v = glm::dvec3(m * glm::dvec4(canonical[i], 0.0, 1.0)) - eye;
-            projected[i] = glm::dvec2(glm::dot(v, right), glm::dot(v, up)) / (glm::dot(v, forward) * tanHalf);
+            const glm::dvec3 v = glm::dvec3(m * glm::dvec4(canonical[i], 0.0, 1.0)) - cam.position;
+            projected[i] = glm::dvec2(glm::dot(v, cam.right) / cam.tanX, glm::dot(v, cam.up) / cam.tanY) / glm::dot(v, cam.forward);
             REQUIRE(std::abs(projected[i].x) < 1.0);
             REQUIRE(std::abs(projected[i].y) < 1.0);
         }

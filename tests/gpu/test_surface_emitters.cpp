@@ -64,12 +64,7 @@ Scene floorScene() {
     s.render.seed = 5;
     s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.6f, 0.5f, 0.4f), glm::vec3(0.0f)});
     s.materials.push_back({"white", MaterialType::Diffuse, glm::vec3(0.8f), glm::vec3(0.0f)});
-    Object floor;
-    floor.shape = Shape::Quad;
-    floor.material = "grey";
-    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
-    floor.transform.scale = glm::vec3(4.0f);
-    s.objects.push_back(floor);
+    s.objects.push_back(test::floorQuad("grey", 4.0f));
     Light l;
     l.type = LightType::Rect;
     l.color = glm::vec3(3.0f);
