@@ -8,6 +8,7 @@
 #include "renderer/scene_io.h"
 
 #include "renderer/file_util.h"
+#include "renderer/scene_schema.h"
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,7 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace caustic {
@@ -131,58 +133,7 @@ std::string formatError(const std::string& file, const std::string& path,
 }
 
 // ---------------------------------------------------------------------------------------------
-// Ranges
-
-struct Range {
-    double min = -std::numeric_limits<double>::infinity();
-    double max = std::numeric_limits<double>::infinity();
-    bool minExclusive = false;
-    bool maxExclusive = false;
-    bool nonZero = false;
-};
-
-constexpr Range kAnyValue{};
-
-constexpr Range atLeast(double min) {
-    Range range;
-    range.min = min;
-    return range;
-}
-
-constexpr Range greaterThan(double min) {
-    Range range = atLeast(min);
-    range.minExclusive = true;
-    return range;
-}
-
-constexpr Range between(double min, double max) {
-    Range range = atLeast(min);
-    range.max = max;
-    return range;
-}
-
-// Limits that keep the renderer's 32-bit float arithmetic finite (issue 12; docs/reliability.md):
-//  - positions of the camera and of lights within +-1e18: the shaders square distances between
-//    them and surfaces (a distance up to 3.5e18 squared is 1.2e37, below FLT_MAX = 3.4e38);
-//  - emitted radiance (and light intensity) at most 1e12 per channel, about 600 times the sun's
-//    luminance: the film sums squared samples in float, (1e12)^2 times 2^24 samples is 1.7e31;
-//  - a custom conductor's eta within [1e-3, 1e3] and k within [0, 1e3]: the complex Fresnel
-//    equations divide by |eta + ik|^4 (at k = 1e38 it was inf / inf); at k = 1e3 a conductor
-//    already reflects all but 4e-6 of the light.
-constexpr double kMaxCoordinate = 1e18;
-constexpr double kMaxRadiance = 1e12;
-constexpr Range coordinate() {
-    Range range;
-    range.min = -kMaxCoordinate;
-    range.max = kMaxCoordinate;
-    return range;
-}
-
-constexpr Range nonZero() {
-    Range range;
-    range.nonZero = true;
-    return range;
-}
+// Ranges (renderer/scene_schema.h defines them)
 
 // Fails naming the violated bound: "must be >= 1, got -4".
 template <class N>
@@ -204,99 +155,15 @@ void requireType(bool ok, const Json& value, const std::string& path, const char
 }
 
 // ---------------------------------------------------------------------------------------------
-// Enum names
+// Enum names (renderer/scene_schema.h holds the tables)
 
 template <class E>
-struct EnumName {
-    E value;
-    std::string_view name;
-};
-
-std::span<const EnumName<PixelFilter>> enumNames(PixelFilter) {
-    static constexpr EnumName<PixelFilter> kNames[] = {
-        {PixelFilter::Box, "box"}, {PixelFilter::Tent, "tent"}, {PixelFilter::Gaussian, "gaussian"}};
-    return kNames;
-}
-
-std::span<const EnumName<SpotFalloff>> enumNames(SpotFalloff) {
-    static constexpr EnumName<SpotFalloff> kNames[] = {
-        {SpotFalloff::Smoothstep, "smoothstep"}, {SpotFalloff::LinearAngle, "linear_angle"}};
-    return kNames;
-}
-
-std::span<const EnumName<FovAxis>> enumNames(FovAxis) {
-    static constexpr EnumName<FovAxis> kNames[] = {
-        {FovAxis::Smaller, "smaller"}, {FovAxis::Larger, "larger"},
-        {FovAxis::X, "x"},             {FovAxis::Y, "y"}};
-    return kNames;
-}
-
-std::span<const EnumName<LightSelection>> enumNames(LightSelection) {
-    static constexpr EnumName<LightSelection> kNames[] = {
-        {LightSelection::Power, "power"}, {LightSelection::Uniform, "uniform"}, {LightSelection::Tree, "tree"}};
-    return kNames;
-}
-
-std::span<const EnumName<SamplerType>> enumNames(SamplerType) {
-    static constexpr EnumName<SamplerType> kNames[] = {{SamplerType::Sobol, "sobol"},
-                                                       {SamplerType::Independent, "independent"}};
-    return kNames;
-}
-
-std::span<const EnumName<RussianRoulette>> enumNames(RussianRoulette) {
-    static constexpr EnumName<RussianRoulette> kNames[] = {{RussianRoulette::Original, "original"},
-                                                           {RussianRoulette::Mitsuba, "mitsuba"},
-                                                           {RussianRoulette::Pbrt, "pbrt"},
-                                                           {RussianRoulette::Off, "off"}};
-    return kNames;
-}
-
-std::span<const EnumName<MaterialType>> enumNames(MaterialType) {
-    static constexpr EnumName<MaterialType> kNames[] = {
-        {MaterialType::Diffuse, "diffuse"},       {MaterialType::OrenNayar, "oren_nayar"},
-        {MaterialType::Eon, "eon"},               {MaterialType::Mirror, "mirror"},
-        {MaterialType::Transmission, "transmission"}, {MaterialType::Dielectric, "dielectric"},
-        {MaterialType::Conductor, "conductor"}};
-    return kNames;
-}
-
-std::span<const EnumName<Metal>> enumNames(Metal) {
-    static constexpr EnumName<Metal> kNames[] = {
-        {Metal::Aluminium, "aluminium"}, {Metal::Gold, "gold"},         {Metal::Copper, "copper"},
-        {Metal::Silver, "silver"},       {Metal::Chromium, "chromium"}, {Metal::Platinum, "platinum"},
-        {Metal::Perfect, "perfect"},     {Metal::Custom, "custom"}};
-    return kNames;
-}
-
-std::span<const EnumName<Shape>> enumNames(Shape) {
-    static constexpr EnumName<Shape> kNames[] = {
-        {Shape::Quad, "quad"}, {Shape::Sphere, "sphere"}, {Shape::Box, "box"}, {Shape::Mesh, "mesh"}};
-    return kNames;
-}
-
-std::span<const EnumName<LightType>> enumNames(LightType) {
-    static constexpr EnumName<LightType> kNames[] = {{LightType::Rect, "rect"},
-                                                     {LightType::Sphere, "sphere"},
-                                                     {LightType::Point, "point"},
-                                                     {LightType::Spot, "spot"}};
-    return kNames;
-}
-
-std::span<const EnumName<EnvironmentType>> enumNames(EnvironmentType) {
-    static constexpr EnumName<EnvironmentType> kNames[] = {{EnvironmentType::None, "none"},
-                                                           {EnvironmentType::Constant, "constant"},
-                                                           {EnvironmentType::Sky, "sky"},
-                                                           {EnvironmentType::Map, "map"}};
-    return kNames;
-}
-
-template <class E>
-std::string enumName(E value) {
-    for (const auto& entry : enumNames(E{})) {
-        if (entry.value == value) return std::string(entry.name);
-    }
+std::string enumText(E value) {
+    const std::string_view name = enumName(value);
+    if (!name.empty()) return std::string(name);
     return "<invalid " + std::to_string(static_cast<long long>(value)) + ">";
 }
+
 
 // ---------------------------------------------------------------------------------------------
 // The scene's structs are read and written by overloads defined further down; the templates below
@@ -396,20 +263,28 @@ void readValue(const Json& value, const std::string& path, glm::vec3& out, const
     out = result;
 }
 
-template <class E>
-    requires std::is_enum_v<E>
-void readValue(const Json& value, const std::string& path, E& out, const Range&) {
+void readValue(const Json& value, const std::string& path, std::optional<glm::vec3>& out, const Range& range) {
+    glm::vec3 v{};
+    readValue(value, path, v, range);
+    out = v;
+}
+
+// One of the choices' names; returns its value.
+int readChoice(const Json& value, const std::string& path, std::span<const EnumChoice> choices) {
     requireType(value.is_string(), value, path, "a string");
     const auto& text = value.get_ref<const std::string&>();
     std::vector<std::string> allowed;
-    for (const auto& entry : enumNames(E{})) {
-        if (entry.name == text) {
-            out = entry.value;
-            return;
-        }
-        allowed.emplace_back(entry.name);
+    for (const EnumChoice& c : choices) {
+        if (c.name == text) return c.value;
+        allowed.emplace_back(c.name);
     }
     fail(path, "unknown value '" + text + "' (allowed: " + join(allowed) + ")");
+}
+
+template <class E>
+    requires std::is_enum_v<E>
+void readValue(const Json& value, const std::string& path, E& out, const Range&) {
+    out = static_cast<E>(readChoice(value, path, enumChoices(E{})));
 }
 
 // Every element with the same Range; the vector is replaced, not appended to.
@@ -451,14 +326,19 @@ Json toJson(bool x) { return x; }
 Json toJson(const std::string& x) { return x; }
 Json toJson(const glm::vec3& v) { return Json::array({toJson(v.x), toJson(v.y), toJson(v.z)}); }
 
+Json choiceJson(int value, std::span<const EnumChoice> choices) {
+    for (const EnumChoice& c : choices)
+        if (c.value == value) return std::string(c.name);
+    return nullptr;  // an invalid enum value; saveScene's validation reports it
+}
+
 template <class E>
     requires std::is_enum_v<E>
 Json toJson(E value) {
-    for (const auto& entry : enumNames(E{})) {
-        if (entry.value == value) return std::string(entry.name);
-    }
-    return nullptr;  // an invalid enum value; saveScene's validation reports it
+    return choiceJson(static_cast<int>(value), enumChoices(E{}));
 }
+
+Json toJson(const std::optional<glm::vec3>& v) { return v ? toJson(*v) : Json(nullptr); }
 
 template <class T>
 Json toJson(const std::vector<T>& items) {
@@ -490,33 +370,6 @@ Field<T> field(std::string_view key, V T::*memberPtr, Range range = kAnyValue) {
             },
             [memberPtr](const T& in) { return toJson(in.*memberPtr); },
             {}};
-}
-
-// A value that may be absent: read when present, written only when set.
-template <class T, class V>
-Field<T> optionalField(std::string_view key, std::optional<V> T::*memberPtr, Range range = kAnyValue) {
-    return {key,
-            [memberPtr, range](const Json& value, const std::string& path, T& out) {
-                V v{};
-                readValue(value, path, v, range);
-                out.*memberPtr = v;
-            },
-            [memberPtr](const T& in) { return toJson(*(in.*memberPtr)); },
-            [memberPtr](const T& in) { return !(in.*memberPtr).has_value(); }};
-}
-
-// An optional name, saved only when non-empty.
-template <class T>
-Field<T> nameField(std::string T::*memberPtr) {
-    Field<T> result = field("name", memberPtr);
-    result.omit = [memberPtr](const T& in) { return (in.*memberPtr).empty(); };
-    return result;
-}
-
-template <class T>
-Fields<T> concat(Fields<T> a, const Fields<T>& b) {
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
 }
 
 template <class T>
@@ -553,32 +406,19 @@ Json writeFields(const T& in, const Fields<T>& fields) {
     return out;
 }
 
-// For structs whose keys depend on their "type": read the type first (keeping the default when
-// absent), then the keys of that type.
-template <class T, class E>
-void readTyped(const Json& value, const std::string& path, T& out, E T::*typeMember,
-               const Fields<T>& (*fieldsFor)(E), const char* noun, const char* typeKey = "type") {
-    requireType(value.is_object(), value, path, "an object");
-    if (const auto it = value.find(typeKey); it != value.end()) {
-        readValue(*it, member(path, typeKey), out.*typeMember, kAnyValue);
-    }
-    readFields(value, path, fieldsFor(out.*typeMember), out,
-               " for a '" + enumName(out.*typeMember) + "' " + noun);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Transform
 
 void readScale(const Json& value, const std::string& path, Transform& out) {
     if (value.is_number()) {
         float s = 1.0f;
-        readValue(value, path, s, nonZero());
+        readValue(value, path, s, nonZeroValue());
         out.scale = glm::vec3(s);
         return;
     }
     requireType(value.is_array() && value.size() == 3, value, path,
                 "a number or an array of 3 numbers");
-    readValue(value, path, out.scale, nonZero());
+    readValue(value, path, out.scale, nonZeroValue());
 }
 
 // 16 numbers, row-major (the way a matrix is written on paper); glm is column-major.
@@ -642,305 +482,132 @@ Json toJson(const Transform& t) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Camera and render settings
+// The schema's structs (camera, render settings, materials, objects, lights, environment):
+// read and written parameter by parameter (renderer/scene_schema.h), then checked by its rules.
 
-const Fields<Camera>& cameraFields() {
-    static const Fields<Camera> kFields = {
-        field("position", &Camera::position, coordinate()),
-        field("look_at", &Camera::lookAt, coordinate()),
-        field("up", &Camera::up),
-        field("fov", &Camera::fovDegrees, [] {
-            Range r = between(0.0, 180.0);
-            r.minExclusive = r.maxExclusive = true;
-            return r;
-        }()),
-        field("fov_axis", &Camera::fovAxis),
-        field("roll", &Camera::rollDegrees),
-        field("aperture_radius", &Camera::apertureRadius, atLeast(0.0)),
-        field("focal_distance", &Camera::focalDistance, atLeast(0.0)),
-        optionalField("focus_point", &Camera::focusPoint, coordinate()),
-        field("squeeze", &Camera::squeeze, [] {
-            Range r = atLeast(0.0);
-            r.minExclusive = true;
-            return r;
-        }()),
-        field("blades", &Camera::blades, between(0, 64)),
-        field("blade_rotation", &Camera::bladeRotationDegrees),
-    };
-    return kFields;
-}
-
-void readValue(const Json& value, const std::string& path, Camera& out, const Range&) {
-    readFields(value, path, cameraFields(), out);
-    const glm::dvec3 view = glm::dvec3(out.lookAt) - glm::dvec3(out.position);
-    const glm::dvec3 up(out.up);
-    if (view == glm::dvec3(0.0)) {
-        fail(member(path, "look_at"), "must differ from position (both are " +
-                                          dumpCompact(toJson(out.position)) + ")");
+template <class T>
+void readParam(const Param<T>& p, const Json& value, const std::string& path, T& out) {
+    if (p.kind == ParamKind::Preset) return;  // applied by the struct's reader, before the keys
+    if (p.kind == ParamKind::Enum) {
+        p.setEnum(out, readChoice(value, path, p.choices()));
+        return;
     }
-    if (up == glm::dvec3(0.0)) fail(member(path, "up"), "must be non-zero");
-    if (out.blades == 1 || out.blades == 2) fail(member(path, "blades"), "must be 0 (round) or at least 3, got " + std::to_string(out.blades));
-    if (out.focusPoint && glm::dot(glm::dvec3(*out.focusPoint) - glm::dvec3(out.position), view) <= 0.0)
-        fail(member(path, "focus_point"), "must lie in front of the camera");
-    if (glm::length(glm::cross(glm::normalize(view), glm::normalize(up))) < 1e-6) {
-        fail(member(path, "up"), "must not be parallel to the view direction (look_at - position)");
+    std::visit(
+        [&](auto memberPtr) {
+            if constexpr (!std::is_same_v<decltype(memberPtr), std::monostate>) {
+                readValue(value, path, out.*memberPtr, p.range);
+                if constexpr (std::is_same_v<decltype(memberPtr), std::string T::*>) {
+                    // A file name written only when set: an empty string is an error rather than a
+                    // quiet "no texture" (leaving the key out says that).
+                    if (p.nonEmpty && (out.*memberPtr).empty())
+                        fail(path, "must not be empty (leave the key out for no texture)");
+                }
+            }
+        },
+        p.member);
+}
+
+template <class T>
+Json writeParam(const Param<T>& p, const T& in) {
+    if (p.kind == ParamKind::Enum) return choiceJson(p.getEnum(in), p.choices());
+    return std::visit(
+        [&](auto memberPtr) -> Json {
+            if constexpr (std::is_same_v<decltype(memberPtr), std::monostate>) return nullptr;
+            else return toJson(in.*memberPtr);
+        },
+        p.member);
+}
+
+// The key every value of T is typed by ("type", "shape"), or "" for untyped structs.
+template <class T>
+constexpr std::string_view typeKeyOf() {
+    if constexpr (std::is_same_v<T, Object>) return "shape";
+    else if constexpr (std::is_same_v<T, Camera> || std::is_same_v<T, RenderSettings>) return "";
+    else return "type";
+}
+template <class T>
+constexpr const char* nounOf() {
+    if constexpr (std::is_same_v<T, Material>) return "material";
+    else if constexpr (std::is_same_v<T, Object>) return "object";
+    else if constexpr (std::is_same_v<T, Light>) return "light";
+    else return "environment";
+}
+
+std::string typeNameOf(const Material& v) { return enumText(v.type); }
+std::string typeNameOf(const Object& v) { return enumText(v.shape); }
+std::string typeNameOf(const Light& v) { return enumText(v.type); }
+std::string typeNameOf(const Environment& v) { return enumText(v.type); }
+
+// The parameter of key `key` that values of type `type` take, or null.
+template <class T>
+const Param<T>* findParam(std::string_view key, int type) {
+    for (const Param<T>& p : schemaOf<T>())
+        if (p.key == key && takesKey(p, type)) return &p;
+    return nullptr;
+}
+
+// Reads a schema struct: its type key first (keeping the default when absent), then every key
+// in file order (an unknown key is an error, one the value's type does not take too), then the
+// keys given that do not apply to this value, then the rules across its fields. Keys that are
+// absent keep out's current value (the defaults of scene.h, and materialDefaults).
+template <class T>
+void readParams(const Json& value, const std::string& path, T& out) {
+    requireType(value.is_object(), value, path, "an object");
+    constexpr std::string_view typeKey = typeKeyOf<T>();
+    std::string what;
+    if constexpr (!typeKey.empty()) {
+        if (const auto it = value.find(typeKey); it != value.end()) {
+            readParam(*findParam<T>(typeKey, 0), *it, member(path, typeKey), out);
+            if constexpr (std::is_same_v<T, Material>) out = materialDefaults(out.type);
+        }
+        what = " for a '" + typeNameOf(out) + "' " + nounOf<T>();
     }
+    const int type = typeIndexOf(out);
+    for (auto it = value.begin(); it != value.end(); ++it) {
+        const std::string keyPath = member(path, it.key());
+        const Param<T>* p = findParam<T>(it.key(), type);
+        if (!p) {
+            std::vector<std::string> keys;
+            for (const Param<T>& q : schemaOf<T>())
+                if (takesKey(q, type)) keys.emplace_back(q.key);
+            fail(keyPath, "unknown key" + what + " (allowed: " + join(keys) + ")");
+        }
+        if (it.key() != typeKey) readParam(*p, it.value(), keyPath, out);
+    }
+    for (auto it = value.begin(); it != value.end(); ++it) {
+        const Param<T>* p = findParam<T>(it.key(), type);
+        if (p->applies && p->onlyWhen && !p->applies(out)) fail(member(path, it.key()), p->onlyWhen(out));
+    }
+    if (const auto v = checkRules(out)) fail(v->key.empty() ? path : member(path, v->key), v->message);
 }
 
-Json toJson(const Camera& camera) { return writeFields(camera, cameraFields()); }
-
-const Fields<RenderSettings>& renderFields() {
-    static const Fields<RenderSettings> kFields = {
-        field("width", &RenderSettings::width, between(1, 16384)),
-        field("height", &RenderSettings::height, between(1, 16384)),
-        field("samples", &RenderSettings::samples, between(1, 1 << 24)),
-        field("max_depth", &RenderSettings::maxDepth, between(0, 1024)),
-        field("seed", &RenderSettings::seed),
-        field("light_selection", &RenderSettings::lightSelection),
-        field("sampler", &RenderSettings::sampler),
-        field("russian_roulette", &RenderSettings::russianRoulette),
-        field("filter", &RenderSettings::filter),
-        field("glass_split", &RenderSettings::glassSplit),
-    };
-    return kFields;
+// Writes what applies to the value, in the schema's order.
+template <class T>
+Json writeParams(const T& in) {
+    Json out = Json::object();
+    for (const Param<T>& p : schemaOf<T>()) {
+        if (p.kind == ParamKind::Preset || !appliesTo(p, in) || (p.omitted && p.omitted(in))) continue;
+        out[std::string(p.key)] = writeParam(p, in);
+    }
+    return out;
 }
 
+void readValue(const Json& value, const std::string& path, Camera& out, const Range&) { readParams(value, path, out); }
 void readValue(const Json& value, const std::string& path, RenderSettings& out, const Range&) {
-    readFields(value, path, renderFields(), out);
+    readParams(value, path, out);
 }
-
-Json toJson(const RenderSettings& render) { return writeFields(render, renderFields()); }
-
-// ---------------------------------------------------------------------------------------------
-// Materials
-
-// A file name written only when set (texture file names). An empty string is an error rather than
-// a quiet "no texture": leaving the key out says that.
-Field<Material> optionalFile(std::string_view key, std::string Material::*memberPtr) {
-    Field<Material> result = field(key, memberPtr);
-    result.read = [memberPtr](const Json& value, const std::string& path, Material& out) {
-        std::string file;
-        readValue(value, path, file, kAnyValue);
-        if (file.empty()) fail(path, "must not be empty (leave the key out for no texture)");
-        out.*memberPtr = std::move(file);
-    };
-    result.omit = [memberPtr](const Material& in) { return (in.*memberPtr).empty(); };
-    return result;
-}
-
-// eta and k belong to custom conductors only.
-Field<Material> customMetalField(std::string_view key, glm::vec3 Material::*memberPtr, Range range) {
-    Field<Material> result = field(key, memberPtr, range);
-    result.omit = [](const Material& in) { return in.metal != Metal::Custom; };
-    return result;
-}
-
-const Fields<Material>& materialFields(MaterialType type) {
-    static const Fields<Material> kCommon = {
-        field("name", &Material::name),
-        field("type", &Material::type),
-    };
-    // Every type may emit and carry textures.
-    static const Fields<Material> kTail = {
-        field("emission", &Material::emission, between(0.0, kMaxRadiance)),
-        optionalFile("albedo_texture", &Material::albedoTexture),
-        optionalFile("normal_texture", &Material::normalTexture),
-        optionalFile("roughness_texture", &Material::roughnessTexture),
-    };
-    const Range unit = between(0.0, 1.0);
-    Range ior = greaterThan(0.0);
-    ior.max = 10.0;
-    static const Fields<Material> kDiffuse = concat(concat(kCommon, {
-        field("albedo", &Material::albedo, unit),
-    }), kTail);
-    static const Fields<Material> kOrenNayar = concat(concat(kCommon, {
-        field("albedo", &Material::albedo, unit),
-        field("sigma", &Material::sigma, between(0.0, 1.5708)),
-        field("energy_compensation", &Material::energyCompensation),
-    }), kTail);
-    static const Fields<Material> kEon = concat(concat(kCommon, {
-        field("albedo", &Material::albedo, unit),
-        field("roughness", &Material::roughness, unit),
-    }), kTail);
-    static const Fields<Material> kMirror = concat(concat(kCommon, {
-        field("tint", &Material::tint, unit),
-    }), kTail);
-    static const Fields<Material> kTransmission = concat(concat(kCommon, {
-        field("tint", &Material::tint, unit),
-        field("ior", &Material::ior, ior),
-        field("roughness", &Material::roughness, unit),
-    }), kTail);
-    static const Fields<Material> kDielectric = concat(concat(kCommon, {
-        field("tint", &Material::tint, unit),
-        field("ior", &Material::ior, ior),
-        field("roughness", &Material::roughness, unit),
-    }), kTail);
-    static const Fields<Material> kConductor = concat(concat(kCommon, {
-        field("metal", &Material::metal),
-        customMetalField("eta", &Material::eta, between(1e-3, 1e3)),
-        customMetalField("k", &Material::k, between(0.0, 1e3)),
-        field("tint", &Material::tint, unit),
-        field("roughness", &Material::roughness, unit),
-        field("energy_compensation", &Material::energyCompensation),
-    }), kTail);
-    switch (type) {
-    case MaterialType::Diffuse: return kDiffuse;
-    case MaterialType::OrenNayar: return kOrenNayar;
-    case MaterialType::Eon: return kEon;
-    case MaterialType::Mirror: return kMirror;
-    case MaterialType::Transmission: return kTransmission;
-    case MaterialType::Dielectric: return kDielectric;
-    case MaterialType::Conductor: return kConductor;
-    }
-    return kCommon;
-}
+void readValue(const Json& value, const std::string& path, Object& out, const Range&) { readParams(value, path, out); }
+void readValue(const Json& value, const std::string& path, Light& out, const Range&) { readParams(value, path, out); }
 
 void readValue(const Json& value, const std::string& path, Material& out, const Range&) {
-    // Defaults that differ by type (scene.h holds the dielectric/conductor ones).
-    if (const auto it = value.find("type"); it != value.end() && it->is_string()) {
-        if (*it == "eon") out.roughness = 0.5f;
-        if (*it == "transmission") out.ior = 1.0f;
-    }
-    readTyped(value, path, out, &Material::type, materialFields, "material");
-    if (!value.contains("name")) fail(path, "missing key 'name' (every material needs a unique name)");
-    if (out.name.empty()) fail(member(path, "name"), "must not be empty");
-    if (out.type == MaterialType::Conductor && out.metal != Metal::Custom) {
-        for (const char* key : {"eta", "k"}) {
-            if (value.contains(key)) {
-                fail(member(path, key), "only a 'custom' metal takes eta and k (this one is '" +
-                                            enumName(out.metal) + "')");
-            }
-        }
-    }
-}
-
-Json toJson(const Material& material) {
-    return writeFields(material, materialFields(material.type));
-}
-
-// ---------------------------------------------------------------------------------------------
-// Objects
-
-// The object's emission and its sidedness, written unless the emission is exactly zero (so that
-// a NaN or negative one is written, and refused by the round trip of an edit).
-Field<Object> whenEmitting(Field<Object> f) {
-    f.omit = [](const Object& in) { return in.emission == glm::vec3(0.0f); };
-    return f;
-}
-
-const Fields<Object>& objectFields(Shape shape) {
-    static const Fields<Object> kFields = {
-        nameField(&Object::name),
-        field("shape", &Object::shape),
-        field("material", &Object::material),
-        field("transform", &Object::transform),
-        whenEmitting(field("emission", &Object::emission, between(0.0, kMaxRadiance))),
-        whenEmitting(field("two_sided", &Object::twoSided)),
-    };
-    static const Fields<Object> kMesh = concat(kFields, {field("file", &Object::file)});
-    return shape == Shape::Mesh ? kMesh : kFields;
-}
-
-void readValue(const Json& value, const std::string& path, Object& out, const Range&) {
-    readTyped(value, path, out, &Object::shape, objectFields, "object", "shape");
-    if (out.shape == Shape::Mesh && out.file.empty()) fail(member(path, "file"), "a mesh object needs a model file");
-    if (out.shape == Shape::Mesh && out.material.empty() && out.emits())
-        fail(member(path, "emission"), "a mesh that uses its file's materials cannot take an object emission "
-                                       "(give it a scene material)");
-}
-
-Json toJson(const Object& object) { return writeFields(object, objectFields(object.shape)); }
-
-// ---------------------------------------------------------------------------------------------
-// Lights
-
-const Fields<Light>& lightFields(LightType type) {
-    static const Fields<Light> kCommon = {
-        nameField(&Light::name),
-        field("type", &Light::type),
-        field("color", &Light::color, between(0.0, kMaxRadiance)),
-    };
-    static const Fields<Light> kRect = concat(kCommon, {
-        field("transform", &Light::transform),
-        field("two_sided", &Light::twoSided),
-    });
-    static const Fields<Light> kSphere = concat(kCommon, {
-        field("position", &Light::position, coordinate()),
-        field("radius", &Light::radius, greaterThan(0.0)),
-    });
-    static const Fields<Light> kPoint = concat(kCommon, {
-        field("position", &Light::position, coordinate()),
-    });
-    static const Fields<Light> kSpot = concat(kCommon, {
-        field("position", &Light::position, coordinate()),
-        field("direction", &Light::direction),
-        field("inner_angle", &Light::innerAngle, between(0.0, 180.0)),
-        field("outer_angle", &Light::outerAngle, [] {
-            Range r = between(0.0, 180.0);
-            r.minExclusive = true;
-            return r;
-        }()),
-        field("falloff", &Light::falloff),
-    });
-    switch (type) {
-    case LightType::Rect: return kRect;
-    case LightType::Sphere: return kSphere;
-    case LightType::Point: return kPoint;
-    case LightType::Spot: return kSpot;
-    }
-    return kCommon;
-}
-
-void readValue(const Json& value, const std::string& path, Light& out, const Range&) {
-    readTyped(value, path, out, &Light::type, lightFields, "light");
-    if (out.type == LightType::Spot) {
-        if (out.direction == glm::vec3(0.0f)) fail(member(path, "direction"), "must be non-zero");
-        if (out.innerAngle > out.outerAngle) {
-            fail(member(path, "inner_angle"), "must be <= outer_angle (" +
-                                                  formatNumber(out.outerAngle) + "), got " +
-                                                  formatNumber(out.innerAngle));
-        }
-    }
-}
-
-Json toJson(const Light& light) { return writeFields(light, lightFields(light.type)); }
-
-// ---------------------------------------------------------------------------------------------
-// Environment
-
-const Fields<Environment>& environmentFields(EnvironmentType type) {
-    static const Fields<Environment> kNone = {
-        field("type", &Environment::type),
-    };
-    static const Fields<Environment> kConstant = concat(kNone, {
-        field("radiance", &Environment::radiance, between(0.0, kMaxRadiance)),
-        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
-    });
-    static const Fields<Environment> kSky = concat(kNone, {
-        // Read (and checked) by readValue before the other keys, never written: a saved scene
-        // holds the preset's values instead.
-        {"preset", [](const Json&, const std::string&, Environment&) {}, {}, {}},
-        field("horizon", &Environment::horizon, between(0.0, kMaxRadiance)),
-        field("zenith", &Environment::zenith, between(0.0, kMaxRadiance)),
-        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
-    });
-    static const Fields<Environment> kMap = concat(kNone, {
-        field("file", &Environment::file),
-        field("rotation", &Environment::rotation),
-        field("intensity", &Environment::intensity, between(0.0, kMaxRadiance)),
-    });
-    switch (type) {
-    case EnvironmentType::None: return kNone;
-    case EnvironmentType::Constant: return kConstant;
-    case EnvironmentType::Sky: return kSky;
-    case EnvironmentType::Map: return kMap;
-    }
-    return kNone;
+    if (value.is_object() && !value.contains("name"))
+        fail(path, "missing key 'name' (every material needs a unique name)");
+    readParams(value, path, out);
 }
 
 void readValue(const Json& value, const std::string& path, Environment& out, const Range&) {
     // A sky preset first, so that the horizon, zenith or intensity the file gives override it
-    // wherever they stand. "preset" on another type is left to readTyped's unknown-key error.
+    // wherever they stand. "preset" on another type is left to readParams' unknown-key error.
     const auto type = value.is_object() ? value.find("type") : value.end();
     const bool sky = type != value.end() ? *type == "sky" : out.type == EnvironmentType::Sky;
     if (const auto preset = value.is_object() ? value.find("preset") : value.end(); sky && preset != value.end()) {
@@ -954,21 +621,15 @@ void readValue(const Json& value, const std::string& path, Environment& out, con
         }
         applySkyPreset(*found, out);
     }
-    readTyped(value, path, out, &Environment::type, environmentFields, "environment");
-    // The product is what the shaders use (times a map's texels, which the compiler checks).
-    const glm::dvec3 c = out.type == EnvironmentType::Constant ? glm::dvec3(out.radiance)
-                         : out.type == EnvironmentType::Sky
-                             ? glm::max(glm::dvec3(out.horizon), glm::dvec3(out.zenith))
-                             : glm::dvec3(0.0);
-    const double peak = std::max({c.x, c.y, c.z}) * double(out.intensity);
-    if (peak > kMaxRadiance)
-        fail(member(path, "intensity"), "times the radiance gives " + formatNumber(peak) + ", more than " +
-                                            formatNumber(kMaxRadiance) + " (the most a channel may emit)");
+    readParams(value, path, out);
 }
 
-Json toJson(const Environment& environment) {
-    return writeFields(environment, environmentFields(environment.type));
-}
+Json toJson(const Camera& v) { return writeParams(v); }
+Json toJson(const RenderSettings& v) { return writeParams(v); }
+Json toJson(const Material& v) { return writeParams(v); }
+Json toJson(const Object& v) { return writeParams(v); }
+Json toJson(const Light& v) { return writeParams(v); }
+Json toJson(const Environment& v) { return writeParams(v); }
 
 // ---------------------------------------------------------------------------------------------
 // Scene
@@ -1003,27 +664,7 @@ void readScene(const Json& root, Scene& scene) {
 
     readFields(root, "", sceneFields(), scene);
 
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-        const std::string& name = scene.materials[i].name;
-        const auto previous = std::find(names.begin(), names.end(), name);
-        if (previous != names.end()) {
-            fail(member(element("materials", i), "name"),
-                 "duplicate material name '" + name + "' (also " +
-                     element("materials", static_cast<std::size_t>(previous - names.begin())) +
-                     ")");
-        }
-        names.push_back(name);
-    }
-    const std::string known =
-        names.empty() ? "no materials are defined" : "known: " + join(names);
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const std::string& ref = scene.objects[i].material;
-        const std::string path = member(element("objects", i), "material");
-        if (ref.empty() && scene.objects[i].shape == Shape::Mesh) continue;  // the file's own materials
-        if (ref.empty()) fail(path, "missing; every object needs a material (" + known + ")");
-        if (!scene.findMaterial(ref)) fail(path, "unknown material '" + ref + "' (" + known + ")");
-    }
+    if (const auto broken = checkReferences(scene)) fail(broken->key, broken->message);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -478,7 +478,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
          "unknown material 'white' (no materials are defined)"},
         {"object not an object", withObject("42"), "objects[1]", "must be an object, got number 42"},
         {"unknown shape", withObject(R"({"material": "red", "shape": "cone"})"), "objects[1].shape",
-         "unknown value 'cone' (allowed: quad, sphere, box, mesh)"},
+         "unknown value 'cone' (allowed: sphere, quad, box, mesh)"},
         {"unknown object key", withObject(R"({"material": "red", "colour": [1, 0, 0]})"), "objects[1].colour",
          "unknown key for a 'sphere' object (allowed: name, shape, material, transform, emission, two_sided)"},
         {"negative object emission", withObject(R"({"material": "red", "emission": [1, -1, 0]})"), "objects[1].emission[1]",
