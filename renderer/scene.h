@@ -1,6 +1,7 @@
 // The scene: plain C++ data, no GL. The single source of truth that the JSON file, the batch
-// renderer and (later) the editor's commands all read and write. docs/scene-format.md is the user
-// documentation of every field below; keep the two in step.
+// renderer and the editor's commands all read and write. Each field's key, range, default and
+// meaning are written once, in the scene schema (renderer/scene_schema.cpp), from which the loader,
+// the writer, the editor's inspector and docs/scene-format.md's tables all work.
 #pragma once
 
 #include <glm/glm.hpp>

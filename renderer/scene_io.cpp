@@ -1,9 +1,10 @@
 // Scene JSON reading and writing. The format is documented in docs/scene-format.md.
 //
-// Reading and writing are driven by one table of Fields per struct (camera, render settings, each
-// material/light/environment type, ...): a field names its JSON key, the member it maps to and the
-// valid range, and the same entry serves the unknown-key check, the reader and the writer. Adding a
-// key is adding one line to a table. Readers throw SceneError (path + message) internally;
+// Reading and writing are driven by the scene schema (renderer/scene_schema.h): a parameter names
+// its JSON key, the member it maps to, its range and the types that take it, and the same entry
+// serves the unknown-key check, the reader and the writer; the schema's rules check what ties
+// fields together. Transforms and the top level, whose keys are structure rather than parameters,
+// keep their own small Field tables here. Readers throw SceneError (path + message) internally;
 // parseScene catches it, and everything else, at the boundary.
 #include "renderer/scene_io.h"
 
