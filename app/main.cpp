@@ -1,5 +1,5 @@
-// caustic: batch rendering from the command line (`caustic --scene file.json`) and, later, the
-// editor (`caustic [file.json]`). Thin: parsing is in cli.cpp, rendering in the renderer library.
+// caustic: batch rendering from the command line (`caustic --scene file.json`) and the editor
+// (`caustic [file.json]`). Thin: parsing is in cli.cpp, rendering in the renderer library.
 #include "app/cli.h"
 #include "editor/ui/editor_app.h"
 #include "app/contact_sheet.h"

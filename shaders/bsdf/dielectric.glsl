@@ -4,9 +4,9 @@
 // Rough Surfaces", EGSR (eqs. 16, 17, 20, 21); Pharr, Jakob, Humphreys, "Physically Based
 // Rendering", 4th ed., sec. 9.5 (smooth) and 9.7 (rough DielectricBxDF), whose structure this
 // follows.
-// JSON (docs/scene-format.md): { "type": "dielectric", "ior": relative IOR n_inside / n_outside,
-//   (1, 4], default 1.5; "roughness": GGX alpha in [0, 1], default 0 (below 1e-3 the smooth
-//   model is used); "tint": [r, g, b] in [0, 1], default [1, 1, 1], multiplies both lobes }.
+// JSON: "type": "dielectric" with "ior" (relative IOR n_inside / n_outside), "roughness" (GGX
+//   alpha; below 1e-3 the smooth model is used) and "tint" (multiplies both lobes); their ranges
+//   and defaults are the scene schema's (renderer/scene_schema.cpp, docs/scene-format.md).
 // GpuMaterial: albedo.rgb = tint, params.x = alpha, params.y = eta (inside over outside).
 // Conventions: the local frame is NOT turned towards the viewer for dielectrics: +z is the
 //   outward (front) normal, so wo.z < 0 means the viewer is inside the medium, and the indices
