@@ -198,44 +198,4 @@ bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float 
     return true;
 }
 
-// E(mu, alpha) = integral of f cos over the hemisphere for the F = 1 GGX lobe with the height-
-// correlated Smith term (shaders/bsdf/microfacet.glsl), estimated as the mean of the visible-
-// normal sample weight G2 / G1(wo) over a stratified 64 x 64 grid of samples per entry.
-const std::vector<float>& ggxAlbedoTable() {
-    static const std::vector<float> table = [] {
-        constexpr int N = GGX_ALBEDO_TABLE_SIZE, S = 64;
-        std::vector<float> t(size_t(N) * N);
-        auto lambda = [](glm::dvec3 w, double a) {
-            const double c2 = w.z * w.z, s2 = std::max(0.0, w.x * w.x + w.y * w.y);
-            return 0.5 * (std::sqrt(c2 + a * a * s2) / std::abs(w.z) - 1.0);
-        };
-        for (int j = 0; j < N; ++j) {
-            const double alpha = std::max(double(j) / (N - 1), 1e-3);
-            for (int i = 0; i < N; ++i) {
-                const double mu = std::max(double(i) / (N - 1), 1e-3);
-                const glm::dvec3 wo(std::sqrt(1.0 - mu * mu), 0.0, mu);
-                const glm::dvec3 wh = glm::normalize(glm::dvec3(alpha * wo.x, alpha * wo.y, wo.z));
-                const double lo = lambda(wo, alpha);
-                double sum = 0.0;
-                for (int a = 0; a < S; ++a)
-                    for (int b = 0; b < S; ++b) {
-                        // Dupuy & Benyoub 2023, as in ggxSampleVisibleNormal.
-                        const double u1 = (a + 0.5) / S, u2 = (b + 0.5) / S;
-                        const double phi = 2.0 * std::numbers::pi * u1;
-                        const double z = (1.0 - u2) * (1.0 + wh.z) - wh.z;
-                        const double st = std::sqrt(std::max(0.0, 1.0 - z * z));
-                        const glm::dvec3 h = glm::dvec3(st * std::cos(phi), st * std::sin(phi), z) + wh;
-                        const glm::dvec3 wm = glm::normalize(glm::dvec3(alpha * h.x, alpha * h.y, std::max(h.z, 1e-12)));
-                        const glm::dvec3 wi = -wo + 2.0 * glm::dot(wo, wm) * wm;
-                        if (wi.z <= 0.0) continue;
-                        sum += (1.0 + lo) / (1.0 + lo + lambda(wi, alpha));  // G2 / G1(wo)
-                    }
-                t[size_t(j) * N + size_t(i)] = static_cast<float>(sum / (S * S));
-            }
-        }
-        return t;
-    }();
-    return table;
-}
-
 }  // namespace caustic

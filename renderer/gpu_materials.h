@@ -1,6 +1,6 @@
 // The scene's materials as the GPU sees them (renderer/gpu_materials.cpp), for the scene compiler
-// (renderer/gpu_scene.cpp). The public side (mapImportedMaterial, bakeMetallicRoughness,
-// ggxAlbedoTable) is declared in renderer/gpu_scene.h.
+// (renderer/gpu_scene.cpp). The public side (mapImportedMaterial, bakeMetallicRoughness) is
+// declared in renderer/gpu_scene.h; the GGX albedo table is renderer/bsdf_tables.h.
 #pragma once
 
 #include "renderer/scene.h"

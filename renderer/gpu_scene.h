@@ -124,11 +124,6 @@ enum class TextureEncoding { Srgb, Linear };
 // descriptor to out->textures; fails for an empty, truncated or non-finite image.
 bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error);
 
-// The directional albedo E(mu, alpha) of the F = 1 GGX lobe (height-correlated Smith), for the
-// multiple-scattering compensation of rough conductors: GGX_ALBEDO_TABLE_SIZE^2 floats, mu =
-// i / (N - 1) fastest, alpha = j / (N - 1). Computed once, on first use.
-const std::vector<float>& ggxAlbedoTable();
-
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names
 // (environment maps; later textures), relative paths resolved against scene.sourcePath.

@@ -1,5 +1,7 @@
 #include "renderer/renderer.h"
 
+#include "renderer/bsdf_tables.h"
+
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -77,7 +79,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
-    uploadBuffer(r->m_bsdfTables, ggxAlbedoTable());
+    if (!computeGgxAlbedoTable(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
 

@@ -17,7 +17,7 @@
 // lobe by 1 + F0 (1 - E(mu_o)) / E(mu_o), where E(mu, alpha) is the directional albedo of the
 // F = 1 lobe (Turquin 2019, "Practical multiple scattering compensation for microfacet models",
 // eq. 10; the scheme Blender Cycles and Filament use). E is tabulated on the CPU at startup
-// (renderer/gpu_scene.cpp, ggxAlbedoTable) with this file's D and G2. With F = 1 the lobe then
+// (shaders/bsdf/ggx_albedo.comp, run once per renderer) with this file's D and G2. With F = 1 the lobe then
 // reflects exactly 1 for every wo. The factor depends on wo only, so the compensated lobe is not
 // exactly reciprocal (Kulla & Conty 2017 is, at the price of an extra sampled lobe); the sampling
 // is unchanged, so the pdf is that of the uncompensated lobe.

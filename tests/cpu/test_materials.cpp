@@ -135,16 +135,3 @@ TEST_CASE("materials: textures are shared between materials and keep their size"
     CHECK(c.texels.size() == size_t(2 * (21 + 3 + 1)));
 }
 
-TEST_CASE("materials: the GGX albedo table", "[materials]") {
-    const std::vector<float>& t = ggxAlbedoTable();
-    constexpr int N = GGX_ALBEDO_TABLE_SIZE;
-    REQUIRE(t.size() == size_t(N * N));
-    // alpha = 1, normal incidence: 1 - ln 2 (D = 1/pi, integrated by hand).
-    CHECK(t[size_t(N - 1) * N + N - 1] == Approx(1.0 - std::log(2.0)).margin(2e-3));
-    // Nearly smooth: everything is reflected.
-    CHECK(t[size_t(N - 1)] == Approx(1.0).margin(1e-3));
-    for (float e : t) {
-        CHECK(e > 0.0f);
-        CHECK(e <= 1.0f);
-    }
-}

@@ -10,6 +10,8 @@
 //   - reciprocity of the reflection lobes;
 //   - white furnaces: the mean sample weight (the directional albedo) per model and direction.
 #include "renderer/gpu_scene.h"
+#include "renderer/bsdf_tables.h"
+#include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/chi2.h"
 
@@ -339,7 +341,12 @@ TEST_CASE("BSDF white furnace: directional albedo per model", "[gpu][bsdf][furna
         const float alphas[] = {0.1f, 0.3f, 0.6f, 1.0f};
         const double reference[] = {0.9881, 0.8768, 0.5912, 0.3069};
         const double referenceAvg[] = {0.973, 0.845, 0.628, 0.406};
-        const std::vector<float>& table = ggxAlbedoTable();
+        GLuint tableBuffer = 0;  // the table the renderer computes (shaders/bsdf/ggx_albedo.comp)
+        glCreateBuffers(1, &tableBuffer);
+        std::string tableError;
+        REQUIRE(computeGgxAlbedoTable(defaultShaderDir(), tableBuffer, &tableError));
+        const std::vector<float> table = readFloatBuffer(tableBuffer);
+        glDeleteBuffers(1, &tableBuffer);
         for (int a = 0; a < 4; ++a) {
             h.setMaterial(material(MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), alphas[a], 1.5f, MAT_FLAG_FRESNEL_ONE));
             double e = furnace(h.sample(glm::vec3(0, 0, 1), n), glm::vec3(0, 0, 1), 1.5f);

@@ -1,0 +1,20 @@
+// The BSDF tables the shaders read (BINDING_BSDF_TABLES), computed on the GPU by the shaders' own
+// BSDF code, so that no C++ copy of it exists to drift.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+// The directional albedo E(mu, alpha) of the F = 1 GGX lobe (height-correlated Smith) for the
+// multiple-scattering compensation of rough conductors: GGX_ALBEDO_TABLE_SIZE^2 floats, mu =
+// i / (N - 1) fastest, alpha = j / (N - 1), computed by shaders/bsdf/ggx_albedo.comp into
+// `buffer` (its storage is replaced). Needs a current GL context; false with a message if the
+// kernel does not compile.
+bool computeGgxAlbedoTable(const std::string& shaderDir, unsigned buffer, std::string* error);
+
+// The buffer's floats (tests).
+std::vector<float> readFloatBuffer(unsigned buffer);
+
+}  // namespace caustic
