@@ -3,6 +3,8 @@
 #include "editor/model/shortcuts.h"
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/frame_driver.h"
+#include "editor/ui/mesh_import.h"
 #include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/gl_context.h"
@@ -33,9 +35,7 @@ namespace fs = std::filesystem;
 namespace caustic::editor {
 namespace {
 
-constexpr double kFrameTarget = 1.0 / 30.0;    // the UI must keep >= 30 fps
 constexpr double kAutosaveSeconds = 30.0;            // $CAUSTIC_EDITOR_AUTOSAVE_SECONDS overrides it
-constexpr double kInteractionHold = 0.25;      // preview resolution lasts this long after a drag
 
 double now() { return glfwGetTime(); }
 
@@ -127,9 +127,9 @@ void drawModals(EditorUi& ui) {
         ImGui::TextUnformatted("The editor did not close cleanly last time. An autosave exists");
         if (ui.recovered) ImGui::Text("of '%s'.", ui.recovered->second.empty() ? "an untitled scene" : ui.recovered->second.c_str());
         // A script's `recover` presses the same button.
-        if (ImGui::Button("Recover") || std::exchange(ui.scriptAnswersRecover, false)) {
+        if (ImGui::Button("Recover") || ui.driver->pressRecover()) {
             // Its meshes import in the background first, as when opening (mesh_import.h).
-            if (ui.recovered) ui.meshImports.openScene(ui, std::move(ui.recovered->first), ui.recovered->second, true);
+            if (ui.recovered) ui.meshImports->openScene(ui, std::move(ui.recovered->first), ui.recovered->second, true);
             ui.recovered.reset();
             ImGui::CloseCurrentPopup();
         }
@@ -185,95 +185,28 @@ void handleShortcuts(EditorUi& ui) {
     if (ImGui::IsKeyPressed(ImGuiKey_F6, false)) denoiseNow(ui);
 }
 
-// Applies pending edits to the renderer, renders this frame's samples and tone maps them.
+// One step of the render session (editor/model/render_session.h): pending edits to the renderer,
+// this frame's samples; then what it says is shown: the image, a compile error (or its end), the
+// file a "Render to file" waited for.
 void renderFrame(EditorUi& ui) {
     if (!ui.renderer) return;
-    const double t = now();
-    const RenderSettings& rs = ui.state.scene.render;
-    const long long fullPixels = static_cast<long long>(rs.width) * rs.height;
-    // While something is dragged, shrink the image if one full sample would not fit the budget.
-    // The path tracer gets what the rest of the frame (UI, display, swap; measured) leaves of it,
-    // less a margin for the spread of both.
-    const double budget = std::clamp(kFrameTarget - ui.overheadSeconds - 0.002, 0.004, kFrameTarget);
-    // Edits that change nothing on screen (the target samples, unused materials) restart nothing.
-    std::uint32_t dirty = dirtyForRenderer(ui.state.takeDirty(), &ui.deferredDirty) | std::exchange(ui.heldDirty, kDirtyNone);
-    // A mesh the scene uses changed on disk: it is imported again in the background, and the
-    // scene's updates wait for it (the renderer keeps rendering what it has), since a compile
-    // now would import it here, freezing the window.
-    const bool holding = ui.sceneUploaded && ui.meshImports.refreshing(ui);
-    if (holding) {
-        ui.heldDirty = dirty;
-        dirty = kDirtyNone;
+    // Meshes the scene uses that changed on disk import again in the background meanwhile.
+    const bool holding = ui.session.sceneUploaded && ui.meshImports->refreshing(ui);
+    const RenderStep step = ui.session.step(*ui.renderer, ui.state, now(), holding);
+    if (step.compiled && ui.lastMessageIsError && errorResolved(ui.shownError, true, ui.state.history.revision())) {
+        // A stale error goes: the scene compiles again, or an edit since it went through.
+        ui.lastMessage.clear();
+        ui.lastMessageIsError = false;
     }
-    // Any edit gets a quick first frame: it counts as interaction, so when one full-resolution
-    // sample would not fit the frame budget, the first frames after it render at preview size.
-    if (dirty != kDirtyNone && ui.sceneUploaded) ui.lastInteraction = t;
-    const bool recentlyInteracting = ui.interacting || (t - ui.lastInteraction) < kInteractionHold;
-    const int divisor = recentlyInteracting ? std::max(ui.previewDivisor, ui.pacer.previewDivisor(fullPixels, budget)) : 1;
-    if (divisor != ui.previewDivisor && !holding) dirty |= kDirtySettings;
-    if (dirty != kDirtyNone || !ui.sceneUploaded) {
-        Scene scene = ui.state.scene;
-        scene.render.width = std::max(1, rs.width / divisor);
-        scene.render.height = std::max(1, rs.height / divisor);
-        std::string error;
-        const bool ok = ui.sceneUploaded ? ui.renderer->update(scene, dirty, &error) : ui.renderer->setScene(scene, &error);
-        ++ui.accumulationGeneration;   // accumulation restarted: older denoised images are stale
-        if (ok) {
-            ui.sceneUploaded = true;
-            ui.previewDivisor = divisor;
-            if (!ui.renderError.empty()) ui.renderError.clear();
-            ui.sampleRate.restart(t);
-            // A stale error goes: the scene compiles again, or an edit since it went through.
-            if (ui.lastMessageIsError && errorResolved(ui.shownError, true, ui.state.history.revision())) {
-                ui.lastMessage.clear();
-                ui.lastMessageIsError = false;
-            }
-        } else {
-            // The renderer keeps the last scene it could compile; the message stays on screen.
-            ui.renderError = error;
-            notify(ui, error, true);
-            ui.shownError.fromRender = true;
-        }
+    if (!step.error.empty()) {
+        notify(ui, step.error, true);
+        ui.shownError.fromRender = true;
     }
-    if (!ui.sceneUploaded) return;
-    const int width = std::max(1, rs.width / ui.previewDivisor), height = std::max(1, rs.height / ui.previewDivisor);
-    int target = rs.samples;
-    if (ui.sampleCap) target = std::min(target, *ui.sampleCap);
-    const int done = ui.renderer->samplesDone();
-    ui.samplesThisFrame = 0;
-    ui.renderedThisFrame = false;
-    if (done < target) {
-        // Whole samples while one fits the frame's budget, else a band of rows of the next one
-        // (Renderer::renderFor), so the frame rate holds at full resolution however slow the GPU.
-        const long long pixels = static_cast<long long>(width) * height;
-        const Renderer::Progress p = ui.renderer->renderFor(budget, target - done);
-        ui.pacer.record(1, p.pixelSamples, p.seconds);
-        ui.renderSeconds = p.seconds;
-        ui.samplesThisFrame = p.samplesCompleted;
-        ui.renderedThisFrame = p.pixelSamples > 0;
-        const double rate = double(p.pixelSamples) / double(pixels) / std::max(p.seconds, 1e-6);
-        ui.samplesPerSecond = ui.samplesPerSecond == 0.0 ? rate : 0.8 * ui.samplesPerSecond + 0.2 * rate;
-    } else {
-        ui.renderSeconds = 0.0;
-    }
-    ui.sampleRate.observe(now(), ui.renderer->samplesDone() + (ui.renderer->bandInProgress() ? ui.renderer->bandProgress() : 0.0),
-                          ui.renderedThisFrame);
-    if (t - ui.lastCounterRead > 0.5 || ui.samplesThisFrame == 0) {
-        ui.droppedSamples = ui.renderer->droppedSamples();
-        ui.lastCounterRead = t;
-    }
-    // While the first sample after a restart is still being rendered tile by tile (leaving the
-    // preview for full resolution, say), the viewport keeps the last whole image instead of a
-    // partly black one; the very first image of a scene shows its tiles as they come.
-    const bool firstSampleInTiles = ui.renderer->samplesDone() == 0 && ui.renderer->bandInProgress();
-    const bool wholeImageShown = ui.displayedWholeImageOf && *ui.displayedWholeImageOf == ui.state.generation();
-    if (ui.display && !(firstSampleInTiles && wholeImageShown)) {
-        ui.display->update(ui.renderer->accumulationTexture(), width, height, ui.state.view.toneMap, ui.state.view.exposure);
-        if (!firstSampleInTiles) ui.displayedWholeImageOf = ui.state.generation();
-    }
-
+    if (step.show && ui.display)
+        ui.display->update(ui.renderer->accumulationTexture(), step.width, step.height, ui.state.view.toneMap,
+                           ui.state.view.exposure);
     // "Render to file": written once the full-resolution image has all its samples.
-    if (ui.renderToFile && ui.previewDivisor == 1 && ui.renderer->samplesDone() >= rs.samples) {
+    if (ui.renderToFile && step.targetReached) {
         std::string error;
         const std::string file = *ui.renderToFile;
         ui.renderToFile.reset();
@@ -365,15 +298,17 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         if (!ui->display) showError(*ui, error);
 
         if (const char* scriptFile = std::getenv("CAUSTIC_EDITOR_SCRIPT"); scriptFile && *scriptFile) {
-            ui->script = std::make_unique<ScriptRunner>();
-            if (!ui->script->load(scriptFile, &error)) {
+            auto script = std::make_unique<ScriptRunner>();
+            const bool loaded = script->load(scriptFile, &error);
+            ui->driver = std::move(script);
+            if (!loaded) {
                 std::fprintf(stderr, "caustic: error: %s\n", error.c_str());
                 exitCode = 1;
                 ui->quit = true;
             }
         }
         // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
-        if (ui->autosave.exists() && (!ui->script || scriptMayUseAutosave())) {
+        if (ui->autosave.exists() && ui->driver->offersRecovery()) {
             ui->recovered = ui->autosave.read(&error);
             if (ui->recovered) ui->recoveryPromptRequested = true;
         }
@@ -383,9 +318,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         double frameStart = now();
         while (!ui->quit) {
             // Converged and idle: sleep until input instead of spinning.
-            const bool busy = ui->renderer && ui->sceneUploaded &&
-                              ui->renderer->samplesDone() < std::min(ui->state.scene.render.samples, ui->sampleCap.value_or(1 << 30));
-            if (!busy && !ui->script && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
+            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene);
+            if (!busy && ui->driver->mayWaitForInput() && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
             if (glfwWindowShouldClose(window)) {
                 glfwSetWindowShouldClose(window, GLFW_FALSE);
@@ -397,7 +331,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ImGui_ImplGlfw_NewFrame();
                 ImGui::NewFrame();
                 ImGuizmo::BeginFrame();
-                ui->meshImports.finish(*ui);   // meshes imported in the background: their edits apply now
+                ui->meshImports->finish(*ui);   // meshes imported in the background: their edits apply now
                 drawMenuBar(*ui);
                 drawDockSpace(*ui);
                 drawOutlinerPanel(*ui);
@@ -411,14 +345,14 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                     ui->state.seal();   // a pause ends one zoom gesture
                     ui->lastWheel = -1.0;
                 }
-                if (ui->script) ui->script->step(*ui);
+                ui->driver->step(*ui);
                 ImGui::Render();
             } catch (const std::exception& e) {
                 // No exception crosses the frame loop: report it and carry on with the next frame.
                 showError(*ui, std::string("unexpected failure: ") + e.what());
                 ImGui::EndFrame();
             }
-            ui->uiSeconds = 0.8 * ui->uiSeconds + 0.2 * (now() - uiStart);
+            ui->session.uiSeconds = 0.8 * ui->session.uiSeconds + 0.2 * (now() - uiStart);
             try {
                 renderFrame(*ui);
                 if (ui->denoiser) ui->denoiser->tick(*ui);
@@ -431,22 +365,19 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             glClearColor(0.1f, 0.1f, 0.11f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
             if (ImDrawData* dd = ImGui::GetDrawData(); dd && dd->Valid) ImGui_ImplOpenGL3_RenderDrawData(dd);
-            if (ui->script) ui->script->afterDraw(*ui, fbw, fbh);
+            ui->driver->afterDraw(*ui, fbw, fbh);
             glfwSwapBuffers(window);
             const double t = now();
-            ui->frameSeconds = t - frameStart;
+            ui->session.endFrame(t - frameStart);
             frameStart = t;
-            // Frames that rendered only: an idle frame includes waiting for events.
-            if (ui->renderedThisFrame)
-                ui->overheadSeconds = 0.8 * ui->overheadSeconds + 0.2 * std::max(0.0, ui->frameSeconds - ui->renderSeconds);
-            if (ui->script) ui->script->afterSwap(*ui, ui->frameSeconds);
+            ui->driver->afterSwap(*ui, ui->session.frameSeconds);
             updateTitle(*ui);
-            if (!ui->script || ui->scriptAutosave) autosaveTick(*ui);
+            if (ui->driver->usesAutosave()) autosaveTick(*ui);
         }
-        if (ui->script && ui->script->failed()) exitCode = 1;
+        if (ui->driver->failed()) exitCode = 1;
         // A clean exit: nothing to recover next time (unless the offer was never answered, or a
         // script ran without `autosave on`, which never touches the autosave).
-        if (!ui->recovered && (!ui->script || ui->scriptAutosave)) ui->autosave.remove();
+        if (!ui->recovered && ui->driver->usesAutosave()) ui->autosave.remove();
         std::string recentError;
         ui->recent.save(ui->recentListPath, &recentError);
         ui->denoiser.reset();   // joins the worker; deletes its texture while GL is current
@@ -460,6 +391,9 @@ int runEditor(const std::optional<std::string>& sceneFile) {
     glfwTerminate();
     return exitCode;
 }
+
+EditorUi::EditorUi() : driver(std::make_unique<FrameDriver>()), meshImports(std::make_unique<MeshImports>()) {}
+EditorUi::~EditorUi() = default;
 
 // ---- Actions shared by the panels ---------------------------------------------------------------
 
@@ -486,7 +420,7 @@ bool openFile(EditorUi& ui, const std::string& file) {
     }
     // Its meshes import in the background; the scene is adopted when they are ready (at once
     // when there is nothing to import). docs/editor.md, "Opening scenes".
-    ui.meshImports.openScene(ui, std::move(*loaded.scene), file, false);
+    ui.meshImports->openScene(ui, std::move(*loaded.scene), file, false);
     return true;
 }
 
@@ -537,18 +471,18 @@ void reloadShaders(EditorUi& ui) {
     fresh->setImageReader(readImage);
     if (ui.renderer) fresh->meshCache() = std::move(ui.renderer->meshCache());   // no re-import of meshes
     ui.renderer = std::move(fresh);
-    ui.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
+    ui.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
     notify(ui, "shaders reloaded");
 }
 
 void startRenderToFile(EditorUi& ui, const std::string& file) {
     ui.renderToFile = file;
-    ui.sampleCap.reset();
+    ui.session.sampleCap.reset();
     notify(ui, "rendering " + std::to_string(ui.state.scene.render.samples) + " spp to " + file);
 }
 
 bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error) {
-    if (!ui.renderer || !ui.sceneUploaded) {
+    if (!ui.renderer || !ui.session.sceneUploaded) {
         *error = "nothing rendered yet";
         return false;
     }

@@ -4,10 +4,9 @@
 #pragma once
 
 #include "editor/model/editor_state.h"
-#include "editor/model/frame_pacer.h"
+#include "editor/model/render_session.h"
 #include "editor/model/status.h"
 #include "editor/ui/display.h"
-#include "editor/ui/mesh_import.h"
 #include "renderer/renderer.h"
 
 #include <functional>
@@ -20,7 +19,8 @@ struct GLFWwindow;
 
 namespace caustic::editor {
 
-class ScriptRunner;
+class FrameDriver;
+class MeshImports;
 class ViewportDenoiser;
 
 enum class GizmoOp { Translate, Rotate, Scale };
@@ -36,18 +36,21 @@ struct FileBrowserState {
 };
 
 struct EditorUi {
+    EditorUi();    // editor_app.cpp
+    ~EditorUi();
+    EditorUi(const EditorUi&) = delete;
+    EditorUi& operator=(const EditorUi&) = delete;
+
     GLFWwindow* window = nullptr;
     EditorState state;
     std::unique_ptr<Renderer> renderer;
     std::unique_ptr<Display> display;
     std::string shaderDir;
-    FramePacer pacer;
     RecentFiles recent;
     std::string recentListPath;
     Autosave autosave;
     double lastAutosave = 0.0;
     std::uint64_t autosaveWrites = 0;   // autosaves written this session (scripts wait on it)
-    bool scriptAutosave = false;        // a script turned autosave on (`autosave on`)
 
     // Viewport interaction.
     GizmoOp gizmoOp = GizmoOp::Translate;
@@ -57,32 +60,13 @@ struct EditorUi {
     bool gizmoWasUsing = false;
     bool navigating = false;          // a camera drag is in progress
     double lastWheel = -1.0;          // wheel zoom steps merge until a pause
-    bool interacting = false;         // something is being dragged this frame (preview resolution)
-    double lastInteraction = -1.0;
     bool viewportHovered = false;
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;
 
-    // Rendering.
-    int previewDivisor = 1;           // 1 = full resolution
-    bool sceneUploaded = false;
-    std::optional<int> sampleCap;     // scripts stop at an exact sample count
-    std::string renderError;          // the renderer's last failure (scene compile, shader reload)
-    double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
-    SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
-    std::uint64_t droppedSamples = 0;
-    double lastCounterRead = 0.0;
-    double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
-    double overheadSeconds = 0.01;    // a rendering frame's time outside the path tracer (smoothed)
-    int samplesThisFrame = 0;         // whole samples finished this frame
-    bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
-    // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
-    std::optional<std::uint64_t> displayedWholeImageOf;
-    std::uint32_t deferredDirty = 0;  // unseen material edits, handed over with the next real update (dirtyForRenderer)
-    std::uint32_t heldDirty = 0;      // scene updates waiting for meshes to import again (renderFrame)
-    // Bumped whenever accumulation restarts (every scene upload or update): a denoised image
-    // is shown only for the generation it was read from.
-    std::uint64_t accumulationGeneration = 0;
+    // Rendering: the render session (scheduling, preview resolution, the figures the status bar
+    // shows; editor/model/render_session.h).
+    RenderSession session;
     std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
 
     // Lookdev.
@@ -99,16 +83,17 @@ struct EditorUi {
     bool unsavedPromptRequested = false;
     bool recoveryPromptRequested = false;
     std::optional<std::pair<Scene, std::string>> recovered;
-    bool scriptAnswersRecover = false;   // the script's `recover`: pressed like the button
     std::string errorPopup;           // shown in a modal (bad scene, failed save ...)
     bool errorPopupRequested = false;
     bool quit = false;
     bool resetLayout = false;
 
-    std::unique_ptr<ScriptRunner> script;
+    // What drives the frame loop besides the user (frame_driver.h): the test-script harness, or
+    // the base class, which does nothing. Never null.
+    std::unique_ptr<FrameDriver> driver;
 
     // Mesh imports in the background (mesh_import.h): the edit applies when the mesh is ready.
-    MeshImports meshImports;
+    std::unique_ptr<MeshImports> meshImports;
 };
 
 // Panels (each begins with `if (!ImGui::Begin(...)) { ImGui::End(); return; }`).

@@ -5,6 +5,7 @@
 // replace an existing file.
 #include "editor/model/scene_paths.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 #include "renderer/mesh_import.h"
 
 #include <imgui.h>
@@ -116,9 +117,9 @@ void drawFileBrowser(EditorUi& ui) {
             case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;
             // Imported in the background; the edit applies when the mesh is ready, and a broken
             // file shows its error then, changing nothing (mesh_import.h).
-            case FileBrowserState::Mode::ImportMesh: ui.meshImports.importFile(ui, path); break;
+            case FileBrowserState::Mode::ImportMesh: ui.meshImports->importFile(ui, path); break;
             case FileBrowserState::Mode::MeshFile:
-                ui.meshImports.setObjectFile(ui, ui.state.selection.kind == EntityKind::Object ? ui.state.selection.index : -1, path);
+                ui.meshImports->setObjectFile(ui, ui.state.selection.kind == EntityKind::Object ? ui.state.selection.index : -1, path);
                 break;
         }
         if (ok) b.open = false;

@@ -172,7 +172,7 @@ void MeshImports::finish(EditorUi& ui) {
             if (result.ok() && ui.renderer) {
                 m_refreshFailed.erase(key);
                 ui.renderer->meshCache().insert(key, result.mesh);
-                ui.heldDirty |= kDirtyGeometry;   // the new contents replace the old on screen
+                ui.session.heldDirty |= kDirtyGeometry;   // the new contents replace the old on screen
                 notify(ui, "imported " + fileName(key) + " again (" + std::to_string(int(result.seconds * 1e3 + 0.5)) +
                                " ms in the background)");
             } else {

@@ -2,6 +2,7 @@
 // to select; right-click to rename, duplicate or delete; "Add" makes primitives, lights and
 // materials.
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 
 #include <imgui.h>
 
@@ -123,7 +124,7 @@ void drawOutlinerPanel(EditorUi& ui) {
     }
     ImGui::EndDisabled();
     // A mesh being imported in the background appears in the list once it is ready.
-    if (const std::string importing = ui.meshImports.status(); !importing.empty()) ImGui::TextDisabled("%s", importing.c_str());
+    if (const std::string importing = ui.meshImports->status(); !importing.empty()) ImGui::TextDisabled("%s", importing.c_str());
     ImGui::Separator();
     entityRow(ui, {EntityKind::Camera, -1}, "[C]");
     entityRow(ui, {EntityKind::Render, -1}, "[R]");

@@ -24,8 +24,8 @@ void Edit::track(bool c, bool discrete) {
     changed |= c;
     if ((discrete && c) || ImGui::IsItemDeactivatedAfterEdit()) seal = true;
     if (ImGui::IsItemActive()) {
-        ui.interacting = true;
-        ui.lastInteraction = ImGui::GetTime();
+        ui.session.interacting = true;
+        ui.session.lastInteraction = ImGui::GetTime();
     }
 }
 

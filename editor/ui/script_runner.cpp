@@ -2,6 +2,7 @@
 
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
@@ -127,7 +128,7 @@ bool ScriptRunner::waitFor(EditorUi& ui, const ScriptLine& line, bool done, doub
     if (m_waitImportSince < 0.0) m_waitImportSince = glfwGetTime();
     if (glfwGetTime() - m_waitImportSince <= timeout) return false;
     m_waitImportSince = -1.0;
-    fail(ui, line, std::string(what) + " after " + std::to_string(int(timeout)) + " s: " + ui.meshImports.status());
+    fail(ui, line, std::string(what) + " after " + std::to_string(int(timeout)) + " s: " + ui.meshImports->status());
     return true;
 }
 
@@ -143,11 +144,11 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     };
     if (op == "wait_samples") {
         const int n = static_cast<int>(num(a[0]));
-        ui.sampleCap = n;
-        const bool settled = ui.sceneUploaded && ui.previewDivisor == 1 && s.pendingDirty() == kDirtyNone &&
-                             !ui.interacting && ui.renderer;
+        ui.session.sampleCap = n;
+        const bool settled = ui.session.sceneUploaded && ui.session.previewDivisor == 1 && s.pendingDirty() == kDirtyNone &&
+                             !ui.session.interacting && ui.renderer;
         if (!ui.renderer) { fail(ui, line, "no renderer (the shaders did not compile)"); return true; }
-        if (settled && !ui.renderError.empty() && ui.renderer->samplesDone() == 0) { fail(ui, line, ui.renderError); return true; }
+        if (settled && !ui.session.renderError.empty() && ui.renderer->samplesDone() == 0) { fail(ui, line, ui.session.renderError); return true; }
         return settled && ui.renderer->samplesDone() >= std::min(n, s.scene.render.samples);
     }
     if (op == "frames") {
@@ -178,10 +179,10 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         std::string why;
         if (!moveSelection(ui, {m_drag[0], m_drag[1], m_drag[2]}, true, &why)) { fail(ui, line, why); return true; }
         markEdit();
-        ui.interacting = true;
-        ui.lastInteraction = glfwGetTime();
+        ui.session.interacting = true;
+        ui.session.lastInteraction = glfwGetTime();
         if (--m_dragStepsLeft > 0) return false;
-        ui.interacting = false;
+        ui.session.interacting = false;
         s.seal();
         return true;
     }
@@ -277,19 +278,19 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"rendering_frames_during_import\": " << m_importRenderingFrames
           << ",\n  \"frame_ms_median_during_import\": " << percentile(m_importFrameMs, 0.5)
           << ",\n  \"frame_ms_max_during_import\": " << percentile(m_importFrameMs, 1.0)
-          << ",\n  \"import_seconds\": " << list(ui.meshImports.importSeconds())
+          << ",\n  \"import_seconds\": " << list(ui.meshImports->importSeconds())
           << ",\n  \"frames_during_open\": " << m_openFrameMs.size()
           << ",\n  \"rendering_frames_during_open\": " << m_openRenderingFrames
           << ",\n  \"frame_ms_median_during_open\": " << percentile(m_openFrameMs, 0.5)
           << ",\n  \"frame_ms_max_during_open\": " << percentile(m_openFrameMs, 1.0)
-          << ",\n  \"open_seconds\": " << list(ui.meshImports.openSeconds())
+          << ",\n  \"open_seconds\": " << list(ui.meshImports->openSeconds())
           << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
         std::string error;
         if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
         return true;
     }
     if (op == "import_mesh") {   // starts a background import; the object appears when it is ready
-        ui.meshImports.importFile(ui, resolve(a[0]));
+        ui.meshImports->importFile(ui, resolve(a[0]));
         return true;
     }
     if (op == "set_mesh_file") {   // the selected mesh object's file, through the same background import
@@ -297,15 +298,15 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
                           static_cast<size_t>(s.selection.index) < s.scene.objects.size() &&
                           s.scene.objects[static_cast<size_t>(s.selection.index)].shape == Shape::Mesh;
         if (!mesh) { fail(ui, line, "select a mesh object first"); return true; }
-        ui.meshImports.setObjectFile(ui, s.selection.index, resolve(a[0]));
+        ui.meshImports->setObjectFile(ui, s.selection.index, resolve(a[0]));
         return true;
     }
     if (op == "wait_import")   // until every import has finished and its edit applied [timeout s]
-        return waitFor(ui, line, !ui.meshImports.pending(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still importing");
+        return waitFor(ui, line, !ui.meshImports->pending(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still importing");
     if (op == "wait_open")   // until the scene being opened is adopted (or refused) [timeout s]
-        return waitFor(ui, line, !ui.meshImports.opening(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still opening");
+        return waitFor(ui, line, !ui.meshImports->opening(), a.empty() ? kScriptWaitSeconds : double(num(a[0])), "still opening");
     if (op == "uncap") {
-        ui.sampleCap.reset();
+        ui.session.sampleCap.reset();
         return true;
     }
     if (op == "touch") {   // as if another program had written the file
@@ -354,11 +355,11 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         return true;
     }
     if (op == "mark") {
-        m_markedGeneration = ui.accumulationGeneration;
+        m_markedGeneration = ui.session.accumulationGeneration;
         return true;
     }
     if (op == "expect_restarted") {
-        const bool restarted = ui.accumulationGeneration != m_markedGeneration;
+        const bool restarted = ui.session.accumulationGeneration != m_markedGeneration;
         if (restarted != (a[0] == "yes"))
             fail(ui, line, std::string("accumulation ") + (restarted ? "restarted" : "did not restart") + " since `mark`");
         return true;
@@ -405,10 +406,10 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
             fail(ui, line, "no denoised image after " + std::to_string(int(timeout)) + " s (" + dn->status(ui) + ")");
             return true;
         }
-        const bool settled = ui.renderer && ui.sceneUploaded && ui.previewDivisor == 1 && s.pendingDirty() == kDirtyNone && !ui.interacting;
+        const bool settled = ui.renderer && ui.session.sceneUploaded && ui.session.previewDivisor == 1 && s.pendingDirty() == kDirtyNone && !ui.session.interacting;
         // denoise: one request for the settled image (again if an edit made the first one stale).
         if (op == "denoise" && settled && !dn->busy() && !dn->current(ui)) {
-            const std::pair<std::uint64_t, int> key(ui.accumulationGeneration, ui.renderer->samplesDone());
+            const std::pair<std::uint64_t, int> key(ui.session.accumulationGeneration, ui.renderer->samplesDone());
             if (!m_pressed || m_denoiseKey != key) {
                 std::string why;
                 if (!dn->request(ui, false, &why)) { fail(ui, line, why); return true; }
@@ -444,7 +445,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
         if (op == "autosave") {
             bool on = false;
             if (!onOff(&on)) return true;
-            ui.scriptAutosave = on;
+            m_autosave = on;
             ui.lastAutosave = glfwGetTime();   // the interval counts from here
             return true;
         }
@@ -457,7 +458,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
         }
         // wait_autosave: the periodic autosave has written since this line started.
         const double timeout = a.empty() ? kScriptWaitSeconds : double(num(a[0]));
-        if (!ui.scriptAutosave) { fail(ui, line, "autosave is off (autosave on)"); return true; }
+        if (!m_autosave) { fail(ui, line, "autosave is off (autosave on)"); return true; }
         if (first) m_countAtStart = ui.autosaveWrites;
         if (ui.autosaveWrites > m_countAtStart) return true;
         if (waited > timeout) { fail(ui, line, "no autosave within " + std::to_string(int(timeout)) + " s"); return true; }
@@ -481,7 +482,7 @@ bool ScriptRunner::runDenoiseOrAutosave(EditorUi& ui, const ScriptLine& line, bo
     if (op == "recover") {
         if (!m_pressed) {
             if (!ui.recovered) { fail(ui, line, "no recovery was offered"); return true; }
-            ui.scriptAnswersRecover = true;   // the prompt's "Recover" button takes it next frame
+            m_pressRecover = true;   // the prompt's "Recover" button takes it next frame
             m_pressed = true;
             *finished = false;
             return true;
@@ -523,23 +524,25 @@ void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
 
 void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     m_allFrameMs.push_back(frameSeconds * 1e3);
-    if (ui.meshImports.pending()) {
+    if (ui.meshImports->pending()) {
         m_importFrameMs.push_back(frameSeconds * 1e3);
-        if (ui.renderedThisFrame) ++m_importRenderingFrames;
+        if (ui.session.renderedThisFrame) ++m_importRenderingFrames;
     }
-    if (ui.meshImports.opening()) {
+    if (ui.meshImports->opening()) {
         m_openFrameMs.push_back(frameSeconds * 1e3);
-        if (ui.renderedThisFrame) ++m_openRenderingFrames;
+        if (ui.session.renderedThisFrame) ++m_openRenderingFrames;
     }
-    if (ui.renderedThisFrame) {
+    if (ui.session.renderedThisFrame) {
         m_frameMs.push_back(frameSeconds * 1e3);
-        m_overheadMs.push_back((frameSeconds - ui.renderSeconds) * 1e3);
-        m_samplesPerFrame.push_back(ui.samplesThisFrame);
+        m_overheadMs.push_back((frameSeconds - ui.session.renderSeconds) * 1e3);
+        m_samplesPerFrame.push_back(ui.session.samplesThisFrame);
         if (m_editPending && ui.state.pendingDirty() == kDirtyNone) {
             m_editLatencyMs.push_back((glfwGetTime() - m_editTime) * 1e3);
             m_editPending = false;
         }
     }
 }
+
+bool ScriptRunner::offersRecovery() const { return scriptMayUseAutosave(); }
 
 }  // namespace caustic::editor

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "editor/model/script.h"
+#include "editor/ui/frame_driver.h"
 
 #include <cstdint>
 #include <string>
@@ -14,13 +15,17 @@ namespace caustic::editor {
 
 struct EditorUi;
 
-class ScriptRunner {
+class ScriptRunner : public FrameDriver {
 public:
     bool load(const std::string& file, std::string* error);
-    void step(EditorUi& ui);                       // during the UI frame, before ImGui::Render
-    void afterDraw(EditorUi& ui, int fbWidth, int fbHeight);   // the frame is drawn, not swapped
-    void afterSwap(EditorUi& ui, double frameSeconds);
-    bool failed() const { return m_failed; }
+    void step(EditorUi& ui) override;                       // during the UI frame, before ImGui::Render
+    void afterDraw(EditorUi& ui, int fbWidth, int fbHeight) override;   // the frame is drawn, not swapped
+    void afterSwap(EditorUi& ui, double frameSeconds) override;
+    bool mayWaitForInput() const override { return false; }
+    bool usesAutosave() const override { return m_autosave; }
+    bool offersRecovery() const override;
+    bool pressRecover() override { return std::exchange(m_pressRecover, false); }
+    bool failed() const override { return m_failed; }
 
 private:
     bool run(EditorUi& ui, const ScriptLine& line);   // false: wait, call again next frame
@@ -33,6 +38,8 @@ private:
     std::vector<ScriptLine> m_lines;
     size_t m_next = 0;
     bool m_failed = false;
+    bool m_autosave = false;        // `autosave on` (needs $CAUSTIC_EDITOR_HOME)
+    bool m_pressRecover = false;    // `recover`: the prompt's "Recover" button takes it next frame
     int m_waitFrames = 0;
     int m_dragStepsLeft = 0;
     std::uint64_t m_markedGeneration = 0;     // `mark`: accumulation's generation then (expect_restarted)

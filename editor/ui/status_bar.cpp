@@ -3,6 +3,7 @@
 // (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the denoiser's
 // state, the latest message.
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 #include "editor/ui/viewport_denoise.h"
 
 #include <imgui.h>
@@ -37,12 +38,12 @@ void drawStatusBar(EditorUi& ui) {
         ImGui::SameLine(0.0f, 16.0f);
         // Wall clock: what the image gains per second as the user waits (the path tracer's own
         // rate, per second of its time, is in the tooltip: the UI takes the rest of each frame).
-        if (ui.sampleRate.known()) ImGui::Text("%.2f spp/s (wall clock)", ui.sampleRate.samplesPerSecond());
+        if (ui.session.sampleRate.known()) ImGui::Text("%.2f spp/s (wall clock)", ui.session.sampleRate.samplesPerSecond());
         else ImGui::TextDisabled("- spp/s (wall clock)");
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("samples accumulated per second of elapsed time since the render restarted (%.1f s);\n"
                               "per second of path-tracer time alone: %.2f spp/s",
-                              ui.sampleRate.elapsedSeconds(), ui.samplesPerSecond);
+                              ui.session.sampleRate.elapsedSeconds(), ui.session.samplesPerSecond);
         if (ui.denoiser && ui.denoiser->holding()) {
             // Denoise now holds the render at its sample count: say so, and offer to go on.
             ImGui::SameLine(0.0f, 16.0f);
@@ -51,13 +52,13 @@ void drawStatusBar(EditorUi& ui) {
             if (ImGui::SmallButton("Resume")) ui.denoiser->resume(ui);
         }
         ImGui::SameLine(0.0f, 16.0f);
-        if (ui.previewDivisor > 1) ImGui::Text("%d x %d (preview 1/%d)", rs.width, rs.height, ui.previewDivisor);
+        if (ui.session.previewDivisor > 1) ImGui::Text("%d x %d (preview 1/%d)", rs.width, rs.height, ui.session.previewDivisor);
         else ImGui::Text("%d x %d", rs.width, rs.height);
         ImGui::SameLine(0.0f, 16.0f);
-        if (ui.droppedSamples > 0) ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.2f, 1.0f), "%llu NaN samples dropped", static_cast<unsigned long long>(ui.droppedSamples));
+        if (ui.session.droppedSamples > 0) ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.2f, 1.0f), "%llu NaN samples dropped", static_cast<unsigned long long>(ui.session.droppedSamples));
         else ImGui::TextDisabled("0 NaN");
         ImGui::SameLine(0.0f, 16.0f);
-        ImGui::TextDisabled("%.1f ms/frame", ui.frameSeconds * 1e3);
+        ImGui::TextDisabled("%.1f ms/frame", ui.session.frameSeconds * 1e3);
         // ("render paused" alone is said above already, with its Resume button.)
         if (const std::string dn = ui.denoiser ? ui.denoiser->status(ui) : std::string(); !dn.empty() && dn != "render paused") {
             ImGui::SameLine(0.0f, 16.0f);
@@ -67,7 +68,7 @@ void drawStatusBar(EditorUi& ui) {
             ImGui::SameLine(0.0f, 16.0f);
             ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "rendering to %s", ui.renderToFile->c_str());
         }
-        if (const std::string importing = ui.meshImports.status(); !importing.empty()) {
+        if (const std::string importing = ui.meshImports->status(); !importing.empty()) {
             ImGui::SameLine(0.0f, 16.0f);
             ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "%s", importing.c_str());
         }

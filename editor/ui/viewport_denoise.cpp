@@ -24,7 +24,7 @@ bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why) {
         *why = "Open Image Denoise is not in this build: " + denoiserVersion();
         return false;
     }
-    if (!ui.renderer || !ui.sceneUploaded) {
+    if (!ui.renderer || !ui.session.sceneUploaded) {
         *why = "nothing rendered yet";
         return false;
     }
@@ -34,24 +34,24 @@ bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why) {
         return false;
     }
     // The same image is already being denoised: nothing to add.
-    if (m_lastRequest == std::make_pair(ui.accumulationGeneration, done) && m_worker.busy()) return true;
+    if (m_lastRequest == std::make_pair(ui.session.accumulationGeneration, done) && m_worker.busy()) return true;
     // Stop accumulating here so that the result is still current when it arrives.
-    if (hold && done < ui.state.scene.render.samples && (!ui.sampleCap || *ui.sampleCap > done)) {
-        ui.sampleCap = done;
-        m_hold = std::make_pair(ui.accumulationGeneration, done);
+    if (hold && done < ui.state.scene.render.samples && (!ui.session.sampleCap || *ui.session.sampleCap > done)) {
+        ui.session.sampleCap = done;
+        m_hold = std::make_pair(ui.session.accumulationGeneration, done);
     }
     DenoiseJob job;
-    job.generation = ui.accumulationGeneration;
+    job.generation = ui.session.accumulationGeneration;
     job.samples = done;
     job.film = ui.renderer->readFilm();   // GL: on this thread; the worker gets its own copy
     job.options.prefilterGuides = settings.prefilterGuides;
     m_worker.request(std::move(job));
-    m_lastRequest = std::make_pair(ui.accumulationGeneration, done);
+    m_lastRequest = std::make_pair(ui.session.accumulationGeneration, done);
     return true;
 }
 
 void ViewportDenoiser::resume(EditorUi& ui) {
-    if (m_hold && ui.sampleCap && *ui.sampleCap == m_hold->second) ui.sampleCap.reset();
+    if (m_hold && ui.session.sampleCap && *ui.session.sampleCap == m_hold->second) ui.session.sampleCap.reset();
     m_hold.reset();
 }
 
@@ -79,7 +79,7 @@ void ViewportDenoiser::upload(const DenoiseOutput& out) {
 }
 
 void ViewportDenoiser::tick(EditorUi& ui) {
-    const std::uint64_t generation = ui.accumulationGeneration;
+    const std::uint64_t generation = ui.session.accumulationGeneration;
     // An edit restarted accumulation: a waiting job and a kept result are of no use any more,
     // and a hold placed for the old image is lifted.
     m_worker.dropOlderThan(generation);
@@ -99,10 +99,10 @@ void ViewportDenoiser::tick(EditorUi& ui) {
     }
 
     // Automatic: once the full-resolution image reaches its target sample count.
-    if (settings.autoDenoise && ui.renderer && ui.sceneUploaded && ui.previewDivisor == 1 && !ui.interacting &&
+    if (settings.autoDenoise && ui.renderer && ui.session.sceneUploaded && ui.session.previewDivisor == 1 && !ui.session.interacting &&
         ui.state.pendingDirty() == kDirtyNone && denoiserAvailable()) {
         int target = ui.state.scene.render.samples;
-        if (ui.sampleCap && !m_hold) target = std::min(target, *ui.sampleCap);
+        if (ui.session.sampleCap && !m_hold) target = std::min(target, *ui.session.sampleCap);
         const int done = ui.renderer->samplesDone();
         const auto key = std::make_pair(generation, done);
         if (done > 0 && done >= target && m_lastRequest != key) {
@@ -116,7 +116,7 @@ void ViewportDenoiser::tick(EditorUi& ui) {
 }
 
 bool ViewportDenoiser::current(const EditorUi& ui) const {
-    return m_result && m_texture && ui.renderer && ui.sceneUploaded && m_result->generation == ui.accumulationGeneration &&
+    return m_result && m_texture && ui.renderer && ui.session.sceneUploaded && m_result->generation == ui.session.accumulationGeneration &&
            m_result->samples == ui.renderer->samplesDone();
 }
 

@@ -5,6 +5,7 @@
 // and ImGui has no text field active.
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>   // IsMouseDragPastThreshold
@@ -125,8 +126,8 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         applyMatrix(ui, m);
     const bool usingNow = ImGuizmo::IsUsing();
     if (usingNow) {
-        ui.interacting = true;
-        ui.lastInteraction = ImGui::GetTime();
+        ui.session.interacting = true;
+        ui.session.lastInteraction = ImGui::GetTime();
     }
     if (usingBefore && !usingNow) ui.state.seal();   // released: the drag is one undo step
     ui.gizmoWasUsing = usingNow;
@@ -176,12 +177,12 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
     if (io.MouseWheel != 0.0f) {
         s.applyContinuous(makeSetCamera(s, dolly(s.scene.camera, std::pow(0.85f, io.MouseWheel))));
         ui.lastWheel = ImGui::GetTime();
-        ui.interacting = true;
-        ui.lastInteraction = ImGui::GetTime();
+        ui.session.interacting = true;
+        ui.session.lastInteraction = ImGui::GetTime();
     }
     if (ui.navigating) {
-        ui.interacting = true;
-        ui.lastInteraction = ImGui::GetTime();
+        ui.session.interacting = true;
+        ui.session.lastInteraction = ImGui::GetTime();
     }
 }
 
@@ -191,7 +192,7 @@ void drawViewportPanel(EditorUi& ui) {
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(4.0f, 4.0f));
     const bool open = ImGui::Begin("Viewport");
     ImGui::PopStyleVar();
-    ui.interacting = false;
+    ui.session.interacting = false;
     ui.viewportFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
     if (!open) {
         ImGui::End();
@@ -200,11 +201,11 @@ void drawViewportPanel(EditorUi& ui) {
     drawToolbar(ui);
     const RenderSettings& rs = ui.state.scene.render;
     const ImVec2 avail = ImGui::GetContentRegionAvail();
-    if (!ui.renderer || !ui.display || !ui.sceneUploaded || ui.display->texture() == 0) {
+    if (!ui.renderer || !ui.display || !ui.session.sceneUploaded || ui.display->texture() == 0) {
         // The empty state says why and what to do.
         ImGui::Spacing();
         if (!ui.renderer) ImGui::TextWrapped("The path tracer is not available: its shaders did not compile. Fix them and press F5 (Render > Reload shaders).");
-        else if (!ui.renderError.empty()) ImGui::TextWrapped("The scene cannot be rendered:\n%s", ui.renderError.c_str());
+        else if (!ui.session.renderError.empty()) ImGui::TextWrapped("The scene cannot be rendered:\n%s", ui.session.renderError.c_str());
         else ImGui::TextDisabled("Preparing the render...");
         ImGui::End();
         return;
@@ -235,7 +236,7 @@ void drawViewportPanel(EditorUi& ui) {
         if (hovered && ImGui::GetIO().KeyCtrl && ImGui::IsMouseDown(ImGuiMouseButton_Left))
             ui.compareSplit = std::clamp((ImGui::GetIO().MousePos.x - pos.x) / size.x, 0.0f, 1.0f);
     }
-    if (ui.previewDivisor > 1)
+    if (ui.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
 
     drawGizmo(ui, pos, size);

@@ -1,0 +1,85 @@
+// The editor's render session: what the viewport's path tracer is doing and what it does next,
+// with no window and no ImGui (editor/ui/editor_app.cpp calls step() once a frame and shows what it
+// says). It decides when a scene edit goes to the renderer (and restarts accumulation), at which
+// preview resolution while the user drags (FramePacer), how many samples fit this frame's budget
+// (whole samples, or a band of rows of one: Renderer::renderFor), and keeps the figures the status
+// bar and the scripts read. A GPU test (tests/gpu/test_render_session.cpp) drives it headless.
+#pragma once
+
+#include "editor/model/editor_state.h"
+#include "editor/model/frame_pacer.h"
+#include "editor/model/status.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace caustic {
+class Renderer;
+}
+
+namespace caustic::editor {
+
+// The UI must keep at least 30 frames per second; the path tracer gets what the rest of a frame
+// (UI, display, swap; measured) leaves of that.
+inline constexpr double kFrameTarget = 1.0 / 30.0;
+// Preview resolution lasts this long after a drag (or any edit).
+inline constexpr double kInteractionHold = 0.25;
+
+// What one step did, for the UI to show.
+struct RenderStep {
+    bool restarted = false;     // the scene went to the renderer (accumulation restarted)
+    bool compiled = false;      // ... and compiled (a shown render error may be cleared)
+    std::string error;          // ... and failed: the renderer keeps its last good scene
+    bool show = false;          // the accumulation should be displayed, at width x height
+    int width = 0, height = 0;
+    bool targetReached = false; // full resolution with all its target samples (Render to file)
+};
+
+class RenderSession {
+public:
+    // Sends pending edits of `state` (takeDirty) to `renderer` and renders this frame's samples.
+    // `now`: seconds on the frame loop's clock. `holdUpdates`: scene updates wait (meshes are
+    // being imported again in the background); the renderer keeps rendering what it has.
+    RenderStep step(Renderer& renderer, EditorState& state, double now, bool holdUpdates);
+    // After the frame is shown: its wall-clock length, for the overhead estimate.
+    void endFrame(double frameSeconds);
+    // Something is being dragged this frame (preview resolution), at `now`.
+    void noteInteraction(double now) {
+        interacting = true;
+        lastInteraction = now;
+    }
+
+    // The target the session renders to: the scene's samples, or a script's cap below it.
+    int target(const Scene& scene) const;
+    // Samples still to render at the current settings.
+    bool busy(const Renderer* renderer, const Scene& scene) const;
+
+    // State the UI reads (and the scripts wait on).
+    FramePacer pacer;
+    int previewDivisor = 1;           // 1 = full resolution
+    bool sceneUploaded = false;
+    std::optional<int> sampleCap;     // scripts stop at an exact sample count
+    std::string renderError;          // the renderer's last failure (scene compile, shader reload)
+    double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
+    SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
+    std::uint64_t droppedSamples = 0;
+    double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
+    double overheadSeconds = 0.01;    // a rendering frame's time outside the path tracer (smoothed)
+    int samplesThisFrame = 0;         // whole samples finished this frame
+    bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)
+    bool interacting = false;         // something is being dragged this frame
+    double lastInteraction = -1.0;
+    // Bumped whenever accumulation restarts (every scene upload or update): a denoised image is
+    // shown only for the generation it was read from.
+    std::uint64_t accumulationGeneration = 0;
+    std::uint32_t heldDirty = 0;      // scene updates waiting for meshes to import again
+
+private:
+    double m_lastCounterRead = 0.0;
+    // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
+    std::optional<std::uint64_t> m_displayedWholeImageOf;
+    std::uint32_t m_deferredDirty = 0;  // unseen material edits, handed over with the next real update
+};
+
+}  // namespace caustic::editor
