@@ -528,4 +528,74 @@ std::optional<RuleViolation> checkReferences(const Scene& scene) {
     return std::nullopt;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Validation of a whole scene
+
+namespace {
+
+std::string outside(double v, const Range& r) { return "must be in " + r.text() + ", got " + shortestText(v); }
+
+template <class T>
+std::optional<RuleViolation> validateValue(const T& value, const std::string& path) {
+    for (const Param<T>& p : schemaOf<T>()) {
+        if (!appliesTo(p, value) || p.kind == ParamKind::Preset) continue;
+        const std::string key = path + "." + std::string(p.key);
+        if (p.kind == ParamKind::Enum) {
+            const int v = p.getEnum(value);
+            bool known = false;
+            for (const EnumChoice& c : p.choices()) known = known || c.value == v;
+            if (!known) return RuleViolation{key, "is not one of the allowed values"};
+            continue;
+        }
+        std::optional<RuleViolation> bad;
+        std::visit(
+            [&](auto m) {
+                using M = decltype(m);
+                auto check = [&](double x, const std::string& at) {
+                    if (!bad && (!std::isfinite(x) || !p.range.contains(x))) bad = RuleViolation{at, outside(x, p.range)};
+                };
+                if constexpr (std::is_same_v<M, float T::*> || std::is_same_v<M, int T::*> ||
+                              std::is_same_v<M, std::uint32_t T::*>) {
+                    check(double(value.*m), key);
+                } else if constexpr (std::is_same_v<M, glm::vec3 T::*>) {
+                    for (int i = 0; i < 3; ++i) check(double((value.*m)[i]), key + "[" + std::to_string(i) + "]");
+                } else if constexpr (std::is_same_v<M, std::optional<glm::vec3> T::*>) {
+                    if (value.*m)
+                        for (int i = 0; i < 3; ++i) check(double((*(value.*m))[i]), key + "[" + std::to_string(i) + "]");
+                } else if constexpr (std::is_same_v<M, Transform T::*>) {
+                    const Transform& t = value.*m;
+                    const glm::mat4 matrix = t.toMatrix();
+                    for (int c = 0; c < 4; ++c)
+                        for (int r = 0; r < 4; ++r)
+                            if (!bad && !std::isfinite(matrix[c][r])) bad = RuleViolation{key, "must be finite"};
+                    if (!bad && !t.matrix && (t.scale.x == 0.0f || t.scale.y == 0.0f || t.scale.z == 0.0f))
+                        bad = RuleViolation{key + ".scale", "must be non-zero"};
+                }
+            },
+            p.member);
+        if (bad) return bad;
+    }
+    if (auto v = checkRules(value)) return RuleViolation{v->key.empty() ? path : path + "." + v->key, v->message};
+    return std::nullopt;
+}
+
+template <class T>
+std::optional<RuleViolation> validateAll(const std::vector<T>& items, const char* name) {
+    for (std::size_t i = 0; i < items.size(); ++i)
+        if (auto v = validateValue(items[i], std::string(name) + "[" + std::to_string(i) + "]")) return v;
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<RuleViolation> validateScene(const Scene& scene) {
+    if (auto v = validateValue(scene.camera, "camera")) return v;
+    if (auto v = validateValue(scene.render, "render")) return v;
+    if (auto v = validateAll(scene.materials, "materials")) return v;
+    if (auto v = validateAll(scene.objects, "objects")) return v;
+    if (auto v = validateAll(scene.lights, "lights")) return v;
+    if (auto v = validateValue(scene.environment, "environment")) return v;
+    return checkReferences(scene);
+}
+
 }  // namespace caustic

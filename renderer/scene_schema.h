@@ -228,6 +228,12 @@ std::optional<RuleViolation> checkRules(const Environment& environment);
 // full path ("objects[3].material").
 std::optional<RuleViolation> checkReferences(const Scene& scene);
 
+// The whole scene against the schema without any JSON: every parameter that applies within its
+// range (finite, enums valid), every struct's rules, then the references. The first violation,
+// with its full path as the loader names it ("materials[2].ior", "camera.focus_point"); nullopt
+// for a scene that saveScene would write and loadScene read back.
+std::optional<RuleViolation> validateScene(const Scene& scene);
+
 // The shortest text that reads back as the same number (for messages and documents).
 std::string shortestText(double value);
 std::string shortestText(float value);

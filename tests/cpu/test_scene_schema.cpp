@@ -1,0 +1,214 @@
+// The scene schema (renderer/scene_schema.h) against the loader: for every parameter of every
+// struct and type, a value just outside its range (and NaN for every float) is refused by
+// validateScene (no JSON) and by the file reader (the scene written and read back, as saveScene
+// does), both naming the same place; values at the range's ends are accepted by both; and every
+// scene of scenes/ is valid to both.
+#include "renderer/scene_io.h"
+#include "renderer/scene_schema.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <string>
+
+using namespace caustic;
+
+namespace {
+
+Scene everyType() {
+    Scene s;
+    for (const EnumChoice& c : enumChoices(MaterialType{})) {
+        Material m = materialDefaults(static_cast<MaterialType>(c.value));
+        m.name = std::string(c.name);
+        s.materials.push_back(m);
+    }
+    Material custom = materialDefaults(MaterialType::Conductor);
+    custom.name = "custom";
+    custom.metal = Metal::Custom;
+    s.materials.push_back(custom);
+    for (const EnumChoice& c : enumChoices(Shape{})) {
+        Object o;
+        o.shape = static_cast<Shape>(c.value);
+        o.material = "diffuse";
+        if (o.shape == Shape::Mesh) o.file = "ball.obj";
+        s.objects.push_back(o);
+    }
+    Object glowing;
+    glowing.material = "diffuse";
+    glowing.emission = glm::vec3(1.0f);
+    s.objects.push_back(glowing);
+    for (const EnumChoice& c : enumChoices(LightType{})) {
+        Light l;
+        l.type = static_cast<LightType>(c.value);
+        s.lights.push_back(l);
+    }
+    s.camera.focusPoint = glm::vec3(0.0f, 0.0f, 1.0f);
+    s.environment.type = EnvironmentType::Sky;
+    return s;
+}
+
+// The loader's verdict on the scene (written and read back), "" when it loads.
+std::string loaderError(const Scene& s) {
+    const std::string text = sceneToJson(s);
+    const SceneLoadResult r = parseScene(text, "x.json");
+    return r ? "" : r.error;
+}
+
+// Values just outside the range (below, above) where the range has those ends.
+std::vector<double> outsideValues(const Range& r, bool integer) {
+    std::vector<double> out;
+    if (std::isfinite(r.min))
+        out.push_back(r.minExclusive ? r.min : integer ? r.min - 1 : std::nextafter(float(r.min), -1e30f));
+    if (std::isfinite(r.max))
+        out.push_back(r.maxExclusive ? r.max : integer ? r.max + 1 : std::nextafter(float(r.max), 1e30f));
+    return out;
+}
+
+// Sets the parameter's value (component 0 of a vector) in `value`; false if it cannot hold x.
+template <class T>
+bool setNumber(const Param<T>& p, T& value, double x) {
+    bool set = false;
+    std::visit(
+        [&](auto m) {
+            using M = decltype(m);
+            if constexpr (std::is_same_v<M, float T::*>) {
+                value.*m = float(x);
+                set = true;
+            } else if constexpr (std::is_same_v<M, int T::*>) {
+                if (x >= INT_MIN && x <= INT_MAX) value.*m = int(x), set = true;
+            } else if constexpr (std::is_same_v<M, std::uint32_t T::*>) {
+                if (x >= 0 && x <= 4294967295.0) value.*m = std::uint32_t(x), set = true;
+            } else if constexpr (std::is_same_v<M, glm::vec3 T::*>) {
+                (value.*m).x = float(x);
+                set = true;
+            } else if constexpr (std::is_same_v<M, std::optional<glm::vec3> T::*>) {
+                if (value.*m) (*(value.*m)).x = float(x), set = true;
+            }
+        },
+        p.member);
+    return set;
+}
+
+int checked = 0;
+
+// For each entity `pick(scene)[i]` of type T in the scene, every numeric parameter that applies.
+template <class T>
+void checkEntities(const Scene& base, const std::function<std::vector<T>&(Scene&)>& pick, const std::string& name) {
+    Scene probe = base;
+    const std::size_t count = pick(probe).size();
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::string path = name.empty() ? std::string() : name + "[" + std::to_string(i) + "]";
+        for (const Param<T>& p : schemaOf<T>()) {
+            if (!appliesTo(p, pick(probe)[i])) continue;
+            const bool integer = p.kind == ParamKind::Int || p.kind == ParamKind::UInt;
+            const bool numeric = integer || p.kind == ParamKind::Float || p.kind == ParamKind::Vector ||
+                                 p.kind == ParamKind::Colour || p.kind == ParamKind::Radiance ||
+                                 p.kind == ParamKind::OptionalPoint;
+            if (!numeric) continue;
+            std::vector<double> bad = outsideValues(p.range, integer);
+            if (!integer) bad.push_back(std::numeric_limits<double>::quiet_NaN());
+            const bool vector = p.kind != ParamKind::Float && !integer;
+            const std::string where = path + "." + std::string(p.key) + (vector ? "[0]" : "");
+            for (const double x : bad) {
+                Scene s = base;
+                if (!setNumber(p, pick(s)[i], x)) continue;
+                INFO(where << " = " << x);
+                const auto v = validateScene(s);
+                REQUIRE(v.has_value());
+                CHECK(v->key == where);
+                const std::string error = loaderError(s);
+                CHECK(error.find(": " + where + ":") != std::string::npos);
+                ++checked;
+            }
+        }
+    }
+}
+
+template <class T>
+void checkOne(const Scene& base, T Scene::*member, const std::string& name) {
+    for (const Param<T>& p : schemaOf<T>()) {
+        const bool integer = p.kind == ParamKind::Int || p.kind == ParamKind::UInt;
+        const bool numeric = integer || p.kind == ParamKind::Float || p.kind == ParamKind::Vector ||
+                             p.kind == ParamKind::Colour || p.kind == ParamKind::Radiance ||
+                             p.kind == ParamKind::OptionalPoint;
+        if (!numeric || !appliesTo(p, base.*member)) continue;
+        std::vector<double> bad = outsideValues(p.range, integer);
+        if (!integer) bad.push_back(std::numeric_limits<double>::quiet_NaN());
+        const bool vector = p.kind != ParamKind::Float && !integer;
+        const std::string where = name + "." + std::string(p.key) + (vector ? "[0]" : "");
+        for (const double x : bad) {
+            Scene s = base;
+            if (!setNumber(p, s.*member, x)) continue;
+            INFO(where << " = " << x);
+            const auto v = validateScene(s);
+            REQUIRE(v.has_value());
+            CHECK(v->key == where);
+            CHECK(loaderError(s).find(": " + where + ":") != std::string::npos);
+            ++checked;
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("schema: validateScene and the file reader refuse the same out-of-range values at the same place",
+          "[schema]") {
+    const Scene base = everyType();
+    REQUIRE(!validateScene(base).has_value());
+    REQUIRE(loaderError(base).empty());
+    checked = 0;
+    checkEntities<Material>(base, [](Scene& s) -> std::vector<Material>& { return s.materials; }, "materials");
+    checkEntities<Object>(base, [](Scene& s) -> std::vector<Object>& { return s.objects; }, "objects");
+    checkEntities<Light>(base, [](Scene& s) -> std::vector<Light>& { return s.lights; }, "lights");
+    checkOne(base, &Scene::camera, "camera");
+    checkOne(base, &Scene::render, "render");
+    for (const EnumChoice& c : enumChoices(EnvironmentType{})) {
+        Scene s = base;
+        s.environment.type = static_cast<EnvironmentType>(c.value);
+        if (s.environment.type == EnvironmentType::Map) s.environment.file = "sky.hdr";
+        checkOne(s, &Scene::environment, "environment");
+    }
+    INFO(checked << " values checked");
+    CHECK(checked > 80);
+}
+
+TEST_CASE("schema: the rules across fields are the loader's", "[schema]") {
+    Scene s = everyType();
+    s.camera.focusPoint = s.camera.position + (s.camera.position - s.camera.lookAt);  // behind the camera
+    auto v = validateScene(s);
+    REQUIRE(v.has_value());
+    CHECK(v->key == "camera.focus_point");
+    CHECK(loaderError(s).find(": camera.focus_point: must lie in front of the camera") != std::string::npos);
+
+    s = everyType();
+    s.lights[3].innerAngle = 40.0f;  // the spot
+    s.lights[3].outerAngle = 30.0f;
+    v = validateScene(s);
+    REQUIRE(v.has_value());
+    CHECK(v->key == "lights[3].inner_angle");
+    CHECK(loaderError(s).find(": lights[3].inner_angle: must be <= outer_angle") != std::string::npos);
+
+    s = everyType();
+    s.objects[0].material = "nothing";
+    v = validateScene(s);
+    REQUIRE(v.has_value());
+    CHECK(v->key == "objects[0].material");
+    CHECK(loaderError(s).find(": objects[0].material: unknown material 'nothing'") != std::string::npos);
+}
+
+TEST_CASE("schema: every scene of scenes/ is valid", "[schema]") {
+    int scenes = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(CAUSTIC_SOURCE_DIR) + "/scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        const SceneLoadResult r = loadScene(entry.path().string());
+        INFO(entry.path().string() << ": " << r.error);
+        REQUIRE(r);
+        const auto v = validateScene(*r.scene);
+        CHECK(!v.has_value());
+        ++scenes;
+    }
+    CHECK(scenes >= 5);
+}
