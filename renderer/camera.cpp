@@ -1,6 +1,8 @@
 #include "renderer/camera.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace caustic {
 
@@ -39,6 +41,30 @@ CameraFrame cameraFrame(const Camera& c, double aspect) {
 glm::dvec3 CameraFrame::pixelDirection(glm::dvec2 pixel, int width, int height) const {
     const glm::dvec2 ndc(2.0 * pixel.x / double(width) - 1.0, 1.0 - 2.0 * pixel.y / double(height));
     return glm::normalize(planePoint(ndc));
+}
+
+double focalLengthMm(const CameraFrame& frame) {
+    return 0.5 * kFullFrameWidthMm / std::max(frame.tanX, frame.tanY);
+}
+
+double fovForFocalLength(const Camera& camera, double aspect, double mm) {
+    // Half the longer side's angle from f; then the fov along the camera's own axis, which spans
+    // the longer side, or the shorter one (its tangent scaled by the aspect).
+    const double tanLonger = 0.5 * kFullFrameWidthMm / mm;
+    const bool xLonger = aspect >= 1.0;
+    const bool alongX = camera.fovAxis == FovAxis::X || (camera.fovAxis == FovAxis::Larger && xLonger) ||
+                        (camera.fovAxis == FovAxis::Smaller && !xLonger);
+    const double tanAlong = alongX == xLonger ? tanLonger : tanLonger / std::max(aspect, 1.0 / aspect);
+    return 2.0 * glm::degrees(std::atan(tanAlong));
+}
+
+double fNumber(const CameraFrame& frame) {
+    if (!(frame.apertureRadius > 0.0)) return std::numeric_limits<double>::infinity();
+    return focalLengthMm(frame) / (2.0 * frame.apertureRadius * kMillimetresPerSceneUnit);
+}
+
+double apertureRadiusForFNumber(const CameraFrame& frame, double n) {
+    return focalLengthMm(frame) / (2.0 * n * kMillimetresPerSceneUnit);
 }
 
 }  // namespace caustic

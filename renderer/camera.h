@@ -44,4 +44,20 @@ inline CameraFrame cameraFrame(const Camera& camera, int width, int height) {
     return cameraFrame(camera, double(width) / double(height));
 }
 
+// Photographic terms for the thin lens, as a full-frame ("35 mm") camera would name them, with
+// scene units taken as metres (docs/scene-format.md, camera): the focal length in mm of a 36 x 24
+// mm sensor whose longer side (36 mm) spans the image's longer side (as Blender's sensor fit
+// "auto"), and the f-number N = f / (2 r), r the aperture radius. They are views of fov and
+// aperture_radius, not parameters of their own.
+inline constexpr double kFullFrameWidthMm = 36.0;
+inline constexpr double kMillimetresPerSceneUnit = 1000.0;
+// The focal length (mm) that gives `frame`'s field of view across the longer image side.
+double focalLengthMm(const CameraFrame& frame);
+// The fov (degrees, along camera.fovAxis) that gives focal length `mm` for this image aspect.
+double fovForFocalLength(const Camera& camera, double aspect, double mm);
+// N = f / (2 r); +infinity for a pinhole.
+double fNumber(const CameraFrame& frame);
+// The aperture radius (scene units) of f-number n at the frame's focal length.
+double apertureRadiusForFNumber(const CameraFrame& frame, double n);
+
 }  // namespace caustic

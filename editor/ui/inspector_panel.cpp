@@ -5,6 +5,7 @@
 // applies (an invalid edit is refused with the reason in the status bar; the scene keeps its last
 // good state).
 #include "editor/model/viewport_math.h"
+#include "renderer/camera.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/param_widgets.h"
 #include "editor/ui/viewport_denoise.h"
@@ -13,6 +14,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace caustic::editor {
@@ -148,6 +150,27 @@ void cameraInspector(EditorUi& ui) {
     const int blades = c.blades;
     Edit e{ui};
     drawParams<Camera>(e, c);
+    // The same lens in a photographer's terms (renderer/camera.h): views of fov and the aperture
+    // radius, with scene units read as metres.
+    {
+        ImGui::SeparatorText("As a full-frame camera (scene units in metres)");
+        const RenderSettings& rs = s.scene.render;
+        const double aspect = double(rs.width) / double(rs.height);
+        const CameraFrame frame = cameraFrame(c, aspect);
+        float mm = static_cast<float>(focalLengthMm(frame));
+        const bool mmChanged = ImGui::DragFloat("Focal length", &mm, 0.2f, 1.0f, 10000.0f, "%.1f mm");
+        e.track(mmChanged);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("of a 36 x 24 mm sensor whose 36 mm span the image's longer side; sets the field of view");
+        if (mmChanged) c.fovDegrees = static_cast<float>(fovForFocalLength(c, aspect, std::clamp(mm, 1.0f, 10000.0f)));
+        const double n = fNumber(frame);
+        float stop = std::isfinite(n) ? static_cast<float>(n) : 0.0f;
+        const bool stopChanged = ImGui::DragFloat("f-stop", &stop, 0.05f, 0.5f, 256.0f, std::isfinite(n) ? "f/%.2f" : "pinhole");
+        e.track(stopChanged);
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("N = focal length / (2 x aperture radius); sets the aperture radius");
+        if (stopChanged)
+            c.apertureRadius = static_cast<float>(apertureRadiusForFNumber(cameraFrame(c, aspect), std::clamp(stop, 0.5f, 256.0f)));
+    }
     // 1 and 2 blades are no polygon: step over them.
     if (c.blades == 1 || c.blades == 2) c.blades = blades > c.blades ? 0 : 3;
     e.commit(e.changed ? makeSetCamera(s, c) : nullptr);

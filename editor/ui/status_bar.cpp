@@ -1,5 +1,5 @@
 // The status bar along the bottom: samples so far / target, samples per second of wall-clock
-// time, "paused" (with Resume) while Denoise now holds the render, resolution
+// time, the time since the restart and the ETA to the target, "paused" (with Resume) while Denoise now holds the render, resolution
 // (and the preview divisor while dragging), dropped NaN/Inf samples, frame time, the denoiser's
 // state, the latest message.
 #include "editor/ui/editor_ui.h"
@@ -40,10 +40,18 @@ void drawStatusBar(EditorUi& ui) {
         // rate, per second of its time, is in the tooltip: the UI takes the rest of each frame).
         if (ui.session.sampleRate.known()) ImGui::Text("%.2f spp/s (wall clock)", ui.session.sampleRate.samplesPerSecond());
         else ImGui::TextDisabled("- spp/s (wall clock)");
+        const double progress = done + (ui.renderer->bandInProgress() ? ui.renderer->bandProgress() : 0.0);
+        const double eta = ui.session.sampleRate.etaSeconds(progress, ui.session.target(ui.state.scene));
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("samples accumulated per second of elapsed time since the render restarted (%.1f s);\n"
                               "per second of path-tracer time alone: %.2f spp/s",
                               ui.session.sampleRate.elapsedSeconds(), ui.session.samplesPerSecond);
+        // Elapsed since the restart, and the time left to the target at the rate so far.
+        ImGui::SameLine(0.0f, 16.0f);
+        if (eta > 0.0)
+            ImGui::Text("%s, ETA %s", durationText(ui.session.sampleRate.elapsedSeconds()).c_str(), durationText(eta).c_str());
+        else
+            ImGui::TextDisabled("%s%s", durationText(ui.session.sampleRate.elapsedSeconds()).c_str(), eta == 0.0 ? ", done" : "");
         if (ui.denoiser && ui.denoiser->holding()) {
             // Denoise now holds the render at its sample count: say so, and offer to go on.
             ImGui::SameLine(0.0f, 16.0f);

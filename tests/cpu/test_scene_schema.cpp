@@ -1,8 +1,9 @@
 // The scene schema (renderer/scene_schema.h) against the loader: for every parameter of every
 // struct and type, a value just outside its range (and NaN for every float) is refused by
 // validateScene (no JSON) and by the file reader (the scene written and read back, as saveScene
-// does), both naming the same place; values at the range's ends are accepted by both; and every
-// scene of scenes/ is valid to both.
+// does), both naming the same place; the rules across fields agree; every scene of scenes/ is
+// valid. And the camera's photographic terms (focal length, f-number).
+#include "renderer/camera.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
 
@@ -211,4 +212,34 @@ TEST_CASE("schema: every scene of scenes/ is valid", "[schema]") {
         ++scenes;
     }
     CHECK(scenes >= 5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The camera's photographic terms (renderer/camera.h).
+
+TEST_CASE("camera: focal length and f-number of a full-frame camera", "[camera]") {
+    Camera c;
+    c.fovAxis = FovAxis::X;
+    // A 50 mm lens on a 36 mm wide sensor: 2 atan(18 / 50) across.
+    c.fovDegrees = float(2.0 * std::atan(18.0 / 50.0) * 180.0 / 3.14159265358979323846);
+    CHECK(focalLengthMm(cameraFrame(c, 1.5)) == Approx(50.0).epsilon(1e-6));
+    // f/2 at 50 mm: an aperture of 25 mm diameter, a radius of 0.0125 scene units (metres).
+    CameraFrame f = cameraFrame(c, 1.5);
+    CHECK(apertureRadiusForFNumber(f, 2.0) == Approx(0.0125));
+    c.apertureRadius = 0.0125f;
+    CHECK(fNumber(cameraFrame(c, 1.5)) == Approx(2.0).epsilon(1e-6));
+    c.apertureRadius = 0.0f;
+    CHECK(std::isinf(fNumber(cameraFrame(c, 1.5))));
+    // fovForFocalLength inverts focalLengthMm for every fov axis, landscape and portrait.
+    for (const FovAxis axis : {FovAxis::Smaller, FovAxis::Larger, FovAxis::X, FovAxis::Y})
+        for (const double aspect : {1.5, 0.6, 1.0})
+            for (const double mm : {14.0, 35.0, 85.0, 400.0}) {
+                Camera k;
+                k.fovAxis = axis;
+                k.fovDegrees = float(fovForFocalLength(k, aspect, mm));
+                INFO("axis " << int(axis) << " aspect " << aspect << " mm " << mm << " fov " << k.fovDegrees);
+                CHECK(k.fovDegrees > 0.0f);
+                CHECK(k.fovDegrees < 180.0f);
+                CHECK(focalLengthMm(cameraFrame(k, aspect)) == Approx(mm).epsilon(1e-5));
+            }
 }

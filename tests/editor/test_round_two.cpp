@@ -114,6 +114,19 @@ TEST_CASE("The sample rate is per second of elapsed time since the restart", "[e
     CHECK(m.samplesPerSecond() == 0.0);
 }
 
+TEST_CASE("The ETA is the samples left at the wall-clock rate; durations read as s, min, h", "[editor][status]") {
+    SampleRateMeter m;
+    m.restart(0.0);
+    CHECK(m.etaSeconds(0.0, 16.0) < 0.0);  // no rate yet: unknown
+    m.observe(10.0, 4.0, true);             // 0.4 spp/s
+    CHECK(m.etaSeconds(4.0, 16.0) == Approx(30.0));
+    CHECK(m.etaSeconds(16.0, 16.0) == 0.0);
+    CHECK(durationText(-1.0) == "-");
+    CHECK(durationText(42.4) == "42 s");
+    CHECK(durationText(185.0) == "3 min 05 s");
+    CHECK(durationText(7800.0) == "2 h 10 min");
+}
+
 TEST_CASE("A shown error clears once its cause is gone", "[editor][status]") {
     const ShownError render{true, 7};
     CHECK(errorResolved(render, true, 7));          // the scene compiles again
