@@ -1,5 +1,6 @@
 #include "editor/ui/editor_app.h"
 
+#include "editor/model/keymap.h"
 #include "editor/model/shortcuts.h"
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
@@ -155,34 +156,70 @@ void drawModals(EditorUi& ui) {
     }
 }
 
-// Global shortcuts; ImGui text fields keep their keys.
+// Global shortcuts (editor/model/keymap.h, scope Global); ImGui text fields keep their keys.
 void handleShortcuts(EditorUi& ui) {
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantTextInput) return;
-    const bool ctrl = io.KeyCtrl, shift = io.KeyShift;
-    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_Z, false)) {
-        if (shift) ui.state.redo();
-        else ui.state.undo();
-    }
-    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_Y, false)) ui.state.redo();
-    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_S, false)) {
-        if (shift) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
-        else saveOrSaveAs(ui);
-    }
-    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_O, false))
-        guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); });
-    if (ctrl && ImGui::IsKeyPressed(ImGuiKey_D, false) && ui.state.selection) {
+    for (const KeyBinding& b : keyBindings()) {
+        if (b.scope != KeyScope::Global || !chordPressed(b.chord)) continue;
         std::string why;
-        if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+        switch (b.action) {
+            case Action::Undo: ui.state.undo(); break;
+            case Action::Redo:
+            case Action::RedoAlt: ui.state.redo(); break;
+            case Action::Save: saveOrSaveAs(ui); break;
+            case Action::SaveAs: openFileBrowser(ui, FileBrowserState::Mode::SaveAs); break;
+            case Action::Open: guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); }); break;
+            case Action::Duplicate:
+                if (!ui.state.selection) break;
+                if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+                break;
+            case Action::Delete: {
+                const KeyFocus focus{io.WantTextInput, ImGui::IsAnyItemActive(), ui.viewportFocused || ui.outlinerFocused};
+                if (!ui.state.selection || !deleteKeyDeletes(focus)) break;
+                if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+                else if (!why.empty()) notify(ui, why, true);
+                break;
+            }
+            case Action::ReloadShaders: reloadShaders(ui); break;
+            case Action::DenoiseNow: denoiseNow(ui); break;
+            default: break;  // the viewport's keys (viewport_panel.cpp)
+        }
     }
-    const KeyFocus focus{io.WantTextInput, ImGui::IsAnyItemActive(), ui.viewportFocused || ui.outlinerFocused};
-    if (ImGui::IsKeyPressed(ImGuiKey_Delete, false) && ui.state.selection && deleteKeyDeletes(focus)) {
-        std::string why;
-        if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
-        else if (!why.empty()) notify(ui, why, true);
+}
+
+// Help > Keyboard and mouse: the key map and the mouse actions, as the code uses them.
+void drawShortcutsWindow(EditorUi& ui) {
+    if (!ui.showShortcuts) return;
+    ImGui::SetNextWindowSize(ImVec2(640.0f, 480.0f), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Keyboard and mouse", &ui.showShortcuts)) {
+        if (ImGui::BeginTable("keys", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp)) {
+            ImGui::TableSetupColumn("Keys");
+            ImGui::TableSetupColumn("Where");
+            ImGui::TableSetupColumn("What");
+            ImGui::TableHeadersRow();
+            for (const KeyBinding& b : keyBindings()) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(chordText(b.chord).c_str());
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(b.scope == KeyScope::Global ? "anywhere" : "viewport");
+                ImGui::TableNextColumn();
+                ImGui::TextWrapped("%.*s", int(b.what.size()), b.what.data());
+            }
+            for (const MouseAction& m : mouseActions()) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextWrapped("%.*s", int(m.input.size()), m.input.data());
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted("viewport");
+                ImGui::TableNextColumn();
+                ImGui::TextWrapped("%.*s", int(m.what.size()), m.what.data());
+            }
+            ImGui::EndTable();
+        }
     }
-    if (ImGui::IsKeyPressed(ImGuiKey_F5, false)) reloadShaders(ui);
-    if (ImGui::IsKeyPressed(ImGuiKey_F6, false)) denoiseNow(ui);
+    ImGui::End();
 }
 
 // One step of the render session (editor/model/render_session.h): pending edits to the renderer,
@@ -340,6 +377,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 drawStatusBar(*ui);
                 drawFileBrowser(*ui);
                 drawModals(*ui);
+                drawShortcutsWindow(*ui);
                 handleShortcuts(*ui);
                 if (ui->lastWheel >= 0.0 && now() - ui->lastWheel > 0.5) {
                     ui->state.seal();   // a pause ends one zoom gesture
@@ -390,6 +428,19 @@ int runEditor(const std::optional<std::string>& sceneFile) {
     glfwDestroyWindow(window);
     glfwTerminate();
     return exitCode;
+}
+
+// A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
+bool chordPressed(const Chord& chord) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift) return false;
+    ImGuiKey key = ImGuiKey_None;
+    const std::string_view k = chord.key;
+    if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
+    else if (k.size() >= 2 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos)
+        key = static_cast<ImGuiKey>(ImGuiKey_F1 + (std::stoi(std::string(k.substr(1))) - 1));
+    else if (k == "Delete") key = ImGuiKey_Delete;
+    return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 
 EditorUi::EditorUi() : driver(std::make_unique<FrameDriver>()), meshImports(std::make_unique<MeshImports>()) {}

@@ -87,6 +87,7 @@ struct EditorUi {
     bool errorPopupRequested = false;
     bool quit = false;
     bool resetLayout = false;
+    bool showShortcuts = false;       // Help > Keyboard and mouse
 
     // What drives the frame loop besides the user (frame_driver.h): the test-script harness, or
     // the base class, which does nothing. Never null.
@@ -103,6 +104,10 @@ void drawInspectorPanel(EditorUi& ui);
 void drawStatusBar(EditorUi& ui);
 void drawMenuBar(EditorUi& ui);
 void drawFileBrowser(EditorUi& ui);
+
+struct Chord;
+// A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
+bool chordPressed(const Chord& chord);
 
 // Actions shared by menus, shortcuts and scripts.
 void notify(EditorUi& ui, const std::string& message, bool isError = false);

@@ -75,6 +75,10 @@ void drawMenuBar(EditorUi& ui) {
         if (ImGui::MenuItem("Reload shaders", "F5")) reloadShaders(ui);
         ImGui::EndMenu();
     }
+    if (ImGui::BeginMenu("Help")) {
+        ImGui::MenuItem("Keyboard and mouse", nullptr, &ui.showShortcuts);
+        ImGui::EndMenu();
+    }
     ImGui::EndMainMenuBar();
 }
 

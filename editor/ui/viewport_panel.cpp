@@ -4,6 +4,7 @@
 // WASD/QE; frame the selection: F). Mouse and keys reach the viewport only when it is hovered
 // and ImGui has no text field active.
 #include "editor/model/viewport_math.h"
+#include "editor/model/keymap.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
 
@@ -274,11 +275,18 @@ void drawViewportPanel(EditorUi& ui) {
         ui.navigating = false;
     }
     if ((hovered || ImGui::IsWindowFocused()) && !io.WantTextInput && !ImGui::IsMouseDown(ImGuiMouseButton_Right) && !io.KeyCtrl) {
-        if (ImGui::IsKeyPressed(ImGuiKey_F, false)) frameSelection(ui);
-        if (ImGui::IsKeyPressed(ImGuiKey_W, false)) ui.gizmoOp = GizmoOp::Translate;
-        if (ImGui::IsKeyPressed(ImGuiKey_E, false)) ui.gizmoOp = GizmoOp::Rotate;
-        if (ImGui::IsKeyPressed(ImGuiKey_R, false)) ui.gizmoOp = GizmoOp::Scale;
-        if (ImGui::IsKeyPressed(ImGuiKey_T, false)) ui.gizmoLocal = !ui.gizmoLocal;
+        // The viewport's keys (editor/model/keymap.h, scope Viewport).
+        for (const KeyBinding& b : keyBindings()) {
+            if (b.scope != KeyScope::Viewport || !chordPressed(b.chord)) continue;
+            switch (b.action) {
+                case Action::FrameSelection: frameSelection(ui); break;
+                case Action::GizmoTranslate: ui.gizmoOp = GizmoOp::Translate; break;
+                case Action::GizmoRotate: ui.gizmoOp = GizmoOp::Rotate; break;
+                case Action::GizmoScale: ui.gizmoOp = GizmoOp::Scale; break;
+                case Action::GizmoLocal: ui.gizmoLocal = !ui.gizmoLocal; break;
+                default: break;
+            }
+        }
     }
     ImGui::End();
 }

@@ -1,6 +1,7 @@
 // Issue 15's editor bugs, in the model: the Del key's focus rule, light gizmo edits, status
 // figures, and edits that must not restart accumulation.
 #include "editor/model/editor_state.h"
+#include "editor/model/keymap.h"
 #include "editor/model/shortcuts.h"
 #include "editor/model/status.h"
 #include "editor/model/viewport_math.h"
@@ -10,6 +11,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <set>
+#include <string>
+#include <utility>
 
 using namespace caustic;
 using namespace caustic::editor;
@@ -213,4 +217,23 @@ TEST_CASE("A material no object uses restarts nothing until something else does"
     deferred = kDirtyGeometry;
     CHECK(dirtyForRenderer(kDirtyAll, &deferred) == kDirtyAll);
     CHECK(deferred == kDirtyNone);
+}
+
+TEST_CASE("The key map: every action has one binding, no chord does two things in one place", "[editor][keys]") {
+    std::set<int> actions;
+    std::set<std::pair<int, std::string>> chords;  // (scope, chord)
+    for (const KeyBinding& b : keyBindings()) {
+        actions.insert(static_cast<int>(b.action));
+        INFO(chordText(b.chord));
+        CHECK(chords.insert({static_cast<int>(b.scope), chordText(b.chord)}).second);
+        CHECK(!b.what.empty());
+    }
+    CHECK(actions.size() == keyBindings().size());
+    CHECK(actions.size() == static_cast<std::size_t>(Action::GizmoLocal) + 1);
+    // A viewport key shadowing a global one would do both.
+    for (const KeyBinding& v : keyBindings())
+        for (const KeyBinding& g : keyBindings())
+            if (v.scope == KeyScope::Viewport && g.scope == KeyScope::Global) CHECK(chordText(v.chord) != chordText(g.chord));
+    CHECK(chordText({"Z", true, true}) == "Ctrl+Shift+Z");
+    CHECK(chordText({"F6", false, false}) == "F6");
 }
