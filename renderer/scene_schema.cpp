@@ -118,7 +118,7 @@ std::span<const EnumChoice> enumChoices(LightSelection) {
     return k;
 }
 std::span<const EnumChoice> enumChoices(SamplerType) {
-    static constexpr EnumChoice k[] = {{0, "sobol", "Sobol (Owen-scrambled)"}, {1, "independent", "independent"}};
+    static constexpr EnumChoice k[] = {{0, "sobol", "Sobol (Owen)"}, {1, "independent", "independent"}};
     return k;
 }
 std::span<const EnumChoice> enumChoices(RussianRoulette) {
@@ -197,12 +197,12 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
          .doc = "when given, focus on this point (the plane of focus passes through it); overrides "
                 "`focal_distance`; must lie in front of the camera",
          .omitted = [](const C& c) { return !c.focusPoint.has_value(); }, .defaultText = "absent"},
-        {.key = "squeeze", .label = "Squeeze (anamorphic)", .kind = ParamKind::Float, .member = &C::squeeze,
+        {.key = "squeeze", .label = "Squeeze", .kind = ParamKind::Float, .member = &C::squeeze,
          .range = greaterThan(0.0),
          .doc = "anamorphic squeeze: the lens sample's x is divided by it, so out-of-focus highlights are "
                 "`squeeze` times taller than wide",
          .speed = 0.01f},
-        {.key = "blades", .label = "Blades (0: round)", .kind = ParamKind::Int, .member = &C::blades,
+        {.key = "blades", .label = "Blades", .kind = ParamKind::Int, .member = &C::blades,
          .range = between(0.0, 64.0),
          .doc = "`0`: a round aperture; 3 or more: a regular polygon with that many blades (polygonal bokeh); 1 and 2 "
                 "are refused",

@@ -153,7 +153,7 @@ void cameraInspector(EditorUi& ui) {
     // The same lens in a photographer's terms (renderer/camera.h): views of fov and the aperture
     // radius, with scene units read as metres.
     {
-        ImGui::SeparatorText("As a full-frame camera (scene units in metres)");
+        ImGui::SeparatorText("Photographic (35 mm, metres)");
         const RenderSettings& rs = s.scene.render;
         const double aspect = double(rs.width) / double(rs.height);
         const CameraFrame frame = cameraFrame(c, aspect);
@@ -161,7 +161,8 @@ void cameraInspector(EditorUi& ui) {
         const bool mmChanged = ImGui::DragFloat("Focal length", &mm, 0.2f, 1.0f, 10000.0f, "%.1f mm");
         e.track(mmChanged);
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("of a 36 x 24 mm sensor whose 36 mm span the image's longer side; sets the field of view");
+            ImGui::SetTooltip("of a 36 x 24 mm sensor whose 36 mm span the image's longer side, with scene units read as "
+                              "metres; sets the field of view");
         if (mmChanged) c.fovDegrees = static_cast<float>(fovForFocalLength(c, aspect, std::clamp(mm, 1.0f, 10000.0f)));
         const double n = fNumber(frame);
         float stop = std::isfinite(n) ? static_cast<float>(n) : 0.0f;
@@ -251,7 +252,8 @@ void drawInspectorPanel(EditorUi& ui) {
     }
     ui.state.validateSelection();
     const EntityRef sel = ui.state.selection;
-    ImGui::PushItemWidth(-110.0f);
+    // Room for the longest labels ("Roughness texture", "Russian roulette") beside the fields.
+    ImGui::PushItemWidth(-ImGui::CalcTextSize("Roughness texture  ").x);
     switch (sel.kind) {
         case EntityKind::None:
             ImGui::TextWrapped("Nothing selected. Click an object in the viewport or pick an entry in the Outliner; "

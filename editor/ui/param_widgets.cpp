@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cctype>
 #include <cstring>
 #include <map>
 
@@ -261,7 +262,8 @@ void drawParams(Edit& e, T& value, const std::function<bool(const Param<T>&, T&)
                 const Bounds b = boundsOf(p.range);
                 traceWidget(p.key, p.kind, b.min, b.max);
                 bool on = point.has_value();
-                const std::string check = "Use " + std::string(p.label);
+                std::string check = "Use " + std::string(p.label);
+                if (check.size() > 4) check[4] = static_cast<char>(std::tolower(static_cast<unsigned char>(check[4])));
                 if (ImGui::Checkbox(check.c_str(), &on)) {
                     e.changed = e.seal = true;
                     if (on) point = glm::vec3(0.0f);
