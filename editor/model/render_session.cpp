@@ -3,11 +3,27 @@
 #include "renderer/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace caustic::editor {
 
 int RenderSession::target(const Scene& scene) const {
     return sampleCap ? std::min(scene.render.samples, *sampleCap) : scene.render.samples;
+}
+
+void RenderSession::setViewport(int width, int height, bool fit) {
+    m_panelWidth = std::max(0, width);
+    m_panelHeight = std::max(0, height);
+    m_fit = fit;
+}
+
+glm::ivec2 RenderSession::viewportResolution(const Scene& scene) const {
+    const int w = scene.render.width, h = scene.render.height;
+    if (outputSize || !m_fit || m_panelWidth <= 0 || m_panelHeight <= 0) return {w, h};
+    // The output's aspect fitted into the panel, at most 4096 on a side (a sample of a 4K viewport
+    // is already a large dispatch on llvmpipe; the output resolution is for Render to file).
+    const double scale = std::min({double(m_panelWidth) / w, double(m_panelHeight) / h, 4096.0 / std::max(w, h)});
+    return {std::max(1, int(std::lround(w * scale))), std::max(1, int(std::lround(h * scale)))};
 }
 
 bool RenderSession::busy(const Renderer* renderer, const Scene& scene) const {
@@ -23,7 +39,8 @@ void RenderSession::endFrame(double seconds) {
 RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double now, bool holdUpdates) {
     RenderStep out;
     const RenderSettings& rs = state.scene.render;
-    const long long fullPixels = static_cast<long long>(rs.width) * rs.height;
+    const glm::ivec2 full = viewportResolution(state.scene);
+    const long long fullPixels = static_cast<long long>(full.x) * full.y;
     // While something is dragged, shrink the image if one full sample would not fit the budget.
     // The path tracer gets what the rest of the frame leaves of it, less a margin for the spread
     // of both.
@@ -41,12 +58,19 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     // sample would not fit the frame budget, the first frames after it render at preview size.
     if (dirty != kDirtyNone && sceneUploaded) lastInteraction = now;
     const bool recentlyInteracting = interacting || (now - lastInteraction) < kInteractionHold;
-    const int divisor = recentlyInteracting ? std::max(previewDivisor, pacer.previewDivisor(fullPixels, budget)) : 1;
-    if (divisor != previewDivisor && !holding) dirty |= kDirtySettings;
+    // While interacting: the pacer's preview divisor (one sample of the whole image per frame).
+    // After it: the image refines by halves, each step once the current one has a whole sample
+    // (or at once when the renderer has nothing at this size yet).
+    int divisor = previewDivisor;
+    if (recentlyInteracting) divisor = std::max(previewDivisor, pacer.previewDivisor(fullPixels, budget));
+    else if (previewDivisor > 1 && renderer.samplesDone() >= 1) divisor = previewDivisor / 2;
+    divisor = std::max(1, divisor);
+    const glm::ivec2 size = glm::max(full / divisor, glm::ivec2(1));
+    if ((divisor != previewDivisor || size != renderedSize) && !holding) dirty |= kDirtySettings;
     if (dirty != kDirtyNone || !sceneUploaded) {
         Scene scene = state.scene;
-        scene.render.width = std::max(1, rs.width / divisor);
-        scene.render.height = std::max(1, rs.height / divisor);
+        scene.render.width = size.x;
+        scene.render.height = size.y;
         std::string error;
         const bool ok = sceneUploaded ? renderer.update(scene, dirty, &error) : renderer.setScene(scene, &error);
         ++accumulationGeneration;   // accumulation restarted: older denoised images are stale
@@ -54,6 +78,7 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         if (ok) {
             sceneUploaded = true;
             previewDivisor = divisor;
+            renderedSize = size;
             renderError.clear();
             sampleRate.restart(now);
             out.compiled = true;
@@ -64,7 +89,7 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         }
     }
     if (!sceneUploaded) return out;
-    const int width = std::max(1, rs.width / previewDivisor), height = std::max(1, rs.height / previewDivisor);
+    const int width = renderedSize.x, height = renderedSize.y;
     const int goal = target(state.scene);
     const int done = renderer.samplesDone();
     samplesThisFrame = 0;
@@ -100,7 +125,8 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         out.height = height;
         if (!firstSampleInTiles) m_displayedWholeImageOf = state.generation();
     }
-    out.targetReached = previewDivisor == 1 && renderer.samplesDone() >= rs.samples;
+    out.targetReached = previewDivisor == 1 && renderedSize == glm::ivec2(rs.width, rs.height) &&
+                        renderer.samplesDone() >= rs.samples;
     return out;
 }
 

@@ -4,11 +4,19 @@
 // preview resolution while the user drags (FramePacer), how many samples fit this frame's budget
 // (whole samples, or a band of rows of one: Renderer::renderFor), and keeps the figures the status
 // bar and the scripts read. A GPU test (tests/gpu/test_render_session.cpp) drives it headless.
+//
+// The viewport renders at its own size: the output frame's aspect fitted into the panel's pixels
+// (setViewport), so a 256 x 256 scene is not stretched over a 900-pixel panel; the scene's output
+// resolution still decides what Render to file and batch mode produce (outputSize: the session
+// renders at it while one waits). After an edit the image refines in steps, 1/8 -> 1/4 -> 1/2 -> 1
+// of that size, each shown as soon as it has one whole sample, never freezing on the coarsest.
 #pragma once
 
 #include "editor/model/editor_state.h"
 #include "editor/model/frame_pacer.h"
 #include "editor/model/status.h"
+
+#include <glm/glm.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -44,6 +52,14 @@ public:
     RenderStep step(Renderer& renderer, EditorState& state, double now, bool holdUpdates);
     // After the frame is shown: its wall-clock length, for the overhead estimate.
     void endFrame(double frameSeconds);
+    // The panel's size in pixels that the image is drawn into (0 x 0: the output resolution), and
+    // whether the viewport follows it ("fit"; else it renders at the output resolution, 1:1).
+    void setViewport(int width, int height, bool fit);
+    // Render at the scene's output resolution regardless of the panel (Render to file, scripts).
+    bool outputSize = false;
+    // The full-resolution size the viewport renders at now (before the preview divisor).
+    glm::ivec2 viewportResolution(const Scene& scene) const;
+
     // Something is being dragged this frame (preview resolution), at `now`.
     void noteInteraction(double now) {
         interacting = true;
@@ -59,6 +75,7 @@ public:
     FramePacer pacer;
     int previewDivisor = 1;           // 1 = full resolution
     bool sceneUploaded = false;
+    glm::ivec2 renderedSize{0, 0};    // the size the renderer renders at (viewport size / divisor)
     std::optional<int> sampleCap;     // scripts stop at an exact sample count
     std::string renderError;          // the renderer's last failure (scene compile, shader reload)
     double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
@@ -76,6 +93,8 @@ public:
     std::uint32_t heldDirty = 0;      // scene updates waiting for meshes to import again
 
 private:
+    int m_panelWidth = 0, m_panelHeight = 0;
+    bool m_fit = true;
     double m_lastCounterRead = 0.0;
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
     std::optional<std::uint64_t> m_displayedWholeImageOf;

@@ -39,6 +39,7 @@ const std::map<std::string, Signature>& commands() {
         {"show_raw", {1, 1, ""}},             // on | off: show the raw render instead of the denoised one
         {"expect_denoised", {1, 1, ""}},      // yes | no: the viewport shows a denoised image
         {"autosave", {1, 1, ""}},             // on | off: periodic autosave (needs $CAUSTIC_EDITOR_HOME)
+        {"viewport", {1, 1, ""}},             // output (the default) | panel: the viewport's render size
         {"autosave_now", {0, 0, ""}},         // write the autosave now (needs $CAUSTIC_EDITOR_HOME)
         {"wait_autosave", {0, 1, "n"}},       // wait for the next periodic autosave [timeout s]
         {"crash", {0, 0, ""}},                // exit at once (status 3) without any clean-up

@@ -227,6 +227,9 @@ void drawShortcutsWindow(EditorUi& ui) {
 // file a "Render to file" waited for.
 void renderFrame(EditorUi& ui) {
     if (!ui.renderer) return;
+    // Render to file (and scripts, by default) render at the output resolution, else the viewport
+    // renders at its panel's size.
+    ui.session.outputSize = ui.renderToFile.has_value() || ui.driver->wantsOutputSize();
     // Meshes the scene uses that changed on disk import again in the background meanwhile.
     const bool holding = ui.session.sceneUploaded && ui.meshImports->refreshing(ui);
     const RenderStep step = ui.session.step(*ui.renderer, ui.state, now(), holding);

@@ -28,6 +28,10 @@ public:
     virtual bool offersRecovery() const { return true; }
     // True once when the recovery prompt's "Recover" should be pressed this frame (`recover`).
     virtual bool pressRecover() { return false; }
+    // Whether the viewport renders at the scene's output resolution instead of the panel's size
+    // (scripts do by default, so that what they write and measure is the batch image; `viewport
+    // panel` turns it off).
+    virtual bool wantsOutputSize() const { return false; }
     // The editor exits with status 1 when the driver failed (a script's check failed).
     virtual bool failed() const { return false; }
 };

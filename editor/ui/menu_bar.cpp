@@ -7,6 +7,8 @@
 
 #include <imgui.h>
 
+#include <utility>
+
 #include <filesystem>
 
 namespace caustic::editor {
@@ -53,6 +55,13 @@ void drawMenuBar(EditorUi& ui) {
     }
     if (ImGui::BeginMenu("View")) {
         ImGui::MenuItem("Fit image to panel", nullptr, &s.view.fitToWindow);
+        if (ImGui::BeginMenu("Viewport resolution", s.view.fitToWindow)) {
+            // The viewport renders at the panel's size (a fraction of it is faster); Render to file
+            // and batch mode use the scene's output resolution.
+            for (const auto& [label, scale] : {std::pair{"Panel size", 1.0f}, std::pair{"Half", 0.5f}, std::pair{"Quarter", 0.25f}})
+                if (ImGui::MenuItem(label, nullptr, s.view.viewportScale == scale)) s.view.viewportScale = scale;
+            ImGui::EndMenu();
+        }
         if (ImGui::MenuItem("Frame selection", "F")) frameSelection(ui);
         ImGui::Separator();
         if (ImGui::MenuItem("Take snapshot", nullptr, false, ui.display != nullptr)) {

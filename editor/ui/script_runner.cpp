@@ -228,6 +228,14 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (ui.display) ui.display->takeSnapshot();
         return true;
     }
+    if (op == "viewport") {
+        if (a[0] != "output" && a[0] != "panel") {
+            fail(ui, line, "viewport: expected output or panel, got '" + a[0] + "'");
+            return true;
+        }
+        m_outputSize = a[0] == "output";
+        return true;
+    }
     if (op == "compare") {
         ui.compare = a[0] == "on";
         return true;

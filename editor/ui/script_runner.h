@@ -25,6 +25,7 @@ public:
     bool usesAutosave() const override { return m_autosave; }
     bool offersRecovery() const override;
     bool pressRecover() override { return std::exchange(m_pressRecover, false); }
+    bool wantsOutputSize() const override { return m_outputSize; }
     bool failed() const override { return m_failed; }
 
 private:
@@ -39,6 +40,7 @@ private:
     size_t m_next = 0;
     bool m_failed = false;
     bool m_autosave = false;        // `autosave on` (needs $CAUSTIC_EDITOR_HOME)
+    bool m_outputSize = true;       // `viewport output` (the default) or `viewport panel`
     bool m_pressRecover = false;    // `recover`: the prompt's "Recover" button takes it next frame
     int m_waitFrames = 0;
     int m_dragStepsLeft = 0;

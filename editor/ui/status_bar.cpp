@@ -60,8 +60,13 @@ void drawStatusBar(EditorUi& ui) {
             if (ImGui::SmallButton("Resume")) ui.denoiser->resume(ui);
         }
         ImGui::SameLine(0.0f, 16.0f);
-        if (ui.session.previewDivisor > 1) ImGui::Text("%d x %d (preview 1/%d)", rs.width, rs.height, ui.session.previewDivisor);
-        else ImGui::Text("%d x %d", rs.width, rs.height);
+        // The output resolution, and what the viewport renders at when that differs (its panel's
+        // size, a preview or refinement step).
+        const glm::ivec2 vr = ui.session.renderedSize;
+        if (vr == glm::ivec2(rs.width, rs.height)) ImGui::Text("%d x %d", rs.width, rs.height);
+        else if (ui.session.previewDivisor > 1)
+            ImGui::Text("%d x %d (viewport %d x %d, preview 1/%d)", rs.width, rs.height, vr.x, vr.y, ui.session.previewDivisor);
+        else ImGui::Text("%d x %d (viewport %d x %d)", rs.width, rs.height, vr.x, vr.y);
         ImGui::SameLine(0.0f, 16.0f);
         if (ui.session.droppedSamples > 0) ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.2f, 1.0f), "%llu NaN samples dropped", static_cast<unsigned long long>(ui.session.droppedSamples));
         else ImGui::TextDisabled("0 NaN");

@@ -214,6 +214,10 @@ void drawViewportPanel(EditorUi& ui) {
     float scale = 1.0f;
     if (ui.state.view.fitToWindow) scale = std::max(0.05f, std::min(avail.x / float(rs.width), avail.y / float(rs.height)));
     const ImVec2 size(float(rs.width) * scale, float(rs.height) * scale);
+    // The viewport renders at the size it is drawn at, in framebuffer pixels (render_session.h).
+    const ImVec2 fb = ImGui::GetIO().DisplayFramebufferScale;
+    const float vs = ui.state.view.viewportScale;
+    ui.session.setViewport(int(size.x * fb.x * vs + 0.5f), int(size.y * fb.y * vs + 0.5f), ui.state.view.fitToWindow);
     ImVec2 cursor = ImGui::GetCursorPos();
     cursor.x += std::max(0.0f, (avail.x - size.x) * 0.5f);
     cursor.y += std::max(0.0f, (avail.y - size.y) * 0.5f);

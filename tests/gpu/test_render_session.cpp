@@ -115,11 +115,15 @@ TEST_CASE("render session: a drag previews at a reduced size, and full size retu
     CHECK(drag.width == 32 / session.previewDivisor);
     CHECK(!drag.targetReached);
 
-    // The drag ends; after the hold the next step goes back to full resolution (a restart).
+    // The drag ends; after the hold the image refines back to full resolution (restarts).
     session.interacting = false;
     now += kInteractionHold + 0.01;
-    RenderStep settled = session.step(*renderer, state, now, false);
-    CHECK(settled.restarted);
+    int restarts = 0;
+    for (int frame = 0; frame < 200 && session.previewDivisor > 1; ++frame) {
+        restarts += session.step(*renderer, state, now, false).restarted;
+        now += 0.02;
+    }
+    CHECK(restarts >= 1);
     CHECK(session.previewDivisor == 1);
 }
 
@@ -164,4 +168,71 @@ TEST_CASE("render session: held updates wait; a failed compile keeps the last go
     RenderStep fixed = session.step(*renderer, state, now, false);
     CHECK(fixed.compiled);
     CHECK(session.renderError.empty());
+}
+
+TEST_CASE("render session: the viewport renders at its panel's size; Render to file at the output's", "[gpu][editor]") {
+    auto renderer = test::makeRenderer();
+    EditorState state;
+    state.scene = smallScene();  // 32 x 24 output
+    RenderSession session;
+    double now = 1.0;
+    session.setViewport(320, 200, true);
+    // The output's 4:3 fitted into 320 x 200: 267 x 200.
+    CHECK(session.viewportResolution(state.scene) == glm::ivec2(267, 200));
+    RenderStep s = session.step(*renderer, state, now, false);
+    CHECK(s.restarted);
+    CHECK(s.width == 267);
+    CHECK(s.height == 200);
+    CHECK(session.renderedSize == glm::ivec2(267, 200));
+    stepUntilDone(session, *renderer, state, now);
+    now += 1.0;
+    // All samples, but not at the output size: nothing for Render to file yet.
+    CHECK(!session.step(*renderer, state, now, false).targetReached);
+    // The panel grows: a restart at the new size. "1:1" (not fit): the output resolution.
+    session.setViewport(640, 480, true);
+    CHECK(session.step(*renderer, state, now, false).restarted);
+    CHECK(session.renderedSize == glm::ivec2(640, 480));
+    session.setViewport(640, 480, false);
+    CHECK(session.step(*renderer, state, now, false).restarted);
+    CHECK(session.renderedSize == glm::ivec2(32, 24));
+    // Render to file: the output size whatever the panel, and the target is reached there.
+    session.setViewport(640, 480, true);
+    session.outputSize = true;
+    session.step(*renderer, state, now, false);
+    CHECK(session.renderedSize == glm::ivec2(32, 24));
+    stepUntilDone(session, *renderer, state, now);
+    CHECK(session.step(*renderer, state, now, false).targetReached);
+}
+
+TEST_CASE("render session: after an edit the image refines by halves, each step after a whole sample", "[gpu][editor]") {
+    auto renderer = test::makeRenderer();
+    EditorState state;
+    state.scene = smallScene();
+    state.scene.render.samples = 64;
+    RenderSession session;
+    session.setViewport(256, 192, true);
+    double now = 1.0;
+    session.step(*renderer, state, now, false);
+    for (int i = 0; i < 20; ++i) session.pacer.record(1, 256 * 192, 2.0);  // a slow machine
+    Camera moved = state.scene.camera;
+    moved.position.y += 0.1f;
+    REQUIRE(state.apply(makeSetCamera(state, moved)));
+    session.step(*renderer, state, now, false);
+    REQUIRE(session.previewDivisor == FramePacer::kMaxDivisor);
+    now += kInteractionHold + 0.01;
+    std::vector<int> divisors = {session.previewDivisor};
+    for (int frame = 0; frame < 400 && session.previewDivisor > 1; ++frame) {
+        const int before = session.previewDivisor;
+        const int samplesBefore = renderer->samplesDone();
+        session.step(*renderer, state, now, false);
+        session.endFrame(0.02);
+        now += 0.02;
+        if (session.previewDivisor != before) {
+            CHECK(session.previewDivisor * 2 == before);  // one step at a time
+            CHECK(samplesBefore >= 1);                    // after a whole sample at the coarser size
+            divisors.push_back(session.previewDivisor);
+        }
+    }
+    CHECK(divisors == std::vector<int>{8, 4, 2, 1});
+    CHECK(session.renderedSize == glm::ivec2(256, 192));
 }
