@@ -300,4 +300,65 @@ Light lightFromGizmo(const Light& light, const glm::mat4& m) {
     return l;
 }
 
+std::vector<std::vector<glm::vec3>> lightOutline(const Light& light, const Camera& camera, float size) {
+    std::vector<std::vector<glm::vec3>> lines;
+    constexpr int kSegments = 32;
+    constexpr float kTwoPi = 6.28318530718f;
+    // A circle of radius r about centre c in the plane spanned by unit vectors u and v.
+    auto circle = [&](glm::vec3 c, glm::vec3 u, glm::vec3 v, float r) {
+        std::vector<glm::vec3> pts;
+        for (int i = 0; i <= kSegments; ++i) {
+            const float a = kTwoPi * float(i) / kSegments;
+            pts.push_back(c + r * (std::cos(a) * u + std::sin(a) * v));
+        }
+        return pts;
+    };
+    // Two unit vectors perpendicular to unit n.
+    auto basis = [](glm::vec3 n, glm::vec3* u, glm::vec3* v) {
+        const glm::vec3 a = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        *u = glm::normalize(glm::cross(n, a));
+        *v = glm::cross(n, *u);
+    };
+    switch (light.type) {
+        case LightType::Rect: {
+            const glm::mat4 m = light.transform.toMatrix();
+            auto at = [&](float x, float y, float z) { return glm::vec3(m * glm::vec4(x, y, z, 1.0f)); };
+            lines.push_back({at(-1, -1, 0), at(1, -1, 0), at(1, 1, 0), at(-1, 1, 0), at(-1, -1, 0)});
+            const glm::vec3 centre = at(0, 0, 0);
+            const glm::vec3 normal = glm::normalize(glm::vec3(glm::transpose(glm::inverse(m)) * glm::vec4(0, 0, 1, 0)));
+            lines.push_back({centre, centre + size * normal});
+            break;
+        }
+        case LightType::Sphere: {
+            // The silhouette: the circle perpendicular to the view direction towards the centre.
+            glm::vec3 toCamera = camera.position - light.position;
+            if (glm::length(toCamera) < 1e-12f) toCamera = glm::vec3(0, 0, 1);
+            glm::vec3 u, v;
+            basis(glm::normalize(toCamera), &u, &v);
+            lines.push_back(circle(light.position, u, v, light.radius));
+            break;
+        }
+        case LightType::Spot: {
+            const glm::vec3 d = glm::length(light.direction) > 0.0f ? glm::normalize(light.direction) : glm::vec3(0, -1, 0);
+            glm::vec3 u, v;
+            basis(d, &u, &v);
+            // Past 90 degrees the cone opens backwards: draw the circle at the cone's half-angle
+            // capped to 89 degrees (the edges still show where it points).
+            const float half = glm::radians(std::min(light.outerAngle, 89.0f));
+            const glm::vec3 c = light.position + size * d;
+            const float r = size * std::tan(half);
+            lines.push_back(circle(c, u, v, r));
+            for (const glm::vec3 e : {u, -u, v, -v}) lines.push_back({light.position, c + r * e});
+            break;
+        }
+        case LightType::Point: {
+            const float h = 0.25f * size;
+            for (const glm::vec3 e : {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)})
+                lines.push_back({light.position - h * e, light.position + h * e});
+            break;
+        }
+    }
+    return lines;
+}
+
 }  // namespace caustic::editor

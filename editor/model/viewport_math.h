@@ -1,8 +1,8 @@
 // The viewport's geometry on the CPU: camera rays that match the GPU camera exactly (both come
 // from renderer/camera.h's cameraFrame; shaders/integrator/camera.glsl; tested on the GPU), picking against the
 // scene's canonical shapes and lights, bounds for "frame selected", camera navigation (orbit,
-// pan, dolly, fly, frame), the view/projection matrices for the gizmo, and the inverse of
-// Transform::toMatrix. Pure functions, unit-tested.
+// pan, dolly, fly, frame), the view/projection matrices for the gizmo, the lights' outlines, and
+// the inverse of Transform::toMatrix. Pure functions, unit-tested.
 #pragma once
 
 #include "editor/model/commands.h"
@@ -13,6 +13,7 @@
 #include <functional>
 #include <optional>
 #include <utility>
+#include <vector>
 
 namespace caustic::editor {
 
@@ -75,5 +76,12 @@ Light lightFromGizmo(const Light& light, const glm::mat4& m);
 
 // Snaps every component to a multiple of step (no-op for step <= 0).
 glm::vec3 snapTo(glm::vec3 v, float step);
+
+// What the viewport draws over a light so it can be seen and placed (world-space polylines, each
+// a list of points joined in order): a rect light's outline and its normal (the side it emits
+// to), a sphere light's silhouette circle as the camera sees it, a spot light's cone (its apex,
+// four edges and the circle where it is `length` long) and a point light's three short axes.
+// `size` sets the length of the normal, the spot's cone and the point's axes (scene units).
+std::vector<std::vector<glm::vec3>> lightOutline(const Light& light, const Camera& camera, float size);
 
 }  // namespace caustic::editor

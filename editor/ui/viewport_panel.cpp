@@ -96,6 +96,34 @@ void applyMatrix(EditorUi& ui, const glm::mat4& m) {
     }
 }
 
+// The lights' outlines over the image (lightOutline): every light faint, the selected one bright,
+// so lights that are not objects can be seen, picked by eye and placed.
+void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    const Scene& scene = ui.state.scene;
+    if (scene.lights.empty()) return;
+    const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
+                               viewMatrix(scene.camera);
+    // The outline's size: a tenth of the distance to the look-at point, so it reads at any scale.
+    const float outlineSize = 0.1f * glm::length(scene.camera.lookAt - scene.camera.position);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    for (int i = 0; i < int(scene.lights.size()); ++i) {
+        const bool selected = ui.state.selection.kind == EntityKind::Light && ui.state.selection.index == i;
+        const ImU32 colour = selected ? IM_COL32(255, 210, 60, 255) : IM_COL32(255, 210, 60, 110);
+        for (const std::vector<glm::vec3>& line : lightOutline(scene.lights[size_t(i)], scene.camera, outlineSize)) {
+            for (size_t k = 0; k + 1 < line.size(); ++k) {
+                const glm::vec4 a = viewProj * glm::vec4(line[k], 1.0f), b = viewProj * glm::vec4(line[k + 1], 1.0f);
+                if (a.w <= 1e-6f || b.w <= 1e-6f) continue;  // behind the camera
+                auto screen = [&](const glm::vec4& c) {
+                    return ImVec2(pos.x + (c.x / c.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - c.y / c.w * 0.5f) * size.y);
+                };
+                dl->AddLine(screen(a), screen(b), colour, selected ? 2.0f : 1.0f);
+            }
+        }
+    }
+    dl->PopClipRect();
+}
+
 void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     glm::mat4 m;
     const bool usingBefore = ui.gizmoWasUsing;
@@ -244,6 +272,7 @@ void drawViewportPanel(EditorUi& ui) {
     if (ui.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
 
+    drawLightOutlines(ui, pos, size);
     drawGizmo(ui, pos, size);
 
     ImGuiIO& io = ImGui::GetIO();

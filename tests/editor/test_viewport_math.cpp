@@ -228,3 +228,61 @@ TEST_CASE("scripts parse with quotes and comments; mistakes name the line", "[ed
     CHECK(parseScript("wait_samples many", "s.txt").error == "s.txt:1: wait_samples: argument 1: expected a number, got 'many'");
     CHECK(parseScript("select \"open", "s.txt").error == "s.txt:1: unterminated quote");
 }
+
+TEST_CASE("light outlines: a rect's corners and normal, a sphere's silhouette, a spot's cone, a point's axes",
+          "[editor]") {
+    Camera cam;
+    cam.position = glm::vec3(0, 0, 5);
+    cam.lookAt = glm::vec3(0, 0, 0);
+    // A rect light 2 x 1 (scale 1, 0.5) turned to face down (+z to -y), at y = 2.
+    Light rect;
+    rect.type = LightType::Rect;
+    rect.transform.translate = glm::vec3(0, 2, 0);
+    rect.transform.rotate = glm::vec3(90, 0, 0);
+    rect.transform.scale = glm::vec3(1, 0.5f, 1);
+    auto lines = lightOutline(rect, cam, 0.5f);
+    REQUIRE(lines.size() == 2);
+    REQUIRE(lines[0].size() == 5);
+    for (const glm::vec3& p : lines[0]) {
+        CHECK(p.y == Approx(2.0f).margin(1e-5));
+        CHECK(std::abs(p.x) == Approx(1.0f).margin(1e-5));
+        CHECK(std::abs(p.z) == Approx(0.5f).margin(1e-5));
+    }
+    CHECK(lines[0].front() == lines[0].back());
+    // The normal: from the centre, 0.5 long, down (+z rotated 90 degrees about x is -y).
+    CHECK(glm::length(lines[1][1] - lines[1][0]) == Approx(0.5f));
+    CHECK(lines[1][1].y == Approx(1.5f).margin(1e-5));
+
+    // A sphere light: every silhouette point at the radius, perpendicular to the view towards it.
+    Light sphere;
+    sphere.type = LightType::Sphere;
+    sphere.position = glm::vec3(1, 0, 0);
+    sphere.radius = 0.3f;
+    lines = lightOutline(sphere, cam, 0.5f);
+    REQUIRE(lines.size() == 1);
+    const glm::vec3 view = glm::normalize(cam.position - sphere.position);
+    for (const glm::vec3& p : lines[0]) {
+        CHECK(glm::length(p - sphere.position) == Approx(0.3f));
+        CHECK(glm::dot(p - sphere.position, view) == Approx(0.0f).margin(1e-5));
+    }
+
+    // A spot: the circle at `size` along the direction with radius size tan(outer); four edges.
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = glm::vec3(0, 3, 0);
+    spot.direction = glm::vec3(0, -2, 0);
+    spot.outerAngle = 30.0f;
+    lines = lightOutline(spot, cam, 1.0f);
+    REQUIRE(lines.size() == 5);
+    for (const glm::vec3& p : lines[0]) {
+        CHECK(p.y == Approx(2.0f));
+        CHECK(glm::length(glm::vec2(p.x, p.z)) == Approx(std::tan(glm::radians(30.0f))));
+    }
+    for (size_t i = 1; i < 5; ++i) CHECK(lines[i][0] == spot.position);
+
+    Light point;
+    point.position = glm::vec3(0.5f, 0, 0);
+    lines = lightOutline(point, cam, 2.0f);
+    REQUIRE(lines.size() == 3);
+    for (const auto& l : lines) CHECK(glm::length(l[1] - l[0]) == Approx(1.0f));
+}
