@@ -44,7 +44,7 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     // While something is dragged, shrink the image if one full sample would not fit the budget.
     // The path tracer gets what the rest of the frame leaves of it, less a margin for the spread
     // of both.
-    const double budget = std::clamp(kFrameTarget - overheadSeconds - 0.002, 0.004, kFrameTarget);
+    const double budget = idle(now) ? kIdleBudget : std::clamp(kFrameTarget - overheadSeconds - 0.002, 0.004, kFrameTarget);
     // Edits that change nothing on screen (the target samples, unused materials) restart nothing.
     std::uint32_t dirty = dirtyForRenderer(state.takeDirty(), &m_deferredDirty) | std::exchange(heldDirty, kDirtyNone);
     // A mesh the scene uses changed on disk: it is imported again in the background, and the

@@ -33,6 +33,12 @@ namespace caustic::editor {
 inline constexpr double kFrameTarget = 1.0 / 30.0;
 // Preview resolution lasts this long after a drag (or any edit).
 inline constexpr double kInteractionHold = 0.25;
+// When nobody has touched the editor for kIdleAfter seconds, a frame gives the path tracer
+// kIdleBudget instead of what is left of 1/30 s: the UI then redraws about 4 times a second and
+// the render gets most of the machine (on llvmpipe the UI, display and swap take 26-40 ms of
+// every frame); the first input after that waits at most one such frame.
+inline constexpr double kIdleAfter = 1.0;
+inline constexpr double kIdleBudget = 0.25;
 
 // What one step did, for the UI to show.
 struct RenderStep {
@@ -59,6 +65,12 @@ public:
     bool outputSize = false;
     // The full-resolution size the viewport renders at now (before the preview divisor).
     glm::ivec2 viewportResolution(const Scene& scene) const;
+
+    // The last user input (mouse, keys) at `now`; idle pacing starts kIdleAfter seconds later.
+    // `allowed`: whether idle pacing may start at all (scripts measure frames: they never idle).
+    void noteInput(double now) { m_lastInput = now; }
+    bool idlePacing = true;
+    bool idle(double now) const { return idlePacing && !interacting && now - m_lastInput > kIdleAfter; }
 
     // Something is being dragged this frame (preview resolution), at `now`.
     void noteInteraction(double now) {
@@ -94,6 +106,7 @@ public:
 
 private:
     int m_panelWidth = 0, m_panelHeight = 0;
+    double m_lastInput = 0.0;
     bool m_fit = true;
     double m_lastCounterRead = 0.0;
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.

@@ -230,6 +230,12 @@ void renderFrame(EditorUi& ui) {
     // Render to file (and scripts, by default) render at the output resolution, else the viewport
     // renders at its panel's size.
     ui.session.outputSize = ui.renderToFile.has_value() || ui.driver->wantsOutputSize();
+    // Idle pacing (render_session.h) for a person at the keyboard; scripts measure frames.
+    ui.session.idlePacing = ui.driver->mayWaitForInput();
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f || io.MouseWheel != 0.0f || ImGui::IsAnyMouseDown() ||
+        io.InputQueueCharacters.Size > 0 || io.KeyCtrl || io.KeyShift || io.KeyAlt || ImGui::IsAnyItemActive())
+        ui.session.noteInput(now());
     // Meshes the scene uses that changed on disk import again in the background meanwhile.
     const bool holding = ui.session.sceneUploaded && ui.meshImports->refreshing(ui);
     const RenderStep step = ui.session.step(*ui.renderer, ui.state, now(), holding);

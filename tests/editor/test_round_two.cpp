@@ -2,6 +2,7 @@
 // figures, and edits that must not restart accumulation.
 #include "editor/model/editor_state.h"
 #include "editor/model/keymap.h"
+#include "editor/model/render_session.h"
 #include "editor/model/shortcuts.h"
 #include "editor/model/status.h"
 #include "editor/model/viewport_math.h"
@@ -236,4 +237,19 @@ TEST_CASE("The key map: every action has one binding, no chord does two things i
             if (v.scope == KeyScope::Viewport && g.scope == KeyScope::Global) CHECK(chordText(v.chord) != chordText(g.chord));
     CHECK(chordText({"Z", true, true}) == "Ctrl+Shift+Z");
     CHECK(chordText({"F6", false, false}) == "F6");
+}
+
+TEST_CASE("Idle pacing starts a second after the last input, never while dragging or in scripts", "[editor][status]") {
+    RenderSession session;
+    session.noteInput(10.0);
+    CHECK_FALSE(session.idle(10.5));
+    CHECK(session.idle(10.0 + kIdleAfter + 0.01));
+    session.interacting = true;
+    CHECK_FALSE(session.idle(20.0));
+    session.interacting = false;
+    session.idlePacing = false;  // a script drives the frames
+    CHECK_FALSE(session.idle(20.0));
+    session.idlePacing = true;
+    session.noteInput(19.9);
+    CHECK_FALSE(session.idle(20.0));
 }
