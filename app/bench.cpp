@@ -2,7 +2,8 @@
 // settings after a warm-up and prints samples and rays per second, timed both by the wall clock
 // and by a GL_TIME_ELAPSED query around the same work. Links no OpenImageIO, so the binary is
 // small enough to carry to the GPU machine.
-//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]
+//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [--set path=value ...] [scene.json ...]
+// --set path=value: as caustic's --set, applied to every scene (e.g. render.sampler=independent).
 // --rays: also traversal alone (shaders/bench/rays.comp): primary rays, then one cosine-
 //   distributed bounce from their hits, in M rays/s (timer queries, median of --repeat runs).
 // --dump-program FILE: writes the driver's binary of the integrator program (NVIDIA's holds its
@@ -166,6 +167,7 @@ int main(int argc, char** argv) {
     std::string outDir, dumpProgram;
     int interactiveFrames = 0;
     std::vector<std::string> scenes;
+    std::vector<SceneOverride> overrides;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each row as it is measured, even if the run is cut short
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -184,8 +186,17 @@ int main(int argc, char** argv) {
         else if (a == "--oidn") oidn = true;
         else if (a == "--out" && i + 1 < argc) outDir = argv[++i];
         else if (a == "--dump-program" && i + 1 < argc) dumpProgram = argv[++i];
+        else if (a == "--set" && i + 1 < argc) {
+            SceneOverride ov;
+            std::string error;
+            if (!parseSceneOverride(argv[++i], &ov, &error)) {
+                std::fprintf(stderr, "caustic-bench: --set: %s\n", error.c_str());
+                return 2;
+            }
+            overrides.push_back(ov);
+        }
         else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]\n");
+            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [--set path=value ...] [scene.json ...]\n");
             return a == "--help" ? 0 : 2;
         } else scenes.push_back(a);
     }
@@ -207,7 +218,7 @@ int main(int argc, char** argv) {
     if (traceOnly) {
         ShaderLoader loader(defaultShaderDir());
         ShaderSource source;
-        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", {}, &source, &error) ||
+        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", integratorDefines(), &source, &error) ||
             !(raysProgram = compileComputeProgram(source, "bench/rays.comp", &error))) {
             std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
             return 1;
@@ -225,7 +236,7 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "caustic-bench: no program binary written (%s)\n", binary.empty() ? "the driver gave none" : error.c_str());
     }
     for (const std::string& file : scenes) {
-        SceneLoadResult loaded = loadScene(file);
+        SceneLoadResult loaded = loadScene(file, overrides);
         if (!loaded) { std::fprintf(stderr, "caustic-bench: %s\n", loaded.error.c_str()); return 1; }
         Scene scene = *loaded.scene;
         scene.render.width = scene.render.height = size;

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -45,6 +47,46 @@ std::string glErrorsSince() {
     return out;
 }
 
+// The scene-specialised configuration of the integrator (shaders/scene/features.glsl) for the
+// scene and settings of `frame`: the kinds of material, light, shape, environment, sampler and
+// light selection present, the traversal the scene gets, whether it has one light only.
+ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c) {
+    std::uint32_t materials = 0, lights = 0, shapes = 0;
+    bool textures = false;
+    for (const gpu::GpuMaterial& m : c.materials) {
+        materials |= 1u << (m.info.x & 31u);
+        textures = textures || m.textures.x != 0 || m.textures.y != 0 || m.textures.z != 0;
+    }
+    for (const gpu::GpuLight& l : c.lights) lights |= 1u << (l.info.x & 31u);
+    for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
+    if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
+    const bool bruteForce = frame.geometry.y == 0 && frame.counts.x <= BVH_BRUTE_FORCE_MAX;
+    const bool singleLight = c.lights.size() == 1 && c.lights[0].info.x != LIGHT_ENV;
+    auto hex = [](std::uint32_t v) {
+        char b[16];
+        std::snprintf(b, sizeof b, "0x%xu", unsigned(v));
+        return std::string(b);
+    };
+    return {{"CAUSTIC_MATERIALS", hex(materials)},
+            {"CAUSTIC_LIGHTS", hex(lights)},
+            {"CAUSTIC_SHAPES", hex(shapes)},
+            {"CAUSTIC_ENVIRONMENTS", hex(1u << (frame.envInfo.x & 31u))},
+            {"CAUSTIC_SAMPLERS", hex(1u << (frame.sampling.x & 31u))},
+            {"CAUSTIC_LIGHT_SELECTIONS", hex(1u << (frame.sampling.y & 31u))},
+            {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
+            {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
+            {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
+}
+
+// Whether the integrator is built per scene (featureDefines): by default on llvmpipe, where code
+// a scene does not use still costs its full time (shaders/scene/features.glsl);
+// $CAUSTIC_SPECIALIZE = 1 or 0 forces it on or off.
+bool specializeByDefault() {
+    if (const char* env = std::getenv("CAUSTIC_SPECIALIZE"); env && *env) return std::strcmp(env, "0") != 0;
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+}
+
 void waitFence(GLsync fence) {
     while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000) == GL_TIMEOUT_EXPIRED) {}
     glDeleteSync(fence);
@@ -53,13 +95,13 @@ void waitFence(GLsync fence) {
 }  // namespace
 
 std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::string* error) {
-    ShaderLoader loader(shaderDir);
-    ShaderSource source;
-    if (!loader.load("integrator/path.comp", {}, &source, error)) return nullptr;
-    unsigned program = compileComputeProgram(source, "integrator/path.comp", error);
-    if (!program) return nullptr;
     std::unique_ptr<Renderer> r(new Renderer());
-    r->m_program = program;
+    r->m_shaderDir = shaderDir;
+    r->m_specialize = specializeByDefault();
+    // The general program, always: what a scene gets when specialisation is off, and the check
+    // that the whole source compiles.
+    if (!r->useProgram({}, error)) return nullptr;
+    r->m_general = r->m_program;
     r->m_limits = queryGpuLimits();
     unsigned buffers[6];
     glCreateBuffers(6, buffers);
@@ -79,6 +121,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
+    glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     if (!computeGgxAlbedoTable(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
@@ -90,9 +133,29 @@ Renderer::~Renderer() {
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
     glDeleteBuffers(1, &m_lightTree);
+    glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
-    glDeleteProgram(m_program);
+    for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+}
+
+bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
+    ShaderDefines defines = integratorDefines();
+    defines.insert(defines.end(), features.begin(), features.end());
+    std::string key;
+    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    if (auto it = m_programs.find(key); it != m_programs.end()) {
+        m_program = it->second;
+        return true;
+    }
+    ShaderLoader loader(m_shaderDir);
+    ShaderSource source;
+    if (!loader.load("integrator/path.comp", defines, &source, error)) return false;
+    const unsigned program = compileComputeProgram(source, "integrator/path.comp", error);
+    if (!program) return false;
+    m_programs.emplace(key, program);
+    m_program = program;
+    return true;
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
@@ -321,12 +384,33 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXTURES, m_textures);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BSDF_TABLES, m_bsdfTables);
     glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
+    // The buffer textures over the same buffers (read instead of them with CAUSTIC_FETCH_TEXELS,
+    // shaders/scene/buffers.glsl), attached again each time: an upload may have replaced a
+    // buffer's data store, and with it its size.
+    const struct { unsigned unit, buffer; GLenum format; } views[kTexelViews] = {
+        {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
+        {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
+        {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI}};
+    for (int i = 0; i < kTexelViews; ++i) {
+        glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
+        glBindTextureUnit(views[i].unit, m_texelViews[i]);
+    }
 }
 
 void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     tile1 = std::min(tile1, tileCount());
     if (tile0 >= tile1) return;
     bindScene(firstSample, samples, tile0, tile1);
+    if (m_specialize) {
+        // Keyed by the defines: the same kinds of content reuse the program built for them. A
+        // failure (which the general program's compile makes unlikely) falls back to it.
+        std::string error;
+        if (!useProgram(featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled), &error)) {
+            std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
+                         error.c_str());
+            m_program = m_general;
+        }
+    }
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

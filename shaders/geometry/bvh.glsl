@@ -22,9 +22,6 @@
 // overflow is dropped (the node is not visited) rather than written out of bounds.
 #define BVH_STACK_SIZE 76
 #define BVH_ENTRY_EXIT 0xffffffffu  // leaving an instance: back to the world ray
-#ifndef BVH_BRUTE_FORCE_MAX
-#define BVH_BRUTE_FORCE_MAX 32u     // scenes of at most this many analytic primitives skip the tree
-#endif
 
 struct TraceHit {
     float t;
@@ -114,7 +111,9 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     if (frame.geometry.x == 0u) return false;
     // A few analytic primitives and no meshes (a Cornell box is 18 quads): testing them all beats
     // walking a tree, by about 1.5x on llvmpipe (docs/performance.md).
-    if (frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX) {
+    // (CAUSTIC_TRAVERSAL: a scene-specialised program keeps only the one its scene uses.)
+    if (CAUSTIC_TRAVERSAL == 1u ||
+        (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
         bool found = false;
         for (uint i = 0u; i < frame.counts.x; ++i) {
             float t;
@@ -133,18 +132,18 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     uint instance = 0u, firstTriangle = 0u;
     int sp = 0;
     float tEnter;
-    if (!slabTest(bvhNodes[0], o, invD, hit.t, tEnter)) return false;
+    if (!slabTest(loadBvhNode(0u), o, invD, hit.t, tEnter)) return false;
     uint node = 0u;
     bool found = false;
     while (true) {
-        GpuBvhNode n = bvhNodes[node];
+        GpuBvhNode n = loadBvhNode(node);
         uint count = n.countAndAxis >> 2;
         bool descend = false;
         if (count == 0u) {
             uint l = node + 1u, r = n.rightOrFirst;
             float tl, tr;
-            bool hl = slabTest(bvhNodes[l], o, invD, hit.t, tl);
-            bool hr = slabTest(bvhNodes[r], o, invD, hit.t, tr);
+            bool hl = slabTest(loadBvhNode(l), o, invD, hit.t, tl);
+            bool hr = slabTest(loadBvhNode(r), o, invD, hit.t, tr);
             if (hl && hr) {
                 bool leftFirst = tl <= tr;
                 if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = leftFirst ? r : l;
@@ -154,10 +153,10 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
                 node = hl ? l : r;
                 descend = true;
             }
-        } else if (!inInstance) {
+        } else if (!HAS_MESHES || !inInstance) {
             for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                uint ref = tlasRefs[k];
-                if ((ref & TLAS_REF_INSTANCE) != 0u) {
+                uint ref = loadTlasRef(k);
+                if (HAS_MESHES && (ref & TLAS_REF_INSTANCE) != 0u) {
                     if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = ref;
                     continue;
                 }
@@ -171,7 +170,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
             }
         } else {
             for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                GpuTriangle tri = triangles[firstTriangle + k];
+                GpuTriangle tri = loadTriangle(firstTriangle + k);
                 float t;
                 vec2 b;
                 if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
@@ -189,23 +188,23 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         bool next = false;
         while (sp > 0) {
             uint e = g_bvhStack[--sp];
-            if (e == BVH_ENTRY_EXIT) {
+            if (HAS_MESHES && e == BVH_ENTRY_EXIT) {
                 inInstance = false;
                 o = rayO;
                 d = rayD;
                 invD = safeInverse(rayD);
                 continue;
             }
-            if ((e & TLAS_REF_INSTANCE) != 0u) {
+            if (HAS_MESHES && (e & TLAS_REF_INSTANCE) != 0u) {
                 instance = e & ~TLAS_REF_INSTANCE;
-                GpuInstance inst = instances[instance];
+                GpuInstance inst = loadInstance(instance);
                 vec3 lo = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
                                dot(inst.worldToObject2, vec4(rayO, 1.0)));
                 vec3 ld = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
                                dot(inst.worldToObject2.xyz, rayD));
                 vec3 linvD = safeInverse(ld);
                 float te;
-                if (!slabTest(bvhNodes[inst.info.x], lo, linvD, hit.t, te) || sp >= BVH_STACK_SIZE) continue;
+                if (!slabTest(loadBvhNode(inst.info.x), lo, linvD, hit.t, te) || sp >= BVH_STACK_SIZE) continue;
                 o = lo;
                 d = ld;
                 invD = linvD;

@@ -1,0 +1,103 @@
+"""caustic against Mitsuba 3, interleaved in one run (a benchmark, never a test).
+
+On a machine shared with other work the load changes from minute to minute, so the two
+renderers are measured in turns, A B A B ...: each repetition runs caustic-bench once over the
+scenes (its own warm-up inside) and then times Mitsuba's render of each scene in this process
+(warmed up once at the start). Prints every measurement with the load average before it, then
+per scene the medians and their ratio.
+
+  compare.py [--variant llvm_ad_rgb] [--size 256] [--spp 16] [--mitsuba-spp 64] [--max-depth 7]
+             [--reps 5] [--bench build/caustic-bench] [--json FILE] [scene ...]
+
+Scenes: cornell (scenes/cornell-box.json and Mitsuba's cornell_box()), mesh-knot. On the GPU
+machine run.sh calls it with --variant cuda_ad_rgb and the 1024 x 1024 settings.
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import mitsuba_bench  # noqa: E402
+
+CAUSTIC_FILES = {"cornell": "scenes/cornell-box.json", "mesh-knot": "scenes/mesh-knot.json"}
+
+
+def caustic_run(bench, scenes, size, spp, max_depth, extra):
+    """One caustic-bench process over the scenes: {scene: M samples/s}."""
+    files = [os.path.join(ROOT, CAUSTIC_FILES[s]) for s in scenes]
+    cmd = [bench, "--size", str(size), "--samples", str(spp), "--max-depth", str(max_depth), "--repeat", "1"] + extra + files
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit("compare.py: %s failed (%d):\n%s" % (" ".join(cmd), r.returncode, r.stderr))
+    rates = {}
+    for line in r.stdout.splitlines():
+        for s in scenes:
+            f = os.path.basename(CAUSTIC_FILES[s])
+            if line.startswith(f + " "):
+                if "INCOMPLETE" in line:
+                    sys.exit("compare.py: caustic-bench says the image is incomplete:\n" + line)
+                rates[s] = float(line.split()[6])
+    if set(rates) != set(scenes):
+        sys.exit("compare.py: caustic-bench printed no row for %s:\n%s" % (sorted(set(scenes) - set(rates)), r.stdout))
+    return rates
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--variant", default="llvm_ad_rgb")
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--spp", type=int, default=16, help="caustic's samples per measurement")
+    ap.add_argument("--mitsuba-spp", type=int, default=64)
+    ap.add_argument("--max-depth", type=int, default=7, help="caustic's; Mitsuba's max_depth is one more")
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--bench", default=os.path.join(ROOT, "build", "caustic-bench"))
+    ap.add_argument("--bench-arg", action="append", default=[], help="passed to caustic-bench (repeatable)")
+    ap.add_argument("--json", default="")
+    ap.add_argument("scenes", nargs="*", default=["cornell", "mesh-knot"])
+    args = ap.parse_args()
+    import drjit as dr
+    import mitsuba as mi
+    mi.set_variant(args.variant)
+    mscenes = {}
+    for s in args.scenes:
+        mscenes[s] = mi.load_dict(mitsuba_bench.scene_dict(mi, s, args.size, args.mitsuba_spp, args.max_depth))
+        mi.render(mscenes[s], spp=args.mitsuba_spp, seed=0)
+        dr.sync_thread()
+    rows = {s: {"caustic": [], "mitsuba": [], "load": []} for s in args.scenes}
+    print("rep  renderer  %-10s %12s  load(1 min)" % ("scene", "Msamples/s"), flush=True)
+    for rep in range(args.reps):
+        load = os.getloadavg()[0]
+        rates = caustic_run(args.bench, args.scenes, args.size, args.spp, args.max_depth, args.bench_arg)
+        for s in args.scenes:
+            rows[s]["caustic"].append(rates[s])
+            rows[s]["load"].append(load)
+            print("%3d  caustic   %-10s %12.3f  %.2f" % (rep, s, rates[s], load), flush=True)
+        for s in args.scenes:
+            load = os.getloadavg()[0]
+            t0 = time.perf_counter()
+            img = mi.render(mscenes[s], spp=args.mitsuba_spp, seed=rep + 1)
+            dr.eval(img)
+            dr.sync_thread()
+            rate = args.mitsuba_spp * args.size * args.size / (time.perf_counter() - t0) * 1e-6
+            rows[s]["mitsuba"].append(rate)
+            rows[s]["load"].append(load)
+            print("%3d  mitsuba   %-10s %12.3f  %.2f" % (rep, s, rate, load), flush=True)
+    print("\n%-10s %14s %14s %8s  %s" % ("scene", "caustic med", "mitsuba med", "ratio", "load min-max"))
+    summary = {}
+    for s in args.scenes:
+        c, m, l = statistics.median(rows[s]["caustic"]), statistics.median(rows[s]["mitsuba"]), rows[s]["load"]
+        summary[s] = {"caustic": c, "mitsuba": m, "ratio": c / m, "load": [min(l), max(l)], "runs": rows[s]}
+        print("%-10s %14.3f %14.3f %8.3f  %.1f-%.1f" % (s, c, m, c / m, min(l), max(l)))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"variant": args.variant, "size": args.size, "max_depth": args.max_depth, "scenes": summary}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
