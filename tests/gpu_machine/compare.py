@@ -4,7 +4,9 @@ On a machine shared with other work the load changes from minute to minute, so t
 renderers are measured in turns, A B A B ...: each repetition runs caustic-bench once over the
 scenes (its own warm-up inside) and then times Mitsuba's render of each scene in this process
 (warmed up once at the start). Prints every measurement with the load average before it, then
-per scene the medians and their ratio.
+per scene the medians and their ratio, both in samples per wall-clock second and in samples per
+CPU second of the renderer's process (all its threads; on a loaded machine that moves less with
+the load than the wall clock; on the GPU machine only the wall clock means anything).
 
   compare.py [--variant llvm_ad_rgb] [--size 256] [--spp 16] [--mitsuba-spp 64] [--max-depth 7]
              [--reps 5] [--bench build/caustic-bench] [--json FILE] [scene ...]
@@ -29,7 +31,7 @@ CAUSTIC_FILES = {"cornell": "scenes/cornell-box.json", "mesh-knot": "scenes/mesh
 
 
 def caustic_run(bench, scenes, size, spp, max_depth, extra):
-    """One caustic-bench process over the scenes: {scene: M samples/s}."""
+    """One caustic-bench process over the scenes: {scene: (M samples/s, M samples per CPU s)}."""
     files = [os.path.join(ROOT, CAUSTIC_FILES[s]) for s in scenes]
     cmd = [bench, "--size", str(size), "--samples", str(spp), "--max-depth", str(max_depth), "--repeat", "1"] + extra + files
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -42,7 +44,7 @@ def caustic_run(bench, scenes, size, spp, max_depth, extra):
             if line.startswith(f + " "):
                 if "INCOMPLETE" in line:
                     sys.exit("compare.py: caustic-bench says the image is incomplete:\n" + line)
-                rates[s] = float(line.split()[6])
+                rates[s] = (float(line.split()[6]), float(line.split()[10]))
     if set(rates) != set(scenes):
         sys.exit("compare.py: caustic-bench printed no row for %s:\n%s" % (sorted(set(scenes) - set(rates)), r.stdout))
     return rates
@@ -69,31 +71,40 @@ def main():
         mscenes[s] = mi.load_dict(mitsuba_bench.scene_dict(mi, s, args.size, args.mitsuba_spp, args.max_depth))
         mi.render(mscenes[s], spp=args.mitsuba_spp, seed=0)
         dr.sync_thread()
-    rows = {s: {"caustic": [], "mitsuba": [], "load": []} for s in args.scenes}
-    print("rep  renderer  %-10s %12s  load(1 min)" % ("scene", "Msamples/s"), flush=True)
+    rows = {s: {"caustic": [], "mitsuba": [], "caustic_cpu": [], "mitsuba_cpu": [], "load": []} for s in args.scenes}
+    print("rep  renderer  %-10s %12s %14s  load(1 min)" % ("scene", "Msamples/s", "Msamples/cpu-s"), flush=True)
     for rep in range(args.reps):
         load = os.getloadavg()[0]
         rates = caustic_run(args.bench, args.scenes, args.size, args.spp, args.max_depth, args.bench_arg)
         for s in args.scenes:
-            rows[s]["caustic"].append(rates[s])
+            rows[s]["caustic"].append(rates[s][0])
+            rows[s]["caustic_cpu"].append(rates[s][1])
             rows[s]["load"].append(load)
-            print("%3d  caustic   %-10s %12.3f  %.2f" % (rep, s, rates[s], load), flush=True)
+            print("%3d  caustic   %-10s %12.3f %14.3f  %.2f" % (rep, s, rates[s][0], rates[s][1], load), flush=True)
         for s in args.scenes:
             load = os.getloadavg()[0]
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             img = mi.render(mscenes[s], spp=args.mitsuba_spp, seed=rep + 1)
             dr.eval(img)
             dr.sync_thread()
-            rate = args.mitsuba_spp * args.size * args.size / (time.perf_counter() - t0) * 1e-6
+            n = args.mitsuba_spp * args.size * args.size * 1e-6
+            rate, cpu = n / (time.perf_counter() - t0), n / max(time.process_time() - c0, 1e-9)
             rows[s]["mitsuba"].append(rate)
+            rows[s]["mitsuba_cpu"].append(cpu)
             rows[s]["load"].append(load)
-            print("%3d  mitsuba   %-10s %12.3f  %.2f" % (rep, s, rate, load), flush=True)
-    print("\n%-10s %14s %14s %8s  %s" % ("scene", "caustic med", "mitsuba med", "ratio", "load min-max"))
+            print("%3d  mitsuba   %-10s %12.3f %14.3f  %.2f" % (rep, s, rate, cpu, load), flush=True)
+    print("\nmedians, M samples/s (wall) and M samples per CPU second")
+    print("%-10s %12s %12s %8s %12s %12s %8s  %s" % ("scene", "caustic", "mitsuba", "ratio", "caustic cpu", "mitsuba cpu",
+                                                   "ratio", "load min-max"))
     summary = {}
     for s in args.scenes:
-        c, m, l = statistics.median(rows[s]["caustic"]), statistics.median(rows[s]["mitsuba"]), rows[s]["load"]
-        summary[s] = {"caustic": c, "mitsuba": m, "ratio": c / m, "load": [min(l), max(l)], "runs": rows[s]}
-        print("%-10s %14.3f %14.3f %8.3f  %.1f-%.1f" % (s, c, m, c / m, min(l), max(l)))
+        med = {k: statistics.median(rows[s][k]) for k in ("caustic", "mitsuba", "caustic_cpu", "mitsuba_cpu")}
+        l = rows[s]["load"]
+        summary[s] = dict(med, ratio=med["caustic"] / med["mitsuba"], ratio_cpu=med["caustic_cpu"] / med["mitsuba_cpu"],
+                          load=[min(l), max(l)], runs=rows[s])
+        print("%-10s %12.3f %12.3f %8.3f %12.3f %12.3f %8.3f  %.1f-%.1f" % (
+            s, med["caustic"], med["mitsuba"], summary[s]["ratio"], med["caustic_cpu"], med["mitsuba_cpu"],
+            summary[s]["ratio_cpu"], min(l), max(l)))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"variant": args.variant, "size": args.size, "max_depth": args.max_depth, "scenes": summary}, f, indent=1)

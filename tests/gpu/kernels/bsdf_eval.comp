@@ -33,7 +33,7 @@ vec3 dirFromThetaPhi(float theta, float phi) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= u_count) return;
-    GpuMaterial m = loadMaterial(u_material);
+    GpuMaterial m = materials[u_material];
     if (u_mode == 0u) {
         uint rng = rngInit(i, 0u, u_seed);
         vec2 u = rngNext2(rng);

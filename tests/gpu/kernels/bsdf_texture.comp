@@ -24,12 +24,12 @@ void main() {
     if (u_mode == 0u) {
         results[i] = textureSampleLod(u_texture, inputs[i].xy, u_lod);
     } else {
-        GpuPrimitive prim = loadPrimitive(u_prim);
+        GpuPrimitive prim = primitives[u_prim];
         vec3 p = inputs[i].xyz;
         vec3 ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, p) : normalize(cross(prim.b.xyz, prim.c.xyz));
         SurfacePoint sp = primitiveSurface(prim, p);
         vec3 normalTexel;
-        GpuMaterial m = materialAtSurface(loadMaterial(u_material), sp, 0.0, normalTexel);
+        GpuMaterial m = materialAtSurface(materials[u_material], sp, 0.0, normalTexel);
         vec3 ns = shadingNormalAt(m, sp, ng, normalTexel);
         results[2u * i] = vec4(ns, sp.uv.x);
         results[2u * i + 1u] = vec4(ng, sp.uv.y);
