@@ -139,6 +139,10 @@ Renderer::~Renderer() {
     for (const auto& [key, program] : m_programs) glDeleteProgram(program);
 }
 
+ShaderDefines Renderer::featureDefines() const {
+    return caustic::featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled);
+}
+
 bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
     ShaderDefines defines = integratorDefines();
     defines.insert(defines.end(), features.begin(), features.end());
@@ -405,7 +409,7 @@ void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::u
         // Keyed by the defines: the same kinds of content reuse the program built for them. A
         // failure (which the general program's compile makes unlikely) falls back to it.
         std::string error;
-        if (!useProgram(featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled), &error)) {
+        if (!useProgram(featureDefines(), &error)) {
             std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
                          error.c_str());
             m_program = m_general;

@@ -102,6 +102,9 @@ public:
     // prepared off-thread (prepareMesh) before the edit that uses them. Same thread as update().
     MeshCache& meshCache() { return m_meshCache; }
     unsigned countersBuffer() const { return m_counters; }  // bound at BINDING_COUNTERS by bindScene
+    // The feature defines (shaders/scene/features.glsl) of the program specialised for the current
+    // scene and settings, whether or not this renderer specialises (test kernels build with them).
+    ShaderDefines featureDefines() const;
     unsigned program() const { return m_program; }  // the integrator the last dispatch used (before any: the general one)
 
     // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
