@@ -87,6 +87,27 @@ bool specializeByDefault() {
     return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
 
+// The primitives as the ray tests read them (shaders/scene/buffers.glsl, primitiveHits): spheres
+// unchanged, quads (corner a, edges b and c) in plane form, so that a ray's test makes one
+// division and no cross products (on llvmpipe the Cornell box's 18 quad tests per ray were most
+// of its time: docs/performance.md).
+std::vector<gpu::GpuPrimitive> primitiveHitRecords(const std::vector<gpu::GpuPrimitive>& primitives) {
+    std::vector<gpu::GpuPrimitive> out = primitives;
+    for (gpu::GpuPrimitive& p : out) {
+        if (p.info.x != PRIM_QUAD) continue;
+        const glm::vec3 corner(p.a), e1(p.b), e2(p.c);
+        const glm::vec3 n = glm::cross(e1, e2);
+        const float nn = glm::dot(n, n);
+        // A degenerate quad (zero area) gets N = 0: the test's |N.d| < 1e-20 rejects every ray.
+        const glm::vec3 u = nn > 0.0f ? glm::cross(e2, n) / nn : glm::vec3(0.0f);
+        const glm::vec3 v = nn > 0.0f ? glm::cross(n, e1) / nn : glm::vec3(0.0f);
+        p.a = glm::vec4(n, glm::dot(n, corner));
+        p.b = glm::vec4(u, glm::dot(u, corner));
+        p.c = glm::vec4(v, glm::dot(v, corner));
+    }
+    return out;
+}
+
 void waitFence(GLsync fence) {
     while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000) == GL_TIMEOUT_EXPIRED) {}
     glDeleteSync(fence);
@@ -121,6 +142,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
+    glCreateBuffers(1, &r->m_primitiveHits);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     if (!computeGgxAlbedoTable(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
@@ -133,6 +155,7 @@ Renderer::~Renderer() {
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
     glDeleteBuffers(1, &m_lightTree);
+    glDeleteBuffers(1, &m_primitiveHits);
     glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
@@ -275,6 +298,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         } else {
             if (dirty & kDirtyTransforms) {
                 uploadBuffer(m_primitives, compiled.primitives);
+                uploadBuffer(m_primitiveHits, primitiveHitRecords(compiled.primitives));
                 uploadBuffer(m_lights, compiled.lights);
                 uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));
@@ -308,6 +332,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
 
 std::string Renderer::upload(bool meshes) {
     uploadBuffer(m_primitives, m_compiled.primitives);
+    uploadBuffer(m_primitiveHits, primitiveHitRecords(m_compiled.primitives));
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
     uploadBuffer(m_lightTree, m_compiled.lightTree.nodes);
@@ -375,6 +400,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVE_HITS, m_primitiveHits);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_TREE, m_lightTree);
@@ -394,7 +420,8 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     const struct { unsigned unit, buffer; GLenum format; } views[kTexelViews] = {
         {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
         {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
-        {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI}};
+        {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
+        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

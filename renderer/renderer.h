@@ -141,9 +141,10 @@ private:
     static constexpr int kGeometryBuffers = 5;
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
-    // Buffer textures over primitives, BVH nodes, triangles, top-level entries, instances and
-    // materials (TEXUNIT_*; bindScene attaches them).
-    static constexpr int kTexelViews = 6;
+    // Buffer textures over primitives, BVH nodes, triangles, top-level entries, instances,
+    // materials and the primitives' hit records (TEXUNIT_*; bindScene attaches them).
+    static constexpr int kTexelViews = 7;
+    unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
     unsigned m_texelViews[kTexelViews] = {};
     ImageReader m_readImage;
     GpuLimits m_limits;

@@ -52,6 +52,20 @@ vec3 sphereNormal(GpuPrimitive s, vec3 p) {
     return normalize(s.a.xyz * po.x + s.b.xyz * po.y + s.c.xyz * po.z);
 }
 
+// A quad in plane form (scene/buffers.glsl, primitiveHits): one division, no cross products.
+bool intersectQuadPlane(GpuPrimitive q, Ray r, float tMax, out float tHit) {
+    float denom = dot(q.a.xyz, r.d);
+    if (abs(denom) < 1e-20) return false;
+    float t = (q.a.w - dot(q.a.xyz, r.o)) / denom;
+    if (!(t > 0.0 && t < tMax)) return false;
+    vec3 p = r.o + t * r.d;
+    float alpha = dot(q.b.xyz, p) - q.b.w;
+    float beta = dot(q.c.xyz, p) - q.c.w;
+    if (alpha < 0.0 || alpha > 1.0 || beta < 0.0 || beta > 1.0) return false;
+    tHit = t;
+    return true;
+}
+
 bool intersectQuad(GpuPrimitive q, Ray r, float tMax, out float tHit) {
     vec3 n = cross(q.b.xyz, q.c.xyz);
     float denom = dot(n, r.d);
@@ -80,11 +94,14 @@ bool intersectPrimitive(GpuPrimitive prim, Ray r, float tMax, out float t) {
     return intersectQuad(prim, r, tMax, t);
 }
 
+// What the traversal calls: the primitive's hit record (quads in plane form).
 bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t) {
     Ray r;
     r.o = o;
     r.d = d;
-    return intersectPrimitive(loadPrimitive(index), r, tMax, t);
+    GpuPrimitive rec = loadPrimitiveHit(index);
+    if (primitiveIsSphere(rec)) return intersectSphere(rec, r, tMax, t);
+    return intersectQuadPlane(rec, r, tMax, t);
 }
 
 #include "bvh.glsl"

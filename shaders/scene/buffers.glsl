@@ -7,6 +7,11 @@
 
 layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = BINDING_PRIMITIVES) readonly buffer PrimitiveBuffer { GpuPrimitive primitives[]; };
+// The primitives as the ray tests read them: spheres as in primitives[], quads in plane form
+// (a = (N, N.corner), b = (U, U.corner), c = (V, V.corner) with N = e1 x e2, U = (e2 x N) / N.N,
+// V = (N x e1) / N.N: the quad's (alpha, beta) are U.p - b.w and V.p - c.w), computed once on the
+// CPU instead of per ray (renderer/renderer.cpp, primitiveHitRecords).
+layout(std430, binding = BINDING_PRIMITIVE_HITS) readonly buffer PrimitiveHitBuffer { GpuPrimitive primitiveHits[]; };
 layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
 layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
 // The CDF tables, one after another (offsets in frame.tables):
@@ -50,6 +55,7 @@ layout(binding = TEXUNIT_TRIANGLES) uniform usamplerBuffer triangleTexels;
 layout(binding = TEXUNIT_TLAS_REFS) uniform usamplerBuffer tlasRefTexels;
 layout(binding = TEXUNIT_INSTANCES) uniform usamplerBuffer instanceTexels;
 layout(binding = TEXUNIT_MATERIALS) uniform usamplerBuffer materialTexels;
+layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
@@ -66,6 +72,19 @@ GpuPrimitive loadPrimitive(uint i) {
     return p;
 #else
     return primitives[i];
+#endif
+}
+
+GpuPrimitive loadPrimitiveHit(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuPrimitive p;
+    p.a = FETCH_F4(primitiveHitTexels, 4u * i);
+    p.b = FETCH_F4(primitiveHitTexels, 4u * i + 1u);
+    p.c = FETCH_F4(primitiveHitTexels, 4u * i + 2u);
+    p.info = FETCH_U4(primitiveHitTexels, 4u * i + 3u);
+    return p;
+#else
+    return primitiveHits[i];
 #endif
 }
 

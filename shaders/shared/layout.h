@@ -40,6 +40,8 @@ using uint = std::uint32_t;
 #define TEXUNIT_TLAS_REFS 4
 #define TEXUNIT_INSTANCES 5
 #define TEXUNIT_MATERIALS 6
+#define TEXUNIT_PRIMITIVE_HITS 7
+#define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
 #define BINDING_BVH_NODES 13       // BvhNode[]: the top-level BVH at 0, then every mesh's BVH
