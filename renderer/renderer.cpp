@@ -166,6 +166,18 @@ ShaderDefines Renderer::featureDefines() const {
     return caustic::featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled);
 }
 
+void Renderer::selectProgram() {
+    if (!m_specialize) return;
+    // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
+    // (which the general program's compile makes unlikely) falls back to it.
+    std::string error;
+    if (!useProgram(featureDefines(), &error)) {
+        std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
+                     error.c_str());
+        m_program = m_general;
+    }
+}
+
 bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
     ShaderDefines defines = integratorDefines();
     defines.insert(defines.end(), features.begin(), features.end());
@@ -222,6 +234,7 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         *error = "uploading the scene to the GPU failed: " + glErrors;
         return false;
     }
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
@@ -326,6 +339,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
@@ -367,6 +381,7 @@ std::string Renderer::upload(bool meshes) {
 
 void Renderer::setStrategy(std::uint32_t strategy) {
     m_strategy = strategy;
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
 }
 
@@ -432,16 +447,7 @@ void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::u
     tile1 = std::min(tile1, tileCount());
     if (tile0 >= tile1) return;
     bindScene(firstSample, samples, tile0, tile1);
-    if (m_specialize) {
-        // Keyed by the defines: the same kinds of content reuse the program built for them. A
-        // failure (which the general program's compile makes unlikely) falls back to it.
-        std::string error;
-        if (!useProgram(featureDefines(), &error)) {
-            std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
-                         error.c_str());
-            m_program = m_general;
-        }
-    }
+    selectProgram();
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -126,6 +126,9 @@ private:
     // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
     // top of integratorDefines(), compiling it the first time; false with the compiler's message.
     bool useProgram(const ShaderDefines& features, std::string* error);
+    // With specialisation on, makes m_program the one for the current scene and settings
+    // (compiling it the first time); called where those change, and before each dispatch.
+    void selectProgram();
 
     std::string m_shaderDir;
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)

@@ -62,14 +62,20 @@ layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexe
 #define FETCH_F4(tex, i) uintBitsToFloat(texelFetch(tex, int(i)))
 #endif
 
+#ifdef CAUSTIC_FETCH_TEXELS
+GpuPrimitive fetchPrimitive(usamplerBuffer tex, uint i) {
+    GpuPrimitive p;
+    p.a = FETCH_F4(tex, 4u * i);
+    p.b = FETCH_F4(tex, 4u * i + 1u);
+    p.c = FETCH_F4(tex, 4u * i + 2u);
+    p.info = FETCH_U4(tex, 4u * i + 3u);
+    return p;
+}
+#endif
+
 GpuPrimitive loadPrimitive(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    GpuPrimitive p;
-    p.a = FETCH_F4(primitiveTexels, 4u * i);
-    p.b = FETCH_F4(primitiveTexels, 4u * i + 1u);
-    p.c = FETCH_F4(primitiveTexels, 4u * i + 2u);
-    p.info = FETCH_U4(primitiveTexels, 4u * i + 3u);
-    return p;
+    return fetchPrimitive(primitiveTexels, i);
 #else
     return primitives[i];
 #endif
@@ -77,12 +83,7 @@ GpuPrimitive loadPrimitive(uint i) {
 
 GpuPrimitive loadPrimitiveHit(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    GpuPrimitive p;
-    p.a = FETCH_F4(primitiveHitTexels, 4u * i);
-    p.b = FETCH_F4(primitiveHitTexels, 4u * i + 1u);
-    p.c = FETCH_F4(primitiveHitTexels, 4u * i + 2u);
-    p.info = FETCH_U4(primitiveHitTexels, 4u * i + 3u);
-    return p;
+    return fetchPrimitive(primitiveHitTexels, i);
 #else
     return primitiveHits[i];
 #endif
