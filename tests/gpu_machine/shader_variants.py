@@ -25,7 +25,7 @@ PATCHES = {
          "vec3 bsdfEval(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertEval(m.albedo.rgb, wo, wi);"),
         ("bsdf/bsdf.glsl", "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {",
          "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertPdf(wo, wi);"),
-        ("bsdf/bsdf.glsl", "BsdfSample s;\n    uint t = m.info.x;", LAMBERT_SAMPLE + "\n    uint t = m.info.x;"),
+        ("bsdf/bsdf.glsl", "BsdfSample s = bsdfInvalidSample();", LAMBERT_SAMPLE + "\n    s = bsdfInvalidSample();"),
     ],
     "no-textures": [
         ("bsdf/material.glsl", "    normalTexel = vec3(0.0, 0.0, 1.0);\n", "    normalTexel = vec3(0.0, 0.0, 1.0);\n    return m;\n"),
