@@ -13,7 +13,8 @@
 # (pack_mitsuba.sh), carried in a second call (it does not fit beside the payload):
 #   call 1: carry [".gpu/payload.tar.xz", ".gpu/debs"], run.sh quick (or nothing: just unpacks)
 #   call 2: carry [".gpu/mitsuba.tar.xz"], run.sh compare (git-ignored paths from call 1 stay)
-# A plain run does the comparison too, after the benchmark, when .gpu/mitsuba.tar.xz is there.
+# (Not part of a plain run, which with the GPU tests already takes several minutes: each call
+# stays well inside the 10 minutes a command may run.)
 set -uo pipefail
 OUT=${OUT:-/tmp/caustic-gpu-out}
 mkdir -p "$OUT" /tmp/caustic-gpu
@@ -75,7 +76,6 @@ if [ "${1:-}" != quick ]; then
   # The traversal configurations the renderer does not use on NVIDIA by default, tested there too.
   { CAUSTIC_SPECIALIZE=1 CAUSTIC_FETCH_TEXELS=1 timeout 100 $B/caustic_gpu_tests "[geometry],[integrator]" 2>&1;
     echo "rc=$?"; } > "$OUT/gpu-tests-specialised-texels.txt"
-  if [ -f .gpu/mitsuba.tar.xz ]; then compare; fi
 fi
 cat "$OUT/nvidia-smi.txt"
 tail -5 "$OUT/bvh-bench.txt" "$OUT/gpu-tests.txt" 2>/dev/null
