@@ -1,8 +1,10 @@
 // caustic-bench: the speed benchmark (never a test). Renders the standard scenes at fixed
-// settings after a warm-up and prints samples and rays per second, timed both by the wall clock
-// and by a GL_TIME_ELAPSED query around the same work. Links no OpenImageIO, so the binary is
+// settings after a warm-up and prints samples and rays per second, timed by the wall clock and by
+// a GL_TIME_ELAPSED query around the same work, and samples per CPU second of the process (every
+// thread: on llvmpipe the renderer's own CPU time, which a shared machine's load moves less). Links no OpenImageIO, so the binary is
 // small enough to carry to the GPU machine.
-//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]
+//   caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [--set path=value ...] [scene.json ...]
+// --set path=value: as caustic's --set, applied to every scene (e.g. render.sampler=independent).
 // --rays: also traversal alone (shaders/bench/rays.comp): primary rays, then one cosine-
 //   distributed bounce from their hits, in M rays/s (timer queries, median of --repeat runs).
 // --dump-program FILE: writes the driver's binary of the integrator program (NVIDIA's holds its
@@ -24,6 +26,7 @@
 #include "renderer/tonemap.h"
 
 #include <glad/gl.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -35,6 +38,14 @@
 using namespace caustic;
 
 namespace {
+
+// CPU seconds this process has used (every thread: llvmpipe's workers too). On a machine shared
+// with other work, CPU time per sample moves much less with the load than wall time does.
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -166,6 +177,7 @@ int main(int argc, char** argv) {
     std::string outDir, dumpProgram;
     int interactiveFrames = 0;
     std::vector<std::string> scenes;
+    std::vector<SceneOverride> overrides;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each row as it is measured, even if the run is cut short
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -184,8 +196,17 @@ int main(int argc, char** argv) {
         else if (a == "--oidn") oidn = true;
         else if (a == "--out" && i + 1 < argc) outDir = argv[++i];
         else if (a == "--dump-program" && i + 1 < argc) dumpProgram = argv[++i];
+        else if (a == "--set" && i + 1 < argc) {
+            SceneOverride ov;
+            std::string error;
+            if (!parseSceneOverride(argv[++i], &ov, &error)) {
+                std::fprintf(stderr, "caustic-bench: --set: %s\n", error.c_str());
+                return 2;
+            }
+            overrides.push_back(ov);
+        }
         else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [scene.json ...]\n");
+            std::fprintf(stderr, "usage: caustic-bench [--size N] [--samples N] [--max-depth N] [--repeat N] [--rays] [--oidn] [--out DIR] [--dump-program FILE] [--interactive N] [--set path=value ...] [scene.json ...]\n");
             return a == "--help" ? 0 : 2;
         } else scenes.push_back(a);
     }
@@ -199,15 +220,15 @@ int main(int argc, char** argv) {
     renderer->setImageReader(readRadianceHdr);  // environment maps without OpenImageIO
     std::printf("# %s | %s | %s\n", context->info().vendor.c_str(), context->info().renderer.c_str(),
                 context->info().version.c_str());
-    std::printf("%-24s %10s %6s %5s %9s %9s %12s %12s %10s\n", "scene", "size", "spp", "depth", "wall s", "gpu s",
-                "Msamples/s", "Mrays/s", "rays/smp");
+    std::printf("%-24s %10s %6s %5s %9s %9s %12s %12s %10s %9s %14s\n", "scene", "size", "spp", "depth", "wall s", "gpu s",
+                "Msamples/s", "Mrays/s", "rays/smp", "cpu s", "Msamples/cpu-s");
     GLuint query = 0;
     glGenQueries(1, &query);
     unsigned raysProgram = 0;
     if (traceOnly) {
         ShaderLoader loader(defaultShaderDir());
         ShaderSource source;
-        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", {}, &source, &error) ||
+        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", integratorDefines(), &source, &error) ||
             !(raysProgram = compileComputeProgram(source, "bench/rays.comp", &error))) {
             std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
             return 1;
@@ -225,17 +246,18 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "caustic-bench: no program binary written (%s)\n", binary.empty() ? "the driver gave none" : error.c_str());
     }
     for (const std::string& file : scenes) {
-        SceneLoadResult loaded = loadScene(file);
+        SceneLoadResult loaded = loadScene(file, overrides);
         if (!loaded) { std::fprintf(stderr, "caustic-bench: %s\n", loaded.error.c_str()); return 1; }
         Scene scene = *loaded.scene;
         scene.render.width = scene.render.height = size;
         scene.render.maxDepth = maxDepth;
         if (!renderer->setScene(scene, &error)) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
         renderer->render(std::max(1, samples / 8));  // warm-up: shader JIT, caches, clocks
-        std::vector<double> wall, gpu, rays;
+        std::vector<double> wall, gpu, rays, cpu;
         for (int r = 0; r < repeat; ++r) {
             renderer->resetAccumulation();
             auto t0 = std::chrono::steady_clock::now();
+            const double c0 = cpuSeconds();
             glBeginQuery(GL_TIME_ELAPSED, query);
             renderer->render(samples);
             glEndQuery(GL_TIME_ELAPSED);
@@ -243,9 +265,10 @@ int main(int argc, char** argv) {
             glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);  // waits; the work is done already
             wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
             gpu.push_back(double(ns) * 1e-9);
+            cpu.push_back(cpuSeconds() - c0);
             rays.push_back(double(renderer->raysTraced()));
         }
-        const double w = median(wall), g = median(gpu), n = median(rays);
+        const double w = median(wall), g = median(gpu), n = median(rays), c = median(cpu);
         const double pixelSamples = double(samples) * size * size;
         const std::string name = file.substr(file.find_last_of('/') + 1);
         // llvmpipe answers timer queries with 0: print n/a rather than a made-up figure.
@@ -256,8 +279,9 @@ int main(int argc, char** argv) {
         const Film film = renderer->readFilm();
         const float counted = film.count[film.index(size / 2, size / 2)] + 0.5f;
         const char* complete = int(counted) == samples + 0 ? "" : "  INCOMPLETE: the image holds fewer samples";
-        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.2f %12.2f %10.2f%s\n", name.c_str(), size, size, samples,
-                    maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, complete);
+        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.3f %12.3f %10.2f %9.3f %14.3f%s\n", name.c_str(), size, size,
+                    samples, maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, c,
+                    pixelSamples / std::max(c, 1e-9) * 1e-6, complete);
         if (!outDir.empty()) {
             const std::vector<std::uint8_t> rgb = toSrgb8(film, ToneMap::Aces);
             std::string ppm = "P6\n" + std::to_string(size) + " " + std::to_string(size) + "\n255\n";

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -45,6 +47,67 @@ std::string glErrorsSince() {
     return out;
 }
 
+// The scene-specialised configuration of the integrator (shaders/scene/features.glsl) for the
+// scene and settings of `frame`: the kinds of material, light, shape, environment, sampler and
+// light selection present, the traversal the scene gets, whether it has one light only.
+ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c) {
+    std::uint32_t materials = 0, lights = 0, shapes = 0;
+    bool textures = false;
+    for (const gpu::GpuMaterial& m : c.materials) {
+        materials |= 1u << (m.info.x & 31u);
+        textures = textures || m.textures.x != 0 || m.textures.y != 0 || m.textures.z != 0;
+    }
+    for (const gpu::GpuLight& l : c.lights) lights |= 1u << (l.info.x & 31u);
+    for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
+    if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
+    const bool bruteForce = frame.geometry.y == 0 && frame.counts.x <= BVH_BRUTE_FORCE_MAX;
+    const bool singleLight = c.lights.size() == 1 && c.lights[0].info.x != LIGHT_ENV;
+    auto hex = [](std::uint32_t v) {
+        char b[16];
+        std::snprintf(b, sizeof b, "0x%xu", unsigned(v));
+        return std::string(b);
+    };
+    return {{"CAUSTIC_MATERIALS", hex(materials)},
+            {"CAUSTIC_LIGHTS", hex(lights)},
+            {"CAUSTIC_SHAPES", hex(shapes)},
+            {"CAUSTIC_ENVIRONMENTS", hex(1u << (frame.envInfo.x & 31u))},
+            {"CAUSTIC_SAMPLERS", hex(1u << (frame.sampling.x & 31u))},
+            {"CAUSTIC_LIGHT_SELECTIONS", hex(1u << (frame.sampling.y & 31u))},
+            {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
+            {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
+            {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
+}
+
+// Whether the integrator is built per scene (featureDefines): by default on llvmpipe, where code
+// a scene does not use still costs its full time (shaders/scene/features.glsl);
+// $CAUSTIC_SPECIALIZE = 1 or 0 forces it on or off.
+bool specializeByDefault() {
+    if (const char* env = std::getenv("CAUSTIC_SPECIALIZE"); env && *env) return std::strcmp(env, "0") != 0;
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+}
+
+// The primitives as the ray tests read them (shaders/scene/buffers.glsl, primitiveHits): spheres
+// unchanged, quads (corner a, edges b and c) in plane form, so that a ray's test makes one
+// division and no cross products (on llvmpipe the Cornell box's 18 quad tests per ray were most
+// of its time: docs/performance.md).
+std::vector<gpu::GpuPrimitive> primitiveHitRecords(const std::vector<gpu::GpuPrimitive>& primitives) {
+    std::vector<gpu::GpuPrimitive> out = primitives;
+    for (gpu::GpuPrimitive& p : out) {
+        if (p.info.x != PRIM_QUAD) continue;
+        const glm::vec3 corner(p.a), e1(p.b), e2(p.c);
+        const glm::vec3 n = glm::cross(e1, e2);
+        const float nn = glm::dot(n, n);
+        // A degenerate quad (zero area) gets N = 0: the test's |N.d| < 1e-20 rejects every ray.
+        const glm::vec3 u = nn > 0.0f ? glm::cross(e2, n) / nn : glm::vec3(0.0f);
+        const glm::vec3 v = nn > 0.0f ? glm::cross(n, e1) / nn : glm::vec3(0.0f);
+        p.a = glm::vec4(n, glm::dot(n, corner));
+        p.b = glm::vec4(u, glm::dot(u, corner));
+        p.c = glm::vec4(v, glm::dot(v, corner));
+    }
+    return out;
+}
+
 void waitFence(GLsync fence) {
     while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000) == GL_TIMEOUT_EXPIRED) {}
     glDeleteSync(fence);
@@ -53,13 +116,13 @@ void waitFence(GLsync fence) {
 }  // namespace
 
 std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::string* error) {
-    ShaderLoader loader(shaderDir);
-    ShaderSource source;
-    if (!loader.load("integrator/path.comp", {}, &source, error)) return nullptr;
-    unsigned program = compileComputeProgram(source, "integrator/path.comp", error);
-    if (!program) return nullptr;
     std::unique_ptr<Renderer> r(new Renderer());
-    r->m_program = program;
+    r->m_shaderDir = shaderDir;
+    r->m_specialize = specializeByDefault();
+    // The general program, always: what a scene gets when specialisation is off, and the check
+    // that the whole source compiles.
+    if (!r->useProgram({}, error)) return nullptr;
+    r->m_general = r->m_program;
     r->m_limits = queryGpuLimits();
     unsigned buffers[6];
     glCreateBuffers(6, buffers);
@@ -79,6 +142,8 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
+    glCreateBuffers(1, &r->m_primitiveHits);
+    glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     if (!computeGgxAlbedoTable(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
@@ -90,9 +155,46 @@ Renderer::~Renderer() {
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
     glDeleteBuffers(1, &m_lightTree);
+    glDeleteBuffers(1, &m_primitiveHits);
+    glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
-    glDeleteProgram(m_program);
+    for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+}
+
+ShaderDefines Renderer::featureDefines() const {
+    return caustic::featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled);
+}
+
+void Renderer::selectProgram() {
+    if (!m_specialize) return;
+    // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
+    // (which the general program's compile makes unlikely) falls back to it.
+    std::string error;
+    if (!useProgram(featureDefines(), &error)) {
+        std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
+                     error.c_str());
+        m_program = m_general;
+    }
+}
+
+bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
+    ShaderDefines defines = integratorDefines();
+    defines.insert(defines.end(), features.begin(), features.end());
+    std::string key;
+    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    if (auto it = m_programs.find(key); it != m_programs.end()) {
+        m_program = it->second;
+        return true;
+    }
+    ShaderLoader loader(m_shaderDir);
+    ShaderSource source;
+    if (!loader.load("integrator/path.comp", defines, &source, error)) return false;
+    const unsigned program = compileComputeProgram(source, "integrator/path.comp", error);
+    if (!program) return false;
+    m_programs.emplace(key, program);
+    m_program = program;
+    return true;
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
@@ -132,6 +234,7 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         *error = "uploading the scene to the GPU failed: " + glErrors;
         return false;
     }
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
@@ -208,6 +311,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         } else {
             if (dirty & kDirtyTransforms) {
                 uploadBuffer(m_primitives, compiled.primitives);
+                uploadBuffer(m_primitiveHits, primitiveHitRecords(compiled.primitives));
                 uploadBuffer(m_lights, compiled.lights);
                 uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));
@@ -235,12 +339,14 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
 
 std::string Renderer::upload(bool meshes) {
     uploadBuffer(m_primitives, m_compiled.primitives);
+    uploadBuffer(m_primitiveHits, primitiveHitRecords(m_compiled.primitives));
     uploadBuffer(m_materials, m_compiled.materials);
     uploadBuffer(m_lights, m_compiled.lights);
     uploadBuffer(m_lightTree, m_compiled.lightTree.nodes);
@@ -275,6 +381,7 @@ std::string Renderer::upload(bool meshes) {
 
 void Renderer::setStrategy(std::uint32_t strategy) {
     m_strategy = strategy;
+    selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
 }
 
@@ -308,6 +415,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVE_HITS, m_primitiveHits);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHTS, m_lights);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_TREE, m_lightTree);
@@ -321,12 +429,25 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEXTURES, m_textures);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BSDF_TABLES, m_bsdfTables);
     glBindTextureUnit(TEXUNIT_ENV_MAP, m_envTexture);
+    // The buffer textures over the same buffers (read instead of them with CAUSTIC_FETCH_TEXELS,
+    // shaders/scene/buffers.glsl), attached again each time: an upload may have replaced a
+    // buffer's data store, and with it its size.
+    const struct { unsigned unit, buffer; GLenum format; } views[kTexelViews] = {
+        {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
+        {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
+        {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
+        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}};
+    for (int i = 0; i < kTexelViews; ++i) {
+        glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
+        glBindTextureUnit(views[i].unit, m_texelViews[i]);
+    }
 }
 
 void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     tile1 = std::min(tile1, tileCount());
     if (tile0 >= tile1) return;
     bindScene(firstSample, samples, tile0, tile1);
+    selectProgram();
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,7 +102,10 @@ public:
     // prepared off-thread (prepareMesh) before the edit that uses them. Same thread as update().
     MeshCache& meshCache() { return m_meshCache; }
     unsigned countersBuffer() const { return m_counters; }  // bound at BINDING_COUNTERS by bindScene
-    unsigned program() const { return m_program; }
+    // The feature defines (shaders/scene/features.glsl) of the program specialised for the current
+    // scene and settings, whether or not this renderer specialises (test kernels build with them).
+    ShaderDefines featureDefines() const;
+    unsigned program() const { return m_program; }  // the integrator the last dispatch used (before any: the general one)
 
     // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
     // from the context by create(); tests inject smaller ones.
@@ -119,7 +123,18 @@ private:
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
     long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
 
-    unsigned m_program = 0;
+    // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
+    // top of integratorDefines(), compiling it the first time; false with the compiler's message.
+    bool useProgram(const ShaderDefines& features, std::string* error);
+    // With specialisation on, makes m_program the one for the current scene and settings
+    // (compiling it the first time); called where those change, and before each dispatch.
+    void selectProgram();
+
+    std::string m_shaderDir;
+    bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
+    std::map<std::string, unsigned> m_programs;  // by their defines
+    unsigned m_general = 0;      // the program without feature defines
+    unsigned m_program = 0;      // the one the last dispatch used
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;
@@ -129,6 +144,11 @@ private:
     static constexpr int kGeometryBuffers = 5;
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
+    // Buffer textures over primitives, BVH nodes, triangles, top-level entries, instances,
+    // materials and the primitives' hit records (TEXUNIT_*; bindScene attaches them).
+    static constexpr int kTexelViews = 7;
+    unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
+    unsigned m_texelViews[kTexelViews] = {};
     ImageReader m_readImage;
     GpuLimits m_limits;
     MeshCache m_meshCache;      // imported meshes and their BVHs, reused across edits

@@ -167,6 +167,19 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
     return program;
 }
 
+ShaderDefines integratorDefines() {
+    bool fetchTexels = false;
+    if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) {
+        fetchTexels = std::strcmp(env, "0") != 0;
+    } else {
+        const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        fetchTexels = renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+    }
+    ShaderDefines defines;
+    if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
+    return defines;
+}
+
 std::string defaultShaderDir() {
     if (const char* env = std::getenv("CAUSTIC_SHADER_DIR"); env && *env) return env;
     std::error_code ec;

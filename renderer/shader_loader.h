@@ -41,6 +41,13 @@ std::string mapShaderLog(const std::string& log, const ShaderSource& source);
 unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName,
                                std::string* error);
 
+// The configuration every program that includes the scene's shaders is built with (the
+// integrator, the test kernels, the benchmark's kernels), for the current context's driver: on
+// Mesa's llvmpipe CAUSTIC_FETCH_TEXELS (scene data read through buffer textures; why:
+// shaders/scene/buffers.glsl). $CAUSTIC_FETCH_TEXELS = 1 or 0 forces it on or off (to test both
+// configurations on one driver). The same GLSL source either way.
+ShaderDefines integratorDefines();
+
 // Where the shaders are: $CAUSTIC_SHADER_DIR, else <executable dir>/../shaders (build/caustic in
 // a checkout), else the source tree's shaders/ recorded at configure time.
 std::string defaultShaderDir();

@@ -9,11 +9,13 @@
 #define BSDF_BSDF_GLSL
 #include "models.glsl"
 
-// Each operation is one switch over the list of models (models.glsl).
-#define BSDF_EVAL_CASE(id, eval, pdf, sample, traits) case id: return eval;
-#define BSDF_PDF_CASE(id, eval, pdf, sample, traits) case id: return pdf;
-#define BSDF_EVAL_PDF_CASE(id, eval, pdf_, sample, traits) case id: pdf = pdf_; return eval;
-#define BSDF_SAMPLE_CASE(id, eval, pdf, sample, traits) case id: s = sample; break;
+// Each operation is one switch over the list of models (models.glsl). Each model's code is guarded
+// by HAS_MATERIAL (scene/features.glsl): a scene-specialised program keeps only the models its
+// scene uses (on llvmpipe every case of a switch runs, under a lane mask, whatever the data).
+#define BSDF_EVAL_CASE(id, eval, pdf, sample, traits) case id: if (HAS_MATERIAL(id)) return eval; break;
+#define BSDF_PDF_CASE(id, eval, pdf, sample, traits) case id: if (HAS_MATERIAL(id)) return pdf; break;
+#define BSDF_EVAL_PDF_CASE(id, eval, pdf_, sample, traits) case id: if (HAS_MATERIAL(id)) { pdf = pdf_; return eval; } break;
+#define BSDF_SAMPLE_CASE(id, eval, pdf, sample, traits) case id: if (HAS_MATERIAL(id)) s = sample; break;
 #define BSDF_TRAITS_CASE(id, eval, pdf, sample, traits) case id: return traits;
 
 uint bsdfTraits(GpuMaterial m) {
@@ -32,15 +34,17 @@ bool bsdfIsDelta(GpuMaterial m) { return (bsdfTraits(m) & BSDF_DELTA) != 0u; }
 vec3 bsdfEval(GpuMaterial m, vec3 wo, vec3 wi) {
     switch (m.info.x) {
     BSDF_MODELS(BSDF_EVAL_CASE)
-    default: return vec3(0.0);
+    default: break;
     }
+    return vec3(0.0);
 }
 
 float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {
     switch (m.info.x) {
     BSDF_MODELS(BSDF_PDF_CASE)
-    default: return 0.0;
+    default: break;
     }
+    return 0.0;
 }
 
 // Both at once, for light sampling: one switch instead of two keeps the integrator's code (and
@@ -48,8 +52,10 @@ float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {
 vec3 bsdfEvalPdf(GpuMaterial m, vec3 wo, vec3 wi, out float pdf) {
     switch (m.info.x) {
     BSDF_MODELS(BSDF_EVAL_PDF_CASE)
-    default: pdf = 0.0; return vec3(0.0);
+    default: break;
     }
+    pdf = 0.0;
+    return vec3(0.0);
 }
 
 // The diffuse models' sampling: wi ~ cos(theta) over the hemisphere of wo, then the model's own

@@ -1,9 +1,9 @@
-// Two-level BVH traversal (renderer/bvh.h builds the trees): one loop walks the top level over
-// analytic primitives and mesh instances and, on reaching an instance, the instance's own BVH in
-// object space (the ray is transformed, t keeps its meaning). An explicit stack holds the nodes
-// still to visit (the far child of each node whose children both hit; children are visited nearer
-// first; a popped node is slab-tested again against the closest hit so far by its parent's test of
-// its own children). Closest hit and any hit (shadow rays, early exit) are the
+// Two-level BVH traversal (renderer/bvh.h builds the trees): a loop walks the top level over
+// analytic primitives and mesh instances and, on reaching an instance, a loop nested in it walks
+// the instance's own BVH in object space (the ray is transformed, t keeps its meaning). One
+// explicit stack holds the nodes still to visit (the far child of each node whose children both
+// hit; children are visited nearer first; a popped node's children are slab-tested against the
+// closest hit so far); an instance's entries sit above the top level's. Closest hit and any hit (shadow rays, early exit) are the
 // same routine with a flag.
 //   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
@@ -15,16 +15,11 @@
 #include "../lib/math.glsl"
 #include "../scene/buffers.glsl"
 
-// The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32),
-// the instances of one top-level leaf (one: the top level is built with single-entry leaves; only
-// a leaf forced by the depth cap holds more, and up to 12 of those still fit), the marker for
-// leaving an instance, and the instance tree's pending siblings (fewer than 32). A push that would
-// overflow is dropped (the node is not visited) rather than written out of bounds.
+// The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32) and
+// the instance tree's (fewer than 32). A push that would overflow is dropped (the node is not
+// visited) rather than written out of bounds. (76 entries since the one-loop traversal, which also
+// kept instance entries and exit markers there; kept, as what NVIDIA was measured with.)
 #define BVH_STACK_SIZE 76
-#define BVH_ENTRY_EXIT 0xffffffffu  // leaving an instance: back to the world ray
-#ifndef BVH_BRUTE_FORCE_MAX
-#define BVH_BRUTE_FORCE_MAX 32u     // scenes of at most this many analytic primitives skip the tree
-#endif
 
 struct TraceHit {
     float t;
@@ -106,72 +101,53 @@ bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
 // start beyond the closest hit ever saved (docs/performance.md, "integrator profile").
 uint g_bvhStack[BVH_STACK_SIZE];
 
-bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
-    hit.t = tMax;
-    hit.ref = 0xffffffffu;
-    hit.triangle = 0u;
-    hit.bary = vec2(0.0);
-    if (frame.geometry.x == 0u) return false;
-    // A few analytic primitives and no meshes (a Cornell box is 18 quads): testing them all beats
-    // walking a tree, by about 1.5x on llvmpipe (docs/performance.md).
-    if (frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX) {
-        bool found = false;
-        for (uint i = 0u; i < frame.counts.x; ++i) {
-            float t;
-            if (intersectPrimitiveT(i, rayO, rayD, hit.t, t)) {
-                hit.t = t;
-                hit.ref = i;
-                found = true;
-                if (anyHit) return true;
-            }
-        }
-        return found;
+// One interior node's step: tests both children against the ray; the nearer one hit becomes
+// `node`, the farther one (when both are hit) goes on the stack. False when neither is hit.
+bool bvhDescend(GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, inout int sp) {
+    uint l = node + 1u, r = n.rightOrFirst;
+    float tl, tr;
+    bool hl = slabTest(loadBvhNode(l), o, invD, tMax, tl);
+    bool hr = slabTest(loadBvhNode(r), o, invD, tMax, tr);
+    if (hl && hr) {
+        bool leftFirst = tl <= tr;
+        if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = leftFirst ? r : l;
+        node = leftFirst ? l : r;
+        return true;
     }
-    vec3 o = rayO, d = rayD, invD = safeInverse(rayD);
-    WatertightRay wr = makeWatertightRay(o, d);
-    bool inInstance = false;
-    uint instance = 0u, firstTriangle = 0u;
-    int sp = 0;
+    if (hl || hr) {
+        node = hl ? l : r;
+        return true;
+    }
+    return false;
+}
+
+// A mesh instance's own BVH, in object space (the ray transformed; t keeps its meaning), on the
+// stack above `base`, which it leaves as it found it. Its loop is nested in the top level's so
+// that an iteration in a mesh runs only the mesh's code: llvmpipe executes every branch of a loop
+// body under a lane mask, so one loop for both levels paid for the top level's primitive tests
+// and the instance entry at every step through a mesh (docs/performance.md).
+bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
+    GpuInstance inst = loadInstance(instance);
+    vec3 o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
+                  dot(inst.worldToObject2, vec4(rayO, 1.0)));
+    vec3 d = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
+                  dot(inst.worldToObject2.xyz, rayD));
+    vec3 invD = safeInverse(d);
     float tEnter;
-    if (!slabTest(bvhNodes[0], o, invD, hit.t, tEnter)) return false;
-    uint node = 0u;
+    uint node = inst.info.x;
+    if (!slabTest(loadBvhNode(node), o, invD, hit.t, tEnter)) return false;
+    WatertightRay wr = makeWatertightRay(o, d);
+    uint firstTriangle = inst.info.y;
+    int sp = base;
     bool found = false;
     while (true) {
-        GpuBvhNode n = bvhNodes[node];
+        GpuBvhNode n = loadBvhNode(node);
         uint count = n.countAndAxis >> 2;
-        bool descend = false;
         if (count == 0u) {
-            uint l = node + 1u, r = n.rightOrFirst;
-            float tl, tr;
-            bool hl = slabTest(bvhNodes[l], o, invD, hit.t, tl);
-            bool hr = slabTest(bvhNodes[r], o, invD, hit.t, tr);
-            if (hl && hr) {
-                bool leftFirst = tl <= tr;
-                if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = leftFirst ? r : l;
-                node = leftFirst ? l : r;
-                descend = true;
-            } else if (hl || hr) {
-                node = hl ? l : r;
-                descend = true;
-            }
-        } else if (!inInstance) {
-            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                uint ref = tlasRefs[k];
-                if ((ref & TLAS_REF_INSTANCE) != 0u) {
-                    if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = ref;
-                    continue;
-                }
-                float t;
-                if (intersectPrimitiveT(ref, rayO, rayD, hit.t, t)) {
-                    hit.t = t;
-                    hit.ref = ref;
-                    found = true;
-                    if (anyHit) return true;
-                }
-            }
+            if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;
         } else {
             for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                GpuTriangle tri = triangles[firstTriangle + k];
+                GpuTriangle tri = loadTriangle(firstTriangle + k);
                 float t;
                 vec2 b;
                 if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
@@ -184,44 +160,68 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
                 }
             }
         }
-        if (descend) continue;
-        // Pop the next node worth visiting.
-        bool next = false;
-        while (sp > 0) {
-            uint e = g_bvhStack[--sp];
-            if (e == BVH_ENTRY_EXIT) {
-                inInstance = false;
-                o = rayO;
-                d = rayD;
-                invD = safeInverse(rayD);
-                continue;
+        if (sp == base) break;
+        node = g_bvhStack[--sp];
+    }
+    return found;
+}
+
+bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
+    hit.t = tMax;
+    hit.ref = 0xffffffffu;
+    hit.triangle = 0u;
+    hit.bary = vec2(0.0);
+    if (frame.geometry.x == 0u) return false;
+    // A few analytic primitives and no meshes (a Cornell box is 18 quads): testing them all beats
+    // walking a tree, by about 1.5x on llvmpipe (docs/performance.md).
+    // (CAUSTIC_TRAVERSAL: a scene-specialised program keeps only the one its scene uses.)
+    if (CAUSTIC_TRAVERSAL == 1u ||
+        (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
+        bool found = false;
+        for (uint i = 0u; i < frame.counts.x; ++i) {
+            float t;
+            if (intersectPrimitiveT(i, rayO, rayD, hit.t, t)) {
+                hit.t = t;
+                hit.ref = i;
+                found = true;
+                if (anyHit) return true;
             }
-            if ((e & TLAS_REF_INSTANCE) != 0u) {
-                instance = e & ~TLAS_REF_INSTANCE;
-                GpuInstance inst = instances[instance];
-                vec3 lo = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
-                               dot(inst.worldToObject2, vec4(rayO, 1.0)));
-                vec3 ld = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
-                               dot(inst.worldToObject2.xyz, rayD));
-                vec3 linvD = safeInverse(ld);
-                float te;
-                if (!slabTest(bvhNodes[inst.info.x], lo, linvD, hit.t, te) || sp >= BVH_STACK_SIZE) continue;
-                o = lo;
-                d = ld;
-                invD = linvD;
-                wr = makeWatertightRay(o, d);
-                firstTriangle = inst.info.y;
-                inInstance = true;
-                g_bvhStack[sp++] = BVH_ENTRY_EXIT;
-                node = inst.info.x;
-                next = true;
-                break;
-            }
-            node = e;
-            next = true;
-            break;
         }
-        if (!next) break;
+        return found;
+    }
+    // The top level, over analytic primitives and mesh instances.
+    vec3 invD = safeInverse(rayD);
+    float tEnter;
+    if (!slabTest(loadBvhNode(0u), rayO, invD, hit.t, tEnter)) return false;
+    int sp = 0;
+    uint node = 0u;
+    bool found = false;
+    while (true) {
+        GpuBvhNode n = loadBvhNode(node);
+        uint count = n.countAndAxis >> 2;
+        if (count == 0u) {
+            if (bvhDescend(n, node, rayO, invD, hit.t, sp)) continue;
+        } else {
+            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
+                uint ref = loadTlasRef(k);
+                if (HAS_MESHES && (ref & TLAS_REF_INSTANCE) != 0u) {
+                    if (traceInstance(ref & ~TLAS_REF_INSTANCE, rayO, rayD, anyHit, sp, hit)) {
+                        found = true;
+                        if (anyHit) return true;
+                    }
+                    continue;
+                }
+                float t;
+                if (intersectPrimitiveT(ref, rayO, rayD, hit.t, t)) {
+                    hit.t = t;
+                    hit.ref = ref;
+                    found = true;
+                    if (anyHit) return true;
+                }
+            }
+        }
+        if (sp == 0) break;
+        node = g_bvhStack[--sp];
     }
     return found;
 }

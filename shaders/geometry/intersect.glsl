@@ -52,6 +52,20 @@ vec3 sphereNormal(GpuPrimitive s, vec3 p) {
     return normalize(s.a.xyz * po.x + s.b.xyz * po.y + s.c.xyz * po.z);
 }
 
+// A quad in plane form (scene/buffers.glsl, primitiveHits): one division, no cross products.
+bool intersectQuadPlane(GpuPrimitive q, Ray r, float tMax, out float tHit) {
+    float denom = dot(q.a.xyz, r.d);
+    if (abs(denom) < 1e-20) return false;
+    float t = (q.a.w - dot(q.a.xyz, r.o)) / denom;
+    if (!(t > 0.0 && t < tMax)) return false;
+    vec3 p = r.o + t * r.d;
+    float alpha = dot(q.b.xyz, p) - q.b.w;
+    float beta = dot(q.c.xyz, p) - q.c.w;
+    if (alpha < 0.0 || alpha > 1.0 || beta < 0.0 || beta > 1.0) return false;
+    tHit = t;
+    return true;
+}
+
 bool intersectQuad(GpuPrimitive q, Ray r, float tMax, out float tHit) {
     vec3 n = cross(q.b.xyz, q.c.xyz);
     float denom = dot(n, r.d);
@@ -67,16 +81,27 @@ bool intersectQuad(GpuPrimitive q, Ray r, float tMax, out float tHit) {
     return true;
 }
 
+// The shape tests a scene-specialised program keeps (scene/features.glsl): a scene of quads
+// alone never runs the sphere test, and the other way round.
+bool primitiveIsSphere(GpuPrimitive prim) {
+    if (!HAS_SHAPE(PRIM_SPHERE)) return false;
+    if (!HAS_SHAPE(PRIM_QUAD)) return true;
+    return prim.info.x == PRIM_SPHERE;
+}
+
 bool intersectPrimitive(GpuPrimitive prim, Ray r, float tMax, out float t) {
-    if (prim.info.x == PRIM_SPHERE) return intersectSphere(prim, r, tMax, t);
+    if (primitiveIsSphere(prim)) return intersectSphere(prim, r, tMax, t);
     return intersectQuad(prim, r, tMax, t);
 }
 
+// What the traversal calls: the primitive's hit record (quads in plane form).
 bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t) {
     Ray r;
     r.o = o;
     r.d = d;
-    return intersectPrimitive(primitives[index], r, tMax, t);
+    GpuPrimitive rec = loadPrimitiveHit(index);
+    if (primitiveIsSphere(rec)) return intersectSphere(rec, r, tMax, t);
+    return intersectQuadPlane(rec, r, tMax, t);
 }
 
 #include "bvh.glsl"
@@ -88,16 +113,16 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
     if (!traceScene(r.o, r.d, tMax, false, th)) return false;
     hit.t = th.t;
     hit.p = r.o + th.t * r.d;
-    if ((th.ref & TLAS_REF_INSTANCE) == 0u) {
-        GpuPrimitive prim = primitives[th.ref];
-        hit.ng = prim.info.x == PRIM_SPHERE ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
+    if (!HAS_MESHES || (th.ref & TLAS_REF_INSTANCE) == 0u) {
+        GpuPrimitive prim = loadPrimitive(th.ref);
+        hit.ng = primitiveIsSphere(prim) ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
         hit.ns = hit.ng;
         hit.material = prim.info.y;
         hit.light = prim.info.z;
         hit.flags = prim.info.w;
     } else {
-        GpuInstance inst = instances[th.ref & ~TLAS_REF_INSTANCE];
-        GpuTriangle tri = triangles[th.triangle];
+        GpuInstance inst = loadInstance(th.ref & ~TLAS_REF_INSTANCE);
+        GpuTriangle tri = loadTriangle(th.triangle);
         hit.ng = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
         hit.material = triangleMaterial(inst, tri);
         hit.light = inst.info.w;
@@ -112,8 +137,8 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
 
 // Texture coordinates and tangents at a hit (for materials with textures).
 SurfacePoint hitSurface(Hit hit) {
-    if ((hit.ref & TLAS_REF_INSTANCE) == 0u) return primitiveSurface(primitives[hit.ref], hit.p);
-    return triangleSurface(instances[hit.ref & ~TLAS_REF_INSTANCE], triangles[hit.triangle], hit.bary);
+    if (!HAS_MESHES || (hit.ref & TLAS_REF_INSTANCE) == 0u) return primitiveSurface(loadPrimitive(hit.ref), hit.p);
+    return triangleSurface(loadInstance(hit.ref & ~TLAS_REF_INSTANCE), loadTriangle(hit.triangle), hit.bary);
 }
 
 // Any hit with t in (0, tMax): shadow rays, early exit.

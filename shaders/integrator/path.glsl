@@ -78,8 +78,8 @@ vec3 emittedTowards(Hit hit, GpuMaterial mat, vec3 wo) {
 // radiance when it escapes. No MIS weight: the probe leaves a delta vertex, where no light sample
 // could have found the same path.
 vec3 probeEmission(bool found, Hit hit, vec3 d) {
-    if (!found) return frame.envInfo.x != ENV_NONE ? environmentRadiance(d) : vec3(0.0);
-    return emittedTowards(hit, materials[hit.material], -d);
+    if (!found) return HAS_ANY_ENVIRONMENT && frame.envInfo.x != ENV_NONE ? environmentRadiance(d) : vec3(0.0);
+    return emittedTowards(hit, loadMaterial(hit.material), -d);
 }
 
 vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
@@ -126,7 +126,7 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         }
         if (!found) {
             uint envIndex = frame.dispatch.y;
-            if (frame.envInfo.x != ENV_NONE) {
+            if (HAS_ANY_ENVIRONMENT && frame.envInfo.x != ENV_NONE) {
                 vec3 Le = environmentRadiance(ray.d);
                 if (countEmitted || !useLights) {
                     L += beta * Le * emitScale;
@@ -139,7 +139,7 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
             break;
         }
 
-        GpuMaterial mat = materials[hit.material];
+        GpuMaterial mat = loadMaterial(hit.material);
         vec3 wo = -ray.d;
 
         // Emission.
@@ -162,7 +162,7 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         float cosHit = abs(dot(hit.ng, wo));
         float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
         vec3 ns = hit.ns;
-        if (any(notEqual(mat.textures.xyz, uvec3(0u)))) {
+        if (CAUSTIC_TEXTURES != 0u && any(notEqual(mat.textures.xyz, uvec3(0u)))) {
             SurfacePoint sp = hitSurface(hit);
             vec3 normalTexel;
             mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
@@ -232,7 +232,7 @@ vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
         // is traced even when the continuation is refused or ended by Russian roulette.
         emitScale = 1.0;
         vec3 probeDir = vec3(0.0);
-        if (split && mat.info.x == MAT_DIELECTRIC) {
+        if (HAS_MATERIAL(MAT_DIELECTRIC) && split && mat.info.x == MAT_DIELECTRIC) {
             if (bs.wi.z > 0.0) emitScale = bs.pdf;
             BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
             probeDir = toWorld(f, other.wi);

@@ -35,6 +35,7 @@
 #define LIB_SAMPLER_GLSL
 #include "rng.glsl"
 #include "../shared/layout.h"
+#include "../scene/features.glsl"
 
 #define SLOT_FILTER 0u
 #define SLOT_LENS 1u
@@ -92,8 +93,15 @@ float bitsToUnit(uint bits) { return float(bits >> 8) * (1.0 / 16777216.0); }  /
 
 uint slotSeed(Sampler s, uint slot) { return pcgHash(s.pixelSeed ^ pcgHash(slot * 0x9e3779b9u + 0x7f4a7c15u)); }
 
+// (A scene-specialised program keeps only the sampler it renders with: scene/features.glsl.)
+bool samplerIsIndependent(Sampler s) {
+    if (!HAS_SAMPLER(SAMPLER_INDEPENDENT)) return false;
+    if (!HAS_SAMPLER(SAMPLER_SOBOL)) return true;
+    return s.type == SAMPLER_INDEPENDENT;
+}
+
 vec2 sample2D(inout Sampler s, uint slot) {
-    if (s.type == SAMPLER_INDEPENDENT) return rngNext2(s.rng);
+    if (samplerIsIndependent(s)) return rngNext2(s.rng);
     uint h = slotSeed(s, slot);
     uint i = owenScramble(s.index, h);  // the shuffled index (digits read from the top)
     // Dimension 0 is i's bits reversed, so its scramble is owenHashReversed on i itself; dimension
@@ -104,7 +112,7 @@ vec2 sample2D(inout Sampler s, uint slot) {
 }
 
 float sample1D(inout Sampler s, uint slot) {
-    if (s.type == SAMPLER_INDEPENDENT) return rngNext(s.rng);
+    if (samplerIsIndependent(s)) return rngNext(s.rng);
     uint h = slotSeed(s, slot);
     uint i = owenScramble(s.index, h);
     return bitsToUnit(bitfieldReverse(owenHashReversed(i, pcgHash(h + 0x68e31da4u))));

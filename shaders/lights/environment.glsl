@@ -36,12 +36,12 @@ vec3 envUvToDirection(vec2 uv) {
 
 vec3 environmentRadiance(vec3 dir) {
     uint type = frame.envInfo.x;
-    if (type == ENV_CONSTANT) return frame.envRadiance.rgb;
-    if (type == ENV_SKY) {
+    if (HAS_ENVIRONMENT(ENV_CONSTANT) && type == ENV_CONSTANT) return frame.envRadiance.rgb;
+    if (HAS_ENVIRONMENT(ENV_SKY) && type == ENV_SKY) {
         float t = sqrt(clamp(dir.y, 0.0, 1.0));
         return mix(frame.envHorizon.rgb, frame.envZenith.rgb, t);
     }
-    if (type == ENV_MAP) return frame.envMap.z * textureLod(envMapTexture, envDirectionToUv(dir), 0.0).rgb;
+    if (HAS_ENVIRONMENT(ENV_MAP) && type == ENV_MAP) return frame.envMap.z * textureLod(envMapTexture, envDirectionToUv(dir), 0.0).rgb;
     return vec3(0.0);
 }
 

@@ -82,12 +82,22 @@ float envSelectProbability(vec3 p, vec3 n, bool twoSided) {
 
 // Chooses a light for next event estimation at p (normal n; twoSided: the material transmits).
 // False when no light can contribute there; else `light` and its selection probability `pmf`.
+// Whether selection reads the global CDF (power, uniform) rather than the tree; a
+// scene-specialised program keeps only the rule it renders with (scene/features.glsl).
+bool lightSelectionByCdf() {
+    if (!HAS_LIGHT_SELECTION(LIGHT_SELECT_TREE)) return true;
+    if (ONLY_KIND(CAUSTIC_LIGHT_SELECTIONS, LIGHT_SELECT_TREE)) return false;
+    return frame.sampling.y != LIGHT_SELECT_TREE;
+}
+
 bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out float pmf) {
     light = 0u;
     pmf = 0.0;
     uint count = frame.counts.y;
     if (count == 0u) return false;
-    if (frame.sampling.y != LIGHT_SELECT_TREE) {
+    // One light and no environment: every rule picks it with probability 1.
+    if (CAUSTIC_SINGLE_LIGHT != 0u) { pmf = 1.0; return true; }
+    if (lightSelectionByCdf()) {
         uint lo = 0u, hi = count - 1u;  // invert the CDF (binary search)
         while (lo < hi) {
             uint mid = (lo + hi) >> 1;
@@ -132,7 +142,8 @@ bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out flo
 
 // The probability that selectLight(., p, n, twoSided) chooses `light`.
 float lightSelectPmf(uint light, vec3 p, vec3 n, bool twoSided) {
-    if (frame.sampling.y != LIGHT_SELECT_TREE) return lights[light].color.w;
+    if (CAUSTIC_SINGLE_LIGHT != 0u) return 1.0;
+    if (lightSelectionByCdf()) return lights[light].color.w;
     float pEnv = envSelectProbability(p, n, twoSided);
     if (light + 1u == frame.dispatch.y) return pEnv;
     float pmf = 1.0 - pEnv;

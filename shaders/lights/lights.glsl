@@ -63,7 +63,9 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
     s.nl = vec3(0.0);
     s.wi = vec3(0.0, 0.0, 1.0);
     uint type = l.info.x;
-    if (type == LIGHT_RECT) {
+    // Each type is guarded by HAS_LIGHT (scene/features.glsl): a scene-specialised program keeps
+    // only the types its scene has.
+    if (HAS_LIGHT(LIGHT_RECT) && type == LIGHT_RECT) {
         vec3 q = l.p0.xyz + u.x * l.p1.xyz + u.y * l.p2.xyz;
         vec3 n = normalize(cross(l.p1.xyz, l.p2.xyz));
         vec3 d = q - p;
@@ -78,7 +80,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.pdf = dist2 / (cosL * l.p1.w);
         s.nl = n;
         s.Li = l.color.rgb;
-    } else if (type == LIGHT_SPHERE) {
+    } else if (HAS_LIGHT(LIGHT_SPHERE) && type == LIGHT_SPHERE) {
         vec3 c = l.p0.xyz;
         float radius = l.p0.w;
         vec3 toC = c - p;
@@ -112,7 +114,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             s.nl = n;
         }
         s.Li = l.color.rgb;
-    } else if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+    } else if ((HAS_LIGHT(LIGHT_POINT) || HAS_LIGHT(LIGHT_SPOT)) && (type == LIGHT_POINT || type == LIGHT_SPOT)) {
         vec3 d = l.p0.xyz - p;
         float dist2 = dot(d, d);
         if (dist2 <= 0.0) return s;
@@ -121,7 +123,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.isDelta = true;
         s.pdf = 1.0;
         float falloff = 1.0;
-        if (type == LIGHT_SPOT) {
+        if (HAS_LIGHT(LIGHT_SPOT) && type == LIGHT_SPOT) {
             float cosTheta = dot(-s.wi, l.p1.xyz);
             if ((l.info.y & LIGHT_FLAG_LINEAR_ANGLE) == 0u) {
                 falloff = smoothstep(l.p1.w, l.p2.w, cosTheta);
@@ -131,10 +133,10 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             }
         }
         s.Li = l.color.rgb * falloff / dist2;
-    } else if (type == LIGHT_MESH) {
+    } else if (HAS_LIGHT(LIGHT_MESH) && type == LIGHT_MESH) {
         // A triangle by area (binary search of the instance's CDF), then a uniform point in it
         // (PBRT 4th ed. eq. A.12, the square-root parametrisation), reusing u.x's remainder.
-        GpuInstance inst = instances[l.info.z];
+        GpuInstance inst = loadInstance(l.info.z);
         uint offset = l.info.w, count = inst.info2.y;
         uint lo = 0u, hi = count - 1u;
         while (lo < hi) {
@@ -143,7 +145,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         }
         float c0 = lo > 0u ? meshLightCdf(offset + lo - 1u) : 0.0, c1 = meshLightCdf(offset + lo);
         float ux = c1 > c0 ? clamp((u.x - c0) / (c1 - c0), 0.0, 1.0) : 0.5;
-        GpuTriangle tri = triangles[inst.info.y + lo];
+        GpuTriangle tri = loadTriangle(inst.info.y + lo);
         float su = sqrt(ux);
         vec2 b = vec2(su * (1.0 - u.y), su * u.y);  // weights of p1 and p2
         vec3 qo = (1.0 - b.x - b.y) * tri.p0.xyz + b.x * tri.p1.xyz + b.y * tri.p2.xyz;
@@ -158,9 +160,9 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.wi = d / s.dist;
         s.nl = n;
         s.pdf = areaToSolidAngle(1.0 / l.p0.x, p, q, n);
-        s.Li = materials[triangleMaterial(inst, tri)].emission.rgb;
-    } else if (type == LIGHT_ENV) {
-        if (frame.envInfo.x == ENV_MAP) {
+        s.Li = loadMaterial(triangleMaterial(inst, tri)).emission.rgb;
+    } else if (HAS_LIGHT(LIGHT_ENV) && type == LIGHT_ENV) {
+        if (HAS_ENVIRONMENT(ENV_MAP) && frame.envInfo.x == ENV_MAP) {
             s.wi = sampleEnvironmentMap(u, s.pdf);
         } else {
             s.wi = sampleUniformSphere(u);
@@ -177,11 +179,11 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
 float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
     GpuLight l = lights[index];
     uint type = l.info.x;
-    if (type == LIGHT_RECT) {
+    if (HAS_LIGHT(LIGHT_RECT) && type == LIGHT_RECT) {
         if (dot(nl, wi) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
         return areaToSolidAngle(1.0 / l.p1.w, p, q, nl);
     }
-    if (type == LIGHT_SPHERE) {
+    if (HAS_LIGHT(LIGHT_SPHERE) && type == LIGHT_SPHERE) {
         vec3 toC = l.p0.xyz - p;
         float d2 = dot(toC, toC);
         float radius = l.p0.w;
@@ -193,11 +195,11 @@ float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
         if ((l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
         return areaToSolidAngle(1.0 / (4.0 * PI * radius * radius), p, q, nl);
     }
-    if (type == LIGHT_MESH) {
+    if (HAS_LIGHT(LIGHT_MESH) && type == LIGHT_MESH) {
         if (dot(nl, wi) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;
         return areaToSolidAngle(1.0 / l.p0.x, p, q, nl);
     }
-    if (type == LIGHT_ENV) return frame.envInfo.x == ENV_MAP ? environmentMapPdf(wi) : uniformSpherePdf();
+    if (HAS_LIGHT(LIGHT_ENV) && type == LIGHT_ENV) return HAS_ENVIRONMENT(ENV_MAP) && frame.envInfo.x == ENV_MAP ? environmentMapPdf(wi) : uniformSpherePdf();
     return 0.0;  // delta lights cannot be hit
 }
 

@@ -3,9 +3,15 @@
 #ifndef SCENE_BUFFERS_GLSL
 #define SCENE_BUFFERS_GLSL
 #include "../shared/layout.h"
+#include "features.glsl"
 
 layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = BINDING_PRIMITIVES) readonly buffer PrimitiveBuffer { GpuPrimitive primitives[]; };
+// The primitives as the ray tests read them: spheres as in primitives[], quads in plane form
+// (a = (N, N.corner), b = (U, U.corner), c = (V, V.corner) with N = e1 x e2, U = (e2 x N) / N.N,
+// V = (N x e1) / N.N: the quad's (alpha, beta) are U.p - b.w and V.p - c.w), computed once on the
+// CPU instead of per ray (renderer/renderer.cpp, primitiveHitRecords).
+layout(std430, binding = BINDING_PRIMITIVE_HITS) readonly buffer PrimitiveHitBuffer { GpuPrimitive primitiveHits[]; };
 layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
 layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight lights[]; };
 // The CDF tables, one after another (offsets in frame.tables):
@@ -34,5 +40,121 @@ layout(std430, binding = BINDING_TRIANGLES) readonly buffer TriangleBuffer { Gpu
 layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVertex vertices[]; };
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
+
+// Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadTlasRef, loadInstance,
+// loadMaterial. With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
+// shader_loader.h, integratorDefines) they read buffer textures over the same buffers
+// (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
+// llvmpipe runs 8 invocations as the lanes of one SIMD register, and turns every storage-buffer
+// load into a loop over the 8 lanes, each lane's load of each 32-bit component behind its own
+// bounds-check branch; a texel fetch is one gather per texel, without branches. Integer texels
+// are bit exact (floats are reinterpreted, never converted). docs/performance.md has the figures.
+layout(binding = TEXUNIT_PRIMITIVES) uniform usamplerBuffer primitiveTexels;
+layout(binding = TEXUNIT_BVH_NODES) uniform usamplerBuffer bvhNodeTexels;
+layout(binding = TEXUNIT_TRIANGLES) uniform usamplerBuffer triangleTexels;
+layout(binding = TEXUNIT_TLAS_REFS) uniform usamplerBuffer tlasRefTexels;
+layout(binding = TEXUNIT_INSTANCES) uniform usamplerBuffer instanceTexels;
+layout(binding = TEXUNIT_MATERIALS) uniform usamplerBuffer materialTexels;
+layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexels;
+
+#ifdef CAUSTIC_FETCH_TEXELS
+#define FETCH_U4(tex, i) texelFetch(tex, int(i))
+#define FETCH_F4(tex, i) uintBitsToFloat(texelFetch(tex, int(i)))
+#endif
+
+#ifdef CAUSTIC_FETCH_TEXELS
+GpuPrimitive fetchPrimitive(usamplerBuffer tex, uint i) {
+    GpuPrimitive p;
+    p.a = FETCH_F4(tex, 4u * i);
+    p.b = FETCH_F4(tex, 4u * i + 1u);
+    p.c = FETCH_F4(tex, 4u * i + 2u);
+    p.info = FETCH_U4(tex, 4u * i + 3u);
+    return p;
+}
+#endif
+
+GpuPrimitive loadPrimitive(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    return fetchPrimitive(primitiveTexels, i);
+#else
+    return primitives[i];
+#endif
+}
+
+GpuPrimitive loadPrimitiveHit(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    return fetchPrimitive(primitiveHitTexels, i);
+#else
+    return primitiveHits[i];
+#endif
+}
+
+GpuBvhNode loadBvhNode(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    uvec4 lo = FETCH_U4(bvhNodeTexels, 2u * i), hi = FETCH_U4(bvhNodeTexels, 2u * i + 1u);
+    GpuBvhNode n;
+    n.boundsMin = uintBitsToFloat(lo.xyz);
+    n.rightOrFirst = lo.w;
+    n.boundsMax = uintBitsToFloat(hi.xyz);
+    n.countAndAxis = hi.w;
+    return n;
+#else
+    return bvhNodes[i];
+#endif
+}
+
+GpuTriangle loadTriangle(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuTriangle t;
+    t.p0 = FETCH_F4(triangleTexels, 4u * i);
+    t.p1 = FETCH_F4(triangleTexels, 4u * i + 1u);
+    t.p2 = FETCH_F4(triangleTexels, 4u * i + 2u);
+    t.v = FETCH_U4(triangleTexels, 4u * i + 3u);
+    return t;
+#else
+    return triangles[i];
+#endif
+}
+
+uint loadTlasRef(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    return texelFetch(tlasRefTexels, int(i)).x;
+#else
+    return tlasRefs[i];
+#endif
+}
+
+GpuInstance loadInstance(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuInstance s;
+    s.worldToObject0 = FETCH_F4(instanceTexels, 8u * i);
+    s.worldToObject1 = FETCH_F4(instanceTexels, 8u * i + 1u);
+    s.worldToObject2 = FETCH_F4(instanceTexels, 8u * i + 2u);
+    s.objectToWorld0 = FETCH_F4(instanceTexels, 8u * i + 3u);
+    s.objectToWorld1 = FETCH_F4(instanceTexels, 8u * i + 4u);
+    s.objectToWorld2 = FETCH_F4(instanceTexels, 8u * i + 5u);
+    s.info = FETCH_U4(instanceTexels, 8u * i + 6u);
+    s.info2 = FETCH_U4(instanceTexels, 8u * i + 7u);
+    return s;
+#else
+    return instances[i];
+#endif
+}
+
+GpuMaterial loadMaterial(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuMaterial m;
+    m.albedo = FETCH_F4(materialTexels, 7u * i);
+    m.emission = FETCH_F4(materialTexels, 7u * i + 1u);
+    m.params = FETCH_F4(materialTexels, 7u * i + 2u);
+    m.info = FETCH_U4(materialTexels, 7u * i + 3u);
+    m.eta = FETCH_F4(materialTexels, 7u * i + 4u);
+    m.k = FETCH_F4(materialTexels, 7u * i + 5u);
+    m.textures = FETCH_U4(materialTexels, 7u * i + 6u);
+    return m;
+#else
+    return materials[i];
+#endif
+}
 
 #endif

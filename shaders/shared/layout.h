@@ -32,6 +32,16 @@ using uint = std::uint32_t;
 #define BINDING_LIGHT_TREE 6       // GpuLightNode[]: the light tree (renderer/light_tree.h), root at 0
 #define BINDING_TEST_OUTPUT 7      // test kernels only
 #define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
+// Buffer textures over the scene's storage buffers (usamplerBuffer, RGBA32UI; the top-level entries
+// R32UI), read instead of the buffers when CAUSTIC_FETCH_TEXELS is defined (scene/buffers.glsl).
+#define TEXUNIT_PRIMITIVES 1
+#define TEXUNIT_BVH_NODES 2
+#define TEXUNIT_TRIANGLES 3
+#define TEXUNIT_TLAS_REFS 4
+#define TEXUNIT_INSTANCES 5
+#define TEXUNIT_MATERIALS 6
+#define TEXUNIT_PRIMITIVE_HITS 7
+#define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
 #define BINDING_BVH_NODES 13       // BvhNode[]: the top-level BVH at 0, then every mesh's BVH
@@ -74,6 +84,7 @@ using uint = std::uint32_t;
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 
+#define BVH_BRUTE_FORCE_MAX 32u  // scenes of at most this many analytic primitives and no mesh skip the tree
 #define TLAS_REF_INSTANCE 0x80000000u
 
 // Light types.

@@ -34,7 +34,7 @@ unsigned kernel(const std::string& name) {
     ShaderLoader loader(defaultShaderDir());
     ShaderSource src;
     std::string err;
-    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/" + name, {}, &src, &err);
+    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/" + name, integratorDefines(), &src, &err);
     INFO(err);
     REQUIRE(loaded);
     const unsigned program = compileComputeProgram(src, name, &err);

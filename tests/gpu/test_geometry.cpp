@@ -9,8 +9,11 @@
 
 #include <catch2/catch.hpp>
 
+#include "renderer/shader_loader.h"
+
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 
 using namespace caustic;
@@ -19,9 +22,28 @@ namespace {
 
 GLuint traceKernel() { return test::kernel("trace_rays.comp"); }
 
+// trace_rays.comp built with the given defines (a traversal configuration), once per set.
+GLuint traceKernel(const ShaderDefines& defines) {
+    static std::map<std::string, GLuint> programs;
+    std::string key;
+    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    if (auto it = programs.find(key); it != programs.end()) return it->second;
+    ShaderLoader loader(defaultShaderDir());
+    ShaderSource src;
+    std::string err;
+    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/trace_rays.comp", defines, &src, &err);
+    INFO(err);
+    REQUIRE(loaded);
+    const GLuint program = compileComputeProgram(src, "trace_rays.comp", &err);
+    INFO(err);
+    REQUIRE(program != 0);
+    return programs[key] = program;
+}
+
 struct GpuHit { float t; std::uint32_t ref, triangle; bool occluded; };
 
-std::vector<GpuHit> traceOnGpu(Renderer& r, const std::vector<Ray>& rays, float tMax, bool bruteForce = false) {
+std::vector<GpuHit> traceOnGpu(Renderer& r, const std::vector<Ray>& rays, float tMax, bool bruteForce = false,
+                               GLuint program = 0) {
     std::vector<glm::vec4> data;
     for (const Ray& ray : rays) {
         data.push_back(glm::vec4(ray.origin, tMax));
@@ -31,7 +53,7 @@ std::vector<GpuHit> traceOnGpu(Renderer& r, const std::vector<Ray>& rays, float 
     glCreateBuffers(2, buffers);
     glNamedBufferData(buffers[0], GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data(), GL_STATIC_DRAW);
     glNamedBufferData(buffers[1], GLsizeiptr(rays.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_READ);
-    const GLuint program = traceKernel();
+    if (!program) program = traceKernel();
     r.bindScene(0, 1);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, buffers[0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, buffers[1]);
@@ -311,5 +333,89 @@ TEST_CASE("the top-level BVH over analytic primitives finds what testing them al
         INFO(count << " primitives: " << hits << " hits, " << differ << " differ");
         CHECK(hits > 100);  // the rays do meet the primitives
         CHECK(differ == 0);
+    }
+}
+
+// Every traversal configuration the renderer can build (scene data read from the storage
+// buffers or through buffer textures, the general program or the one specialised for the scene)
+// against the CPU BVH, on random rays and on adversarial ones: rays in a triangle's own plane and
+// nearly so (grazing), rays aimed exactly at vertices and edge midpoints, and rays starting
+// inside meshes (inside their instances' boxes and every box above them).
+TEST_CASE("every traversal configuration agrees with the CPU BVH on random and adversarial rays", "[gpu][geometry]") {
+    auto renderer = test::makeRenderer();
+    test::TempDir dir;
+    Scene s = meshScene(dir, 3);
+    std::string error;
+    REQUIRE(renderer->setScene(s, &error));
+    const CompiledScene& c = renderer->compiled();
+    REQUIRE(c.instances.size() == 12);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    auto world = [&](const gpu::GpuInstance& inst, glm::vec3 p) {
+        const glm::vec4 q(p, 1.0f);
+        return glm::vec3(glm::dot(inst.objectToWorld0, q), glm::dot(inst.objectToWorld1, q), glm::dot(inst.objectToWorld2, q));
+    };
+    // Allowed disagreements with the CPU: hit/miss, t (beyond 1e-4 relative), triangle.
+    struct Family { const char* name; std::vector<Ray> rays; int hit, t, triangle; };
+    std::vector<Family> families;
+    families.push_back({"random", randomRays(17, 4096), 2, 0, 2});
+    std::vector<Ray> grazing, aimed, inside;
+    for (int i = 0; i < 2048; ++i) {
+        const gpu::GpuInstance& inst = c.instances[i % c.instances.size()];
+        const std::uint32_t count = inst.info2.y;
+        const gpu::GpuTriangle& t = c.triangles[inst.info.y + std::min(count - 1, std::uint32_t(u(rng) * float(count)))];
+        const glm::vec3 v0 = world(inst, t.p0), v1 = world(inst, t.p1), v2 = world(inst, t.p2);
+        const glm::vec3 n = glm::normalize(glm::cross(v1 - v0, v2 - v0)), centroid = (v0 + v1 + v2) / 3.0f;
+        // Grazing: from a point of the triangle's plane beyond an edge, along the plane through
+        // the triangle (exactly, then tilted by 1e-4 and 1e-2 radians).
+        const glm::vec3 along = glm::normalize(centroid - v0);
+        const float tilt = (i % 3 == 0) ? 0.0f : (i % 3 == 1 ? 1e-4f : 1e-2f);
+        grazing.push_back({v0 - 0.5f * (centroid - v0), glm::normalize(along + tilt * n)});
+        // Aimed at a vertex or an edge's midpoint from a random point around the scene.
+        const glm::vec3 origin = 6.0f * glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) + 4.0f * n;
+        const glm::vec3 targets[] = {v0, v1, v2, 0.5f * (v0 + v1), 0.5f * (v1 + v2), 0.5f * (v2 + v0)};
+        aimed.push_back({origin, glm::normalize(targets[i % 6] - origin)});
+        // From inside the mesh (its centre in object space is the origin of both OBJ files).
+        const glm::vec3 centre = world(inst, glm::vec3(0.0f));
+        const glm::vec3 d(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f);
+        inside.push_back({centre + 0.05f * d, glm::normalize(d + glm::vec3(1e-3f))});
+    }
+    // A ray through an edge or a vertex may be decided differently by the CPU's and the GPU
+    // compiler's arithmetic (contractions): a few in 2048. Such a ray meets several triangles at
+    // the same t, so which one is reported depends on the traversal order: t must agree, the
+    // triangle need not. A grazing hit is ill-conditioned (t moves by the rounding error over the
+    // sine of the angle to the plane, up to 1e4 times it here), so there the CPU is a loose
+    // reference: measured 2.3 % hit/miss and 5.7 % t disagreements, the same for every
+    // configuration; the configurations must still agree with each other exactly (below).
+    families.push_back({"grazing", grazing, 102, 205, 205});
+    families.push_back({"vertices and edges", aimed, 8, 0, 2048});
+    families.push_back({"origins inside meshes", inside, 2, 0, 2});
+    ShaderDefines specialised = renderer->featureDefines();
+    ShaderDefines specialisedFetch = specialised;
+    specialisedFetch.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
+    const std::pair<const char*, ShaderDefines> configs[] = {{"storage buffers, general", {}},
+                                                             {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
+                                                             {"storage buffers, specialised", specialised},
+                                                             {"buffer textures, specialised", specialisedFetch}};
+    for (const Family& f : families) {
+        std::vector<GpuHit> first;
+        for (const auto& [name, defines] : configs) {
+            const std::vector<GpuHit> gpu = traceOnGpu(*renderer, f.rays, 1e30f, false, traceKernel(defines));
+            const Agreement a = compare(c, f.rays, gpu, 1e30f);
+            INFO(f.name << " rays, " << name << ": " << a.rays << " rays, CPU hits " << a.hits << ", hit/miss mismatches "
+                        << a.hitMismatch << ", t " << a.tMismatch << ", triangle " << a.triangleMismatch << ", any-hit "
+                        << a.anyMismatch);
+            CHECK(a.hits > 0);
+            CHECK(a.hitMismatch <= f.hit);
+            CHECK(a.tMismatch <= f.t);
+            CHECK(a.triangleMismatch <= f.triangle);
+            CHECK(a.anyMismatch == 0);
+            // The configurations are one source: they find exactly the same hits.
+            if (first.empty()) first = gpu;
+            int differ = 0;
+            for (size_t i = 0; i < gpu.size(); ++i)
+                differ += gpu[i].t != first[i].t || gpu[i].triangle != first[i].triangle || gpu[i].occluded != first[i].occluded;
+            CHECK(differ == 0);
+        }
     }
 }

@@ -3,9 +3,18 @@
 # unpacks the payload, installs GLVND, then runs the whole benchmark and the GPU tests in one go
 # and leaves the results in $OUT (bench.txt, gpu-tests.txt, images). Never more than a few
 # seconds of GPU work queued at once: the renderer paces its dispatches.
-#   run.sh [quick|variants]
+#   run.sh [quick|variants|compare]
 # variants: only the integrator profile: caustic-bench on each copy of the shaders written by
 # shader_variants.py (pack.sh puts them in .gpu/variants), plus the driver's program binaries.
+# compare: only caustic against Mitsuba 3's cuda_ad_rgb in one interleaved run (compare.py: the
+# Cornell box and mesh-knot at 1024 x 1024, caustic max depth 7 = Mitsuba max_depth 8, 64 spp,
+# 3 repetitions; caustic as it runs on NVIDIA by default, and scene-specialised, and specialised
+# with buffer textures), results in $OUT/compare.txt and compare.json. Needs .gpu/mitsuba.tar.xz
+# (pack_mitsuba.sh), carried in a second call (it does not fit beside the payload):
+#   call 1: carry [".gpu/payload.tar.xz", ".gpu/debs"], run.sh quick (or nothing: just unpacks)
+#   call 2: carry [".gpu/mitsuba.tar.xz"], run.sh compare (git-ignored paths from call 1 stay)
+# (Not part of a plain run, which with the GPU tests already takes several minutes: each call
+# stays well inside the 10 minutes a command may run.)
 set -uo pipefail
 OUT=${OUT:-/tmp/caustic-gpu-out}
 mkdir -p "$OUT" /tmp/caustic-gpu
@@ -26,6 +35,19 @@ nproc > "$OUT/nproc.txt"
 mkdir -p "$OUT/images"
 scenes="scenes/cornell-box.json scenes/veach-mis.json scenes/materials-diffuse.json scenes/materials-metals.json
   scenes/materials-rough-glass.json scenes/dof.json scenes/sky-spheres.json scenes/mesh-knot.json"
+compare() {
+  mkdir -p /tmp/caustic-gpu/mitsuba
+  tar -C /tmp/caustic-gpu/mitsuba -xJf .gpu/mitsuba.tar.xz
+  PYTHONPATH=/tmp/caustic-gpu/mitsuba timeout 420 python3 tests/gpu_machine/compare.py --variant cuda_ad_rgb \
+    --size 1024 --spp 64 --mitsuba-spp 64 --max-depth 7 --reps 3 --bench $B/caustic-bench \
+    --config general --config specialised:CAUSTIC_SPECIALIZE=1 \
+    --config specialised-texels:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1 \
+    --json "$OUT/compare.json" cornell mesh-knot 2>&1 | tee "$OUT/compare.txt"
+}
+if [ "${1:-}" = compare ]; then
+  compare
+  exit 0
+fi
 if [ "${1:-}" = variants ]; then
   mkdir -p "$OUT/programs"
   for v in .gpu/variants/*; do
@@ -51,6 +73,9 @@ fi
 } | tee "$OUT/bench.txt"
 if [ "${1:-}" != quick ]; then
   { timeout 200 $B/caustic_gpu_tests 2>&1; echo "rc=$?"; } > "$OUT/gpu-tests.txt"
+  # The traversal configurations the renderer does not use on NVIDIA by default, tested there too.
+  { CAUSTIC_SPECIALIZE=1 CAUSTIC_FETCH_TEXELS=1 timeout 100 $B/caustic_gpu_tests "[geometry],[integrator]" 2>&1;
+    echo "rc=$?"; } > "$OUT/gpu-tests-specialised-texels.txt"
 fi
 cat "$OUT/nvidia-smi.txt"
 tail -5 "$OUT/bvh-bench.txt" "$OUT/gpu-tests.txt" 2>/dev/null

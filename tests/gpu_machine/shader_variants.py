@@ -8,6 +8,7 @@ Variants change the image (they are not correct renderers); they exist only for 
 """
 import os
 import shutil
+import subprocess
 import sys
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shaders")
@@ -24,7 +25,7 @@ PATCHES = {
          "vec3 bsdfEval(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertEval(m.albedo.rgb, wo, wi);"),
         ("bsdf/bsdf.glsl", "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {",
          "float bsdfPdf(GpuMaterial m, vec3 wo, vec3 wi) {\n    return lambertPdf(wo, wi);"),
-        ("bsdf/bsdf.glsl", "BsdfSample s;\n    switch", LAMBERT_SAMPLE + "\n    switch"),
+        ("bsdf/bsdf.glsl", "BsdfSample s = bsdfInvalidSample();", LAMBERT_SAMPLE + "\n    s = bsdfInvalidSample();"),
     ],
     "no-textures": [
         ("bsdf/material.glsl", "    normalTexel = vec3(0.0, 0.0, 1.0);\n", "    normalTexel = vec3(0.0, 0.0, 1.0);\n    return m;\n"),
@@ -45,6 +46,12 @@ PATCHES = {
                                "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n    return a;\n")],
     "small-stack": [("geometry/bvh.glsl", "#define BVH_STACK_SIZE 76", "#define BVH_STACK_SIZE 40")],
 }
+# Whole files from an earlier commit (git show at pack time), to measure a change on the GPU
+# machine that was measured on llvmpipe only: the traversal before the instance's BVH got its own
+# nested loop (one loop for both levels).
+# (The commit is found by its message, which a rebase keeps; the file is the one before it.)
+FROM_GIT = {"one-loop-traversal": [("geometry/bvh.glsl", "Traversal: the instance's BVH walked by a loop nested")]}
+
 PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures", "no-aov-images", "small-stack"]
                           for p in PATCHES[name]]
 
@@ -52,6 +59,18 @@ PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures"
 def main():
     out = sys.argv[1]
     shutil.rmtree(out, ignore_errors=True)
+    for name, files in FROM_GIT.items():
+        target = os.path.join(out, name)
+        shutil.copytree(ROOT, target)
+        for rel, message in files:
+            commit = subprocess.run(["git", "log", "-1", "--format=%H", "--fixed-strings", "--grep", message], cwd=ROOT,
+                                    check=True, capture_output=True, text=True).stdout.strip()
+            if not commit:
+                sys.exit("shader_variants.py: no commit says %r" % message)
+            text = subprocess.run(["git", "show", "%s~1:shaders/%s" % (commit, rel)], cwd=ROOT, check=True,
+                                  capture_output=True, text=True).stdout
+            with open(os.path.join(target, rel), "w") as f:
+                f.write(text)
     for name, patches in [("base", [])] + list(PATCHES.items()):
         target = os.path.join(out, name)
         shutil.copytree(ROOT, target)

@@ -29,6 +29,6 @@ void main() {
     }
     TraceHit any;
     bool occluded = traceScene(o.xyz, d.xyz, o.w, true, any);
-    uint triangleId = hit && (th.ref & TLAS_REF_INSTANCE) != 0u ? triangles[th.triangle].v.w : 0xffffffffu;
+    uint triangleId = hit && (th.ref & TLAS_REF_INSTANCE) != 0u ? loadTriangle(th.triangle).v.w : 0xffffffffu;
     results[i] = vec4(hit ? th.t : -1.0, uintBitsToFloat(th.ref), uintBitsToFloat(triangleId), occluded ? 1.0 : 0.0);
 }
