@@ -6,6 +6,7 @@
 #include "renderer/camera.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
+#include "tests/support/scenes.h"
 
 #include <catch2/catch.hpp>
 
@@ -18,38 +19,6 @@
 using namespace caustic;
 
 namespace {
-
-Scene everyType() {
-    Scene s;
-    for (const EnumChoice& c : enumChoices(MaterialType{})) {
-        Material m = materialDefaults(static_cast<MaterialType>(c.value));
-        m.name = std::string(c.name);
-        s.materials.push_back(m);
-    }
-    Material custom = materialDefaults(MaterialType::Conductor);
-    custom.name = "custom";
-    custom.metal = Metal::Custom;
-    s.materials.push_back(custom);
-    for (const EnumChoice& c : enumChoices(Shape{})) {
-        Object o;
-        o.shape = static_cast<Shape>(c.value);
-        o.material = "diffuse";
-        if (o.shape == Shape::Mesh) o.file = "ball.obj";
-        s.objects.push_back(o);
-    }
-    Object glowing;
-    glowing.material = "diffuse";
-    glowing.emission = glm::vec3(1.0f);
-    s.objects.push_back(glowing);
-    for (const EnumChoice& c : enumChoices(LightType{})) {
-        Light l;
-        l.type = static_cast<LightType>(c.value);
-        s.lights.push_back(l);
-    }
-    s.camera.focusPoint = glm::vec3(0.0f, 0.0f, 1.0f);
-    s.environment.type = EnvironmentType::Sky;
-    return s;
-}
 
 // The loader's verdict on the scene (written and read back), "" when it loads.
 std::string loaderError(const Scene& s) {
@@ -96,53 +65,24 @@ bool setNumber(const Param<T>& p, T& value, double x) {
 int checked = 0;
 
 // For each entity `pick(scene)[i]` of type T in the scene, every numeric parameter that applies.
+// Every numeric parameter of the value that `value(scene)` picks, at `path` ("materials[2]",
+// "camera"): values just outside its range, and NaN, refused by both at the same place.
 template <class T>
-void checkEntities(const Scene& base, const std::function<std::vector<T>&(Scene&)>& pick, const std::string& name) {
+void checkValue(const Scene& base, const std::function<T&(Scene&)>& value, const std::string& path) {
     Scene probe = base;
-    const std::size_t count = pick(probe).size();
-    for (std::size_t i = 0; i < count; ++i) {
-        const std::string path = name.empty() ? std::string() : name + "[" + std::to_string(i) + "]";
-        for (const Param<T>& p : schemaOf<T>()) {
-            if (!appliesTo(p, pick(probe)[i])) continue;
-            const bool integer = p.kind == ParamKind::Int || p.kind == ParamKind::UInt;
-            const bool numeric = integer || p.kind == ParamKind::Float || p.kind == ParamKind::Vector ||
-                                 p.kind == ParamKind::Colour || p.kind == ParamKind::Radiance ||
-                                 p.kind == ParamKind::OptionalPoint;
-            if (!numeric) continue;
-            std::vector<double> bad = outsideValues(p.range, integer);
-            if (!integer) bad.push_back(std::numeric_limits<double>::quiet_NaN());
-            const bool vector = p.kind != ParamKind::Float && !integer;
-            const std::string where = path + "." + std::string(p.key) + (vector ? "[0]" : "");
-            for (const double x : bad) {
-                Scene s = base;
-                if (!setNumber(p, pick(s)[i], x)) continue;
-                INFO(where << " = " << x);
-                const auto v = validateScene(s);
-                REQUIRE(v.has_value());
-                CHECK(v->key == where);
-                const std::string error = loaderError(s);
-                CHECK(error.find(": " + where + ":") != std::string::npos);
-                ++checked;
-            }
-        }
-    }
-}
-
-template <class T>
-void checkOne(const Scene& base, T Scene::*member, const std::string& name) {
     for (const Param<T>& p : schemaOf<T>()) {
         const bool integer = p.kind == ParamKind::Int || p.kind == ParamKind::UInt;
         const bool numeric = integer || p.kind == ParamKind::Float || p.kind == ParamKind::Vector ||
                              p.kind == ParamKind::Colour || p.kind == ParamKind::Radiance ||
                              p.kind == ParamKind::OptionalPoint;
-        if (!numeric || !appliesTo(p, base.*member)) continue;
+        if (!numeric || !appliesTo(p, value(probe))) continue;
         std::vector<double> bad = outsideValues(p.range, integer);
         if (!integer) bad.push_back(std::numeric_limits<double>::quiet_NaN());
         const bool vector = p.kind != ParamKind::Float && !integer;
-        const std::string where = name + "." + std::string(p.key) + (vector ? "[0]" : "");
+        const std::string where = path + "." + std::string(p.key) + (vector ? "[0]" : "");
         for (const double x : bad) {
             Scene s = base;
-            if (!setNumber(p, s.*member, x)) continue;
+            if (!setNumber(p, value(s), x)) continue;
             INFO(where << " = " << x);
             const auto v = validateScene(s);
             REQUIRE(v.has_value());
@@ -153,17 +93,28 @@ void checkOne(const Scene& base, T Scene::*member, const std::string& name) {
     }
 }
 
+template <class T>
+void checkEntities(const Scene& base, std::vector<T> Scene::*list, const std::string& name) {
+    for (std::size_t i = 0; i < (base.*list).size(); ++i)
+        checkValue<T>(base, [&](Scene& s) -> T& { return (s.*list)[i]; }, name + "[" + std::to_string(i) + "]");
+}
+
+template <class T>
+void checkOne(const Scene& base, T Scene::*member, const std::string& name) {
+    checkValue<T>(base, [&](Scene& s) -> T& { return s.*member; }, name);
+}
+
 }  // namespace
 
 TEST_CASE("schema: validateScene and the file reader refuse the same out-of-range values at the same place",
           "[schema]") {
-    const Scene base = everyType();
+    const Scene base = test::everyTypeScene();
     REQUIRE(!validateScene(base).has_value());
     REQUIRE(loaderError(base).empty());
     checked = 0;
-    checkEntities<Material>(base, [](Scene& s) -> std::vector<Material>& { return s.materials; }, "materials");
-    checkEntities<Object>(base, [](Scene& s) -> std::vector<Object>& { return s.objects; }, "objects");
-    checkEntities<Light>(base, [](Scene& s) -> std::vector<Light>& { return s.lights; }, "lights");
+    checkEntities(base, &Scene::materials, "materials");
+    checkEntities(base, &Scene::objects, "objects");
+    checkEntities(base, &Scene::lights, "lights");
     checkOne(base, &Scene::camera, "camera");
     checkOne(base, &Scene::render, "render");
     for (const EnumChoice& c : enumChoices(EnvironmentType{})) {
@@ -177,14 +128,14 @@ TEST_CASE("schema: validateScene and the file reader refuse the same out-of-rang
 }
 
 TEST_CASE("schema: the rules across fields are the loader's", "[schema]") {
-    Scene s = everyType();
+    Scene s = test::everyTypeScene();
     s.camera.focusPoint = s.camera.position + (s.camera.position - s.camera.lookAt);  // behind the camera
     auto v = validateScene(s);
     REQUIRE(v.has_value());
     CHECK(v->key == "camera.focus_point");
     CHECK(loaderError(s).find(": camera.focus_point: must lie in front of the camera") != std::string::npos);
 
-    s = everyType();
+    s = test::everyTypeScene();
     s.lights[3].innerAngle = 40.0f;  // the spot
     s.lights[3].outerAngle = 30.0f;
     v = validateScene(s);
@@ -192,7 +143,7 @@ TEST_CASE("schema: the rules across fields are the loader's", "[schema]") {
     CHECK(v->key == "lights[3].inner_angle");
     CHECK(loaderError(s).find(": lights[3].inner_angle: must be <= outer_angle") != std::string::npos);
 
-    s = everyType();
+    s = test::everyTypeScene();
     s.objects[0].material = "nothing";
     v = validateScene(s);
     REQUIRE(v.has_value());

@@ -13,6 +13,7 @@
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
+#include "tests/support/scenes.h"
 
 #include <catch2/catch.hpp>
 #include <imgui.h>
@@ -52,45 +53,6 @@ struct HeadlessImGui {
         return trace;
     }
 };
-
-// A scene with one entity of every type: materials of every type (a custom conductor too),
-// objects of every shape (one emitting), lights of every type.
-Scene everyType() {
-    Scene s;
-    for (const EnumChoice& c : enumChoices(MaterialType{})) {
-        Material m = materialDefaults(static_cast<MaterialType>(c.value));
-        m.name = std::string(c.name);
-        s.materials.push_back(m);
-    }
-    Material custom = materialDefaults(MaterialType::Conductor);
-    custom.name = "custom-metal";
-    custom.metal = Metal::Custom;
-    custom.eta = glm::vec3(0.2f, 0.9f, 1.1f);
-    custom.k = glm::vec3(3.0f, 2.5f, 2.0f);
-    s.materials.push_back(custom);
-    for (const EnumChoice& c : enumChoices(Shape{})) {
-        Object o;
-        o.name = "o-" + std::string(c.name);
-        o.shape = static_cast<Shape>(c.value);
-        o.material = "diffuse";
-        if (o.shape == Shape::Mesh) o.file = "no-such-mesh.obj";  // the inspector does not read it
-        s.objects.push_back(o);
-    }
-    Object glowing;
-    glowing.name = "glowing";
-    glowing.material = "diffuse";
-    glowing.emission = glm::vec3(2.0f, 1.0f, 0.5f);
-    s.objects.push_back(glowing);
-    for (const EnumChoice& c : enumChoices(LightType{})) {
-        Light l;
-        l.name = "l-" + std::string(c.name);
-        l.type = static_cast<LightType>(c.value);
-        s.lights.push_back(l);
-    }
-    s.camera.focusPoint = glm::vec3(0.0f, 0.0f, 1.0f);
-    s.camera.apertureRadius = 0.05f;
-    return s;
-}
 
 // The keys the schema applies to `value`.
 template <class T>
@@ -153,7 +115,7 @@ TEST_CASE("the inspector draws every schema parameter with the loader's range, a
           "[inspector]") {
     HeadlessImGui imgui;
     EditorUi ui;
-    ui.state.scene = everyType();
+    ui.state.scene = test::everyTypeScene();
     const std::string before = sceneToJson(ui.state.scene);
     REQUIRE(!before.empty());
     REQUIRE(parseScene(before, "every-type.json"));  // a valid scene
@@ -166,11 +128,12 @@ TEST_CASE("the inspector draws every schema parameter with the loader's range, a
         checkInspector(imgui, ui, {EntityKind::Object, i}, s.objects[size_t(i)]);
     checkInspector(imgui, ui, {EntityKind::Camera, -1}, s.camera);
     checkInspector(imgui, ui, {EntityKind::Render, -1}, s.render);
+    const EnvironmentType environmentBefore = ui.state.scene.environment.type;
     for (const EnumChoice& c : enumChoices(EnvironmentType{})) {
         ui.state.scene.environment.type = static_cast<EnvironmentType>(c.value);
         checkInspector(imgui, ui, {EntityKind::Environment, -1}, ui.state.scene.environment);
     }
-    ui.state.scene.environment.type = EnvironmentType::None;
+    ui.state.scene.environment.type = environmentBefore;
 
     CHECK(ui.state.history.revision() == 0);
     CHECK(sceneToJson(ui.state.scene) == before);
