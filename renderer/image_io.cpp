@@ -90,6 +90,56 @@ bool writeExrLayers(const std::string& path, int width, int height, const std::v
                            half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
 }
 
+bool writeExrChannels(const std::string& path, int width, int height, const std::vector<std::string>& names,
+                      const std::vector<float>& pixels, const ImageMetadata& metadata, std::string* error) {
+    if (pixels.size() != size_t(width) * size_t(height) * names.size()) {
+        *error = path + ": " + std::to_string(pixels.size()) + " values for " + std::to_string(names.size()) +
+                 " channels of " + std::to_string(width) + "x" + std::to_string(height) + " pixels";
+        return false;
+    }
+    ImageMetadata meta = metadata;
+    meta.push_back({"compression", "zip"});
+    return writeAtomically(path, width, height, OIIO::TypeDesc::FLOAT, pixels.data(), meta, error, names);
+}
+
+bool readChannelImage(const std::string& path, ChannelImage* out, std::string* error) {
+    if (!checkRegularFile(path, error)) return false;
+    try {
+        auto in = OIIO::ImageInput::open(path);
+        if (!in) {
+            *error = path + ": cannot read image: " + OIIO::geterror();
+            return false;
+        }
+        const OIIO::ImageSpec& spec = in->spec();
+        if (std::string why = imageSizeProblem(path, spec.width, spec.height, spec.nchannels); !why.empty()) {
+            *error = why;
+            return false;
+        }
+        if (spec.depth > 1 || spec.deep) {
+            *error = path + ": not a 2D image";
+            return false;
+        }
+        out->width = spec.width;
+        out->height = spec.height;
+        out->names = spec.channelnames;
+        out->metadata.clear();
+        for (const OIIO::ParamValue& p : spec.extra_attribs)
+            if (p.type() == OIIO::TypeDesc::STRING) out->metadata.push_back({p.name().string(), p.get_string()});
+        out->pixels.assign(size_t(spec.width) * spec.height * spec.nchannels, 0.0f);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
+            *error = path + ": cannot decode image (damaged or incomplete?): " + in->geterror();
+            out->pixels = {};
+            return false;
+        }
+        in->close();
+        return true;
+    } catch (const std::bad_alloc&) {
+        *error = path + ": out of memory reading the image";
+        out->pixels = {};
+        return false;
+    }
+}
+
 bool readImage(const std::string& path, ImageData* out, std::string* error) {
     // A FIFO or a device (/dev/zero) would make the format probes read forever.
     if (!checkRegularFile(path, error)) return false;
