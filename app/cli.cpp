@@ -70,7 +70,8 @@ options:
                         (the sums, counts and AOVs; docs/farm.md) and no image: caustic merge
                         combines parts into the image a single render would have made
   --variant <k>         with --sweep: render only variant k (0-based, the order of the sheet)
-  --list-variants       with --sweep: print the variants as JSON lines and exit
+  --list-variants       print each variant of the sweeps (or the one render) as a JSON line:
+                        index, label, suffix, width, height, samples, seed, columns; and exit
   --gpu <n>             render on GPU n (its CUDA number where the driver tells it); the default
                         is the first GPU, else software rendering
   --help                show this text

@@ -168,14 +168,8 @@ int runBatch(const CliOptions& o) {
     std::vector<Variant> variants;
     std::string error;
     if (!makeVariants(o, &variants, &error)) return fail(error, kExitUsage);
-    if (o.listVariants || o.variant) {   // the farm's sweeps: one task per variant
-        if (o.sweeps.empty()) return fail(std::string(o.listVariants ? "--list-variants" : "--variant") + " needs --sweep", kExitUsage);
-        if (o.listVariants) {
-            for (size_t i = 0; i < variants.size(); ++i)
-                std::cout << nlohmann::json{{"index", i}, {"label", variants[i].label}, {"suffix", variants[i].fileSuffix}}.dump()
-                          << "\n";
-            return 0;
-        }
+    if (o.variant) {   // the farm's sweeps: one task per variant
+        if (o.sweeps.empty()) return fail("--variant needs --sweep", kExitUsage);
         if (size_t(*o.variant) >= variants.size())
             return fail("--variant " + std::to_string(*o.variant) + ": the sweeps make " + std::to_string(variants.size()) +
                             " variants (0 to " + std::to_string(variants.size() - 1) + ")", kExitUsage);
@@ -202,6 +196,17 @@ int runBatch(const CliOptions& o) {
         if (!loaded) return fail(loaded.error);
         applyFlags(o, *loaded.scene);
         scenes.push_back(std::move(*loaded.scene));
+    }
+    if (o.listVariants) {   // what the farm needs to plan: each variant and its image
+        const int columns = o.sweeps.empty() ? 1 : static_cast<int>(splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size());
+        for (size_t i = 0; i < variants.size(); ++i)
+            std::cout << nlohmann::json{{"index", i}, {"label", variants[i].label}, {"suffix", variants[i].fileSuffix},
+                                        {"width", scenes[i].render.width}, {"height", scenes[i].render.height},
+                                        {"samples", scenes[i].render.samples}, {"seed", scenes[i].render.seed},
+                                        {"columns", columns}}
+                             .dump()
+                      << "\n";
+        return 0;
     }
     PixelRect crop;   // empty: the whole image
     if (o.crop) {

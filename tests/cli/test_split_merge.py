@@ -2,7 +2,7 @@
 --variant / --list-variants, sheet and compare, through the real program.
 
 Run by ctest as "cli: split and merge" (CAUSTIC_BIN, CAUSTIC_SOURCE_DIR). Standard library only;
-EXR files are read by tests/cli/exr_reader.py, not by caustic's own image code. The images are
+EXR files are read by app/farm/caustic_farm/exr.py (its standard-library path), not by caustic's own image code. The images are
 tiny (40x24, 16 samples) with crop edges off the kernel's 8x8 tiles, so the module stays cheap.
 
 The bound (docs/farm.md): a whole render sums a pixel's N samples one after another in float32;
@@ -24,7 +24,8 @@ import tempfile
 import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
-from exr_reader import read_exr  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "app", "farm"))
+from caustic_farm.exr import read_exr  # noqa: E402  (standard library only)
 from test_cli import decode_png  # noqa: E402
 
 BIN = os.environ.get("CAUSTIC_BIN", "")
@@ -180,6 +181,9 @@ class SplitMerge(unittest.TestCase):
         self.assertEqual([v["index"] for v in listed], [0, 1])
         self.assertEqual(listed[1]["label"], "camera.fov=40")
         self.assertEqual(listed[1]["suffix"], "-1")
+        self.assertEqual((listed[0]["width"], listed[0]["height"], listed[0]["samples"], listed[0]["columns"]), (W, H, N, 2))
+        one = [json.loads(l) for l in run(*BASE, "--list-variants").stdout.splitlines()]
+        self.assertEqual([(v["label"], v["suffix"], v["width"]) for v in one], [("", "", W)])
         run(*BASE, *sweep, "--output", str(self.tmp / "sweep"))
         out = run(*BASE, *sweep, "--variant", "1", "--output", str(self.tmp / "one")).stdout.split()
         self.assertEqual([Path(p).name for p in out], ["cornell-box-1.png"])   # no sheet for one variant

@@ -1,6 +1,8 @@
-"""A small OpenEXR reader for the tests (standard library only), independent of OpenImageIO:
-single-part scanline files with NO, ZIPS or ZIP compression and HALF or FLOAT channels, which is
-what caustic writes. Returns the header's attributes and each channel as a flat list of floats
+"""A small OpenEXR reader (standard library only), independent of OpenImageIO: the farm checks
+part files with it before it keeps or merges them, and the tests read caustic's EXR files with it.
+It reads
+single-part scanline files with NO, ZIPS or ZIP compression and HALF or FLOAT channels, which
+is what caustic writes. Returns the header's attributes and each channel as a flat list of floats
 (row 0 at the top). Format: the OpenEXR file layout document (openexr.com, "OpenEXR File
 Layout"): magic, version, header attributes (name, type, size, value) up to an empty name, the
 chunk offset table, then chunks of (y, size, data); ZIP data is zlib with the bytes split into
@@ -32,10 +34,8 @@ def _undo_zip(raw):
     return bytes(out)
 
 
-def read_exr(path):
-    """Returns (attributes dict, width, height, {channel name: [floats]})."""
-    with open(path, "rb") as f:
-        data = f.read()
+def _header(data, path):
+    """Parses the header: (attributes, channels [(name, type)], position of the offset table)."""
     magic, version = struct.unpack_from("<ii", data, 0)
     if magic != MAGIC:
         raise ValueError("%s: not an OpenEXR file" % path)
@@ -67,6 +67,35 @@ def read_exr(path):
             attrs[name] = value.decode("utf-8", "replace")
         else:
             attrs[name] = value
+    return attrs, channels, pos
+
+
+def check_complete(path):
+    """The header, and whether every chunk the offset table names lies wholly inside the file (a
+    truncated or cut file fails): (attributes, width, height, channel names, problem or "")."""
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        attrs, channels, pos = _header(data, path)
+        x0, y0, x1, y1 = attrs["dataWindow"]
+        w, h = x1 - x0 + 1, y1 - y0 + 1
+        per_chunk = LINES[attrs["compression"]]
+        chunks = (h + per_chunk - 1) // per_chunk
+        offsets = struct.unpack_from("<%dQ" % chunks, data, pos)
+        for off in offsets:
+            y, size = struct.unpack_from("<ii", data, off)
+            if off + 8 + size > len(data):
+                return attrs, w, h, [c for c, _ in channels], "%s: cut short (chunk at line %d ends past the file's end)" % (path, y)
+    except (ValueError, KeyError, IndexError, struct.error) as e:
+        return {}, 0, 0, [], "%s: not a complete OpenEXR file (%s)" % (path, e)
+    return attrs, w, h, [c for c, _ in channels], ""
+
+
+def read_exr(path):
+    """Returns (attributes dict, width, height, {channel name: [floats]})."""
+    with open(path, "rb") as f:
+        data = f.read()
+    attrs, channels, pos = _header(data, path)
     x0, y0, x1, y1 = attrs["dataWindow"]
     w, h = x1 - x0 + 1, y1 - y0 + 1
     comp = attrs["compression"]
