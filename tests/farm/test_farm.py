@@ -164,7 +164,9 @@ class Farm(unittest.TestCase):
     def test_a_sweep_of_four_variants_gives_caustics_images(self):
         sweep = ["--sweep", "camera.fov=20,30,40,50"]
         out = self.tmp / "sweep"
-        self.farm("sweep", CORNELL, *sweep, "--samples", "4", *SIZE, "--output", str(out))
+        # The scene travels with the job (--ship: Ray uploads the folder as the working_dir).
+        self.farm("sweep", CORNELL, *sweep, "--samples", "4", *SIZE, "--output", str(out), "--ship",
+                  os.path.dirname(CORNELL))
         ref = self.tmp / "sweep-ref"
         subprocess.run([BIN, "--scene", CORNELL, *sweep, "--samples", "4", *SIZE, "--output", str(ref)], check=True,
                        capture_output=True, env=ENV)
