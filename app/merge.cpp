@@ -1,5 +1,6 @@
 // caustic merge OUT PART...: the parts of a split render combined into the image one render
-// would have made (docs/farm.md): the sums of the parts that hold a pixel are added (in double,
+// would have made (docs/farm.md): the parts are checked against each other (one render, every
+// pixel's samples held exactly once and the same for every pixel), their sums added (in double,
 // in the order of their sample ranges), then resolved, tone mapped, denoised and written as a
 // render's would be.
 #include "app/commands.h"
@@ -51,11 +52,13 @@ int runMerge(const CliOptions& given) {
     if (std::set<std::string>(paths.begin(), paths.end()).size() != paths.size())
         return commandFailed("merge: a part file is named twice", kExitBadUsage);
 
-    // Every part is read and checked (format, metadata, size, checksum) before anything merges.
+    // Every part's header is read and checked (format, metadata, size) before anything merges;
+    // the pixels (and their checksums) are read one part at a time below, so a merge holds one
+    // part and the merged sums in memory, however many parts there are.
     std::vector<Part> parts(paths.size());
     std::string error;
     for (size_t i = 0; i < paths.size(); ++i)
-        if (!readPart(paths[i], &parts[i], &error)) return commandFailed(error);
+        if (!readPart(paths[i], &parts[i], &error, false)) return commandFailed(error);
 
     // One render: the same image size, seed and render identity (scene, settings, version).
     const PartInfo& first = parts[0].info;
@@ -89,14 +92,6 @@ int runMerge(const CliOptions& given) {
         std::sort(v->begin(), v->end());
         v->erase(std::unique(v->begin(), v->end()), v->end());
     }
-    const size_t w = size_t(first.width), n = w * size_t(first.height);
-    Accumulators merged;
-    merged.width = first.width;
-    merged.height = first.height;
-    merged.sum.assign(n, glm::vec4(0.0f));
-    merged.sumSq.assign(n, glm::vec4(0.0f));
-    merged.albedo.assign(n, glm::vec4(0.0f));
-    merged.normal.assign(n, glm::vec4(0.0f));
     std::uint32_t lo = 0, hi = 0;
     std::string firstCell;
     for (size_t yi = 0; yi + 1 < ys.size(); ++yi)
@@ -129,26 +124,39 @@ int runMerge(const CliOptions& given) {
                 return commandFailed("merge: pixels " + cell + " have samples " + rangeText(cellLo, cellHi) + " but pixels " +
                                      firstCell + " have " + rangeText(lo, hi) + ": every pixel needs the same samples");
             }
-            // Sums in double, added in the order of the sample ranges; a pixel held by one part
-            // keeps its floats exactly (a crop merges bit for bit).
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    glm::dvec4 sum(0.0), sumSq(0.0), albedo(0.0), normal(0.0);
-                    for (size_t h : holders) {
-                        const Part& p = parts[h];
-                        const size_t j = size_t(y - p.info.crop.y0) * size_t(p.sums.width) + size_t(x - p.info.crop.x0);
-                        sum += glm::dvec4(p.sums.sum[j]);
-                        sumSq += glm::dvec4(p.sums.sumSq[j]);
-                        albedo += glm::dvec4(p.sums.albedo[j]);
-                        normal += glm::dvec4(p.sums.normal[j]);
-                    }
-                    const size_t i = size_t(y) * w + size_t(x);
-                    merged.sum[i] = glm::vec4(sum);
-                    merged.sumSq[i] = glm::vec4(sumSq);
-                    merged.albedo[i] = glm::vec4(albedo);
-                    merged.normal[i] = glm::vec4(normal);
-                }
         }
+
+    // The sums, in double, added part by part in the order of the sample ranges (so a pixel's
+    // parts are added in that order); a pixel held by one part keeps its floats exactly (a crop
+    // merges bit for bit). Each part's pixels are read and checked (checksum) only here.
+    const size_t w = size_t(first.width), n = w * size_t(first.height);
+    std::vector<glm::dvec4> sum(n, glm::dvec4(0.0)), sumSq(n, glm::dvec4(0.0)), albedo(n, glm::dvec4(0.0)),
+        normal(n, glm::dvec4(0.0));
+    std::vector<size_t> order(parts.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return parts[a].info.sample0 < parts[b].info.sample0; });
+    for (size_t k : order) {
+        Part p;
+        if (!readPart(paths[k], &p, &error)) return commandFailed(error);
+        const PixelRect& c = p.info.crop;
+        for (int y = c.y0; y < c.y1; ++y)
+            for (int x = c.x0; x < c.x1; ++x) {
+                const size_t j = size_t(y - c.y0) * size_t(p.sums.width) + size_t(x - c.x0), i = size_t(y) * w + size_t(x);
+                sum[i] += glm::dvec4(p.sums.sum[j]);
+                sumSq[i] += glm::dvec4(p.sums.sumSq[j]);
+                albedo[i] += glm::dvec4(p.sums.albedo[j]);
+                normal[i] += glm::dvec4(p.sums.normal[j]);
+            }
+    }
+    Accumulators merged;
+    merged.width = first.width;
+    merged.height = first.height;
+    merged.sum.assign(sum.begin(), sum.end());
+    merged.sumSq.assign(sumSq.begin(), sumSq.end());
+    merged.albedo.assign(albedo.begin(), albedo.end());
+    merged.normal.assign(normal.begin(), normal.end());
+    sum = sumSq = albedo = normal = {};
 
     // The output's folder, as a render checks its --output.
     const fs::path folder = fs::path(out).parent_path();

@@ -90,9 +90,9 @@ bool writePart(const std::string& path, const Part& part, std::string* error) {
     return writeExrChannels(path, part.sums.width, part.sums.height, names, pixels, meta, error);
 }
 
-bool readPart(const std::string& path, Part* out, std::string* error) {
+bool readPart(const std::string& path, Part* out, std::string* error, bool withPixels) {
     ChannelImage image;
-    if (!readChannelImage(path, &image, error)) return false;
+    if (!readChannelImage(path, &image, error, withPixels)) return false;
     std::map<std::string, std::string> meta(image.metadata.begin(), image.metadata.end());
     auto field = [&](const char* key, std::string* value) {
         const auto it = meta.find(key);
@@ -161,6 +161,7 @@ bool readPart(const std::string& path, Part* out, std::string* error) {
             return false;
         }
     }
+    if (!withPixels) return true;
     const size_t n = size_t(w) * h;
     std::vector<float> pixels(n * kChannelCount);
     for (size_t p = 0; p < n; ++p)

@@ -49,7 +49,8 @@ std::string partFileName(const std::string& stem, const PartInfo& info);
 bool writePart(const std::string& path, const Part& part, std::string* error);
 
 // Reads a part and checks it: the format tag, every metadata field, the channels, the pixel
-// data's size against the crop and its checksum (a damaged or truncated file is refused).
-bool readPart(const std::string& path, Part* out, std::string* error);
+// data's size against the crop and its checksum (a damaged or truncated file is refused). With
+// pixels = false only the header is read and checked (out->sums stays empty).
+bool readPart(const std::string& path, Part* out, std::string* error, bool pixels = true);
 
 }  // namespace caustic

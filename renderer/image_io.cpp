@@ -131,7 +131,7 @@ std::unique_ptr<OIIO::ImageInput> openChecked(const std::string& path, std::stri
 
 }  // namespace
 
-bool readChannelImage(const std::string& path, ChannelImage* out, std::string* error) {
+bool readChannelImage(const std::string& path, ChannelImage* out, std::string* error, bool pixels) {
     try {
         auto in = openChecked(path, error);
         if (!in) return false;
@@ -142,6 +142,8 @@ bool readChannelImage(const std::string& path, ChannelImage* out, std::string* e
         out->metadata.clear();
         for (const OIIO::ParamValue& p : spec.extra_attribs)
             if (p.type() == OIIO::TypeDesc::STRING) out->metadata.push_back({p.name().string(), p.get_string()});
+        out->pixels.clear();
+        if (!pixels) return true;
         out->pixels.assign(size_t(spec.width) * spec.height * spec.nchannels, 0.0f);
         if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
             *error = path + ": cannot decode image (damaged or incomplete?): " + in->geterror();

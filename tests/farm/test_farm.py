@@ -216,6 +216,27 @@ class Farm(unittest.TestCase):
         self.assertEqual(before, {p: os.stat(p).st_mtime_ns for p in before})   # not written again
         self.assert_equals_whole(out / "cornell-box.exr", n_max=8)
 
+    def test_refusals(self):
+        # A task whose caustic fails stops the farm with the task's name and caustic's message
+        # (here a GPU this cluster does not have; the driver's checks cannot see that).
+        p = self.farm(*self.render_args(self.tmp / "refused", chunks=2, tiles=1), "--gpu", "5", check=False)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("task cornell-box.part-s", p.stderr)
+        self.assertIn("--gpu 5: no such GPU", p.stderr)
+        self.assertFalse((self.tmp / "refused" / "cornell-box.exr").exists())
+        farm = os.path.join(VENV_BIN, "caustic-farm")
+        for args, needle in [
+            (["render", CORNELL, "--address", "127.0.0.1:1"], "--address 127.0.0.1:1: no Ray cluster answers there"),
+            (["render", CORNELL, "--samples", "4", "--chunks", "5"], "cannot cut 4 into 5 pieces"),
+            (["render", CORNELL, "--chunks", "0"], "--chunks: expected at least 1"),
+            (["batch", str(self.tmp / "no-jobs.json")], "no-jobs.json"),
+        ]:
+            p = subprocess.run([farm, *args, "--output", str(self.tmp / "refused")], capture_output=True, text=True,
+                               env=ENV, timeout=600)
+            self.assertNotEqual(p.returncode, 0, args)
+            self.assertIn(needle, p.stderr, args)
+            self.assertNotIn("Traceback", p.stderr, args)
+
     def test_batch_report_metrics_and_browser(self):
         out = self.tmp / "batch"
         jobs = self.tmp / "jobs.json"

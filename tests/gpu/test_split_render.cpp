@@ -7,6 +7,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 using namespace caustic;
 
@@ -73,5 +75,31 @@ TEST_CASE("a crop holds the whole render's sums for its pixels, and sample range
     for (size_t i = 0; i < first.sum.size(); ++i) same += first.sum[i] == second.sum[i] * (4.0f / 6.0f);
     CHECK(same < int(first.sum.size()) / 2);
     INFO("pixels whose merged float differs from the whole render's: " << rounded);
+    CHECK(glDebugErrorCount() == 0);
+}
+
+// --gpu (the farm passes Ray's GPU number): a GPU that is not there is refused, by number, with
+// no fallback to another device or to software rendering. On the GPU machine,
+// CAUSTIC_TEST_GPU=<n> also checks that GPU n is found (NVIDIA: by EGL_NV_device_cuda's number).
+TEST_CASE("--gpu: a GPU that is not there is refused by number; one that is there is used", "[gpu][split][gpu_select]") {
+    test::glContext();   // the fixture's context first: the checks below must not disturb it
+    std::string error;
+    auto missing = HeadlessGlContext::create(false, &error, 1023);
+    CHECK_FALSE(missing);
+    INFO(error);
+    CHECK(error.find("--gpu 1023: no such GPU") != std::string::npos);
+    if (const char* n = std::getenv("CAUSTIC_TEST_GPU")) {
+        auto chosen = HeadlessGlContext::create(false, &error, std::atoi(n));
+        INFO(error);
+        REQUIRE(chosen);
+        CHECK(chosen->info().platform == "EGL device");
+        CHECK(chosen->info().renderer.find("llvmpipe") == std::string::npos);
+        std::printf("--gpu %s: %s | %s\n", n, chosen->info().vendor.c_str(), chosen->info().renderer.c_str());
+        // Its display is the fixture's where both are the same device (EGL displays are one per
+        // device), so it is not destroyed here (that would terminate the display); the fixture's
+        // context is made current again.
+        chosen.release();
+        test::glContext().makeCurrent();
+    }
     CHECK(glDebugErrorCount() == 0);
 }

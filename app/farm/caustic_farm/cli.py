@@ -115,6 +115,18 @@ def list_variants(caustic, scene, flags):
 
 # --- Ray -------------------------------------------------------------------------------------
 
+def reachable(address, seconds=10.0):
+    """Refuses an address whose port takes no connection: ray.init would retry for many minutes."""
+    import socket
+
+    host, _, port = address.rpartition(":")
+    try:
+        with socket.create_connection((host or "127.0.0.1", int(port)), timeout=seconds):
+            return
+    except (OSError, ValueError) as e:
+        raise FarmError("--address %s: no Ray cluster answers there (%s)" % (address, e))
+
+
 class Cluster:
     """The Ray connection and the one remote function every task runs."""
 
@@ -134,7 +146,13 @@ class Cluster:
                       logging_level="WARNING")
         if not args.address:
             kwargs.update(include_dashboard=False, num_cpus=args.local_cpus)
-        ray.init(**kwargs)
+        if args.address and args.address not in ("auto", "local") and "://" not in args.address:
+            reachable(args.address)
+        try:
+            ray.init(**kwargs)
+        except Exception as e:   # ConnectionError, a bad address, a cluster of another Ray version
+            where = "the Ray cluster at %s" % args.address if args.address else "a local Ray cluster"
+            raise FarmError("cannot start or join %s: %s" % (where, e))
         gpus = ray.cluster_resources().get("GPU", 0)
         from caustic_farm.worker import task_entry
 
@@ -256,7 +274,11 @@ def cmd_render(args, flags, caustic):
     stem = os.path.splitext(os.path.basename(scene))[0]
     render_flags = list(flags) + (["--samples", str(args.samples)] if args.samples else [])
     (v,) = list_variants(caustic, scene, render_flags)
-    parts = planning.split_render(stem, v["width"], v["height"], v["samples"], args.chunks, args.crop_tiles)
+    try:
+        parts = planning.split_render(stem, v["width"], v["height"], v["samples"], args.chunks, args.crop_tiles)
+    except ValueError as e:
+        raise FarmError("--chunks %d, --crop-tiles %d: %s (%dx%d pixels, %d samples)" %
+                        (args.chunks, args.crop_tiles, e, v["width"], v["height"], v["samples"]))
     key = planning.plan_key(os.path.abspath(scene), render_flags, v, args.chunks, args.crop_tiles)
     parts_dir = os.path.join(args.output, ".farm", "%s-%s" % (stem, key))
     if os.path.isdir(parts_dir) and not args.resume:
@@ -553,7 +575,9 @@ def cmd_compare(args, flags, caustic):
 # --- the command line ------------------------------------------------------------------------
 
 def parser():
-    common = argparse.ArgumentParser(add_help=False)
+    # No abbreviations: a caustic flag the farm does not know must never be taken for the start of
+    # one of the farm's own.
+    common = argparse.ArgumentParser(add_help=False, allow_abbrev=False)
     g = common.add_argument_group("farm")
     g.add_argument("--output", default="renders", help="output folder (default: renders)")
     g.add_argument("--address", help="join this Ray cluster (host:port, or 'auto'); default: start a local one")
@@ -573,29 +597,34 @@ def parser():
         o.add_argument("--" + s, action="store_true")
     o.add_argument("--oidn-guides")
     o.add_argument("--exposure", type=float)
-    p = argparse.ArgumentParser(prog="caustic-farm", description=__doc__.split("\n\n")[0],
+    p = argparse.ArgumentParser(prog="caustic-farm", description=__doc__.split("\n\n")[0], allow_abbrev=False,
                                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__.split("\n\n", 1)[1])
     sub = p.add_subparsers(dest="command", required=True)
-    r = sub.add_parser("render", parents=[common], help="one render split into parts")
+    r = sub.add_parser("render", parents=[common], allow_abbrev=False, help="one render split into parts")
     r.add_argument("scene")
     r.add_argument("--samples", type=int, help="samples per pixel (default: the scene's)")
     r.add_argument("--chunks", type=int, default=1, help="sample ranges (default 1)")
     r.add_argument("--crop-tiles", type=int, default=1, help="crops of the image (default 1)")
     r.add_argument("--keep-parts", action="store_true", help="keep the part files after merging")
-    s = sub.add_parser("sweep", parents=[common], help="one task per variant of --sweep, and the contact sheet")
+    s = sub.add_parser("sweep", parents=[common], allow_abbrev=False, help="one task per variant of --sweep, and the contact sheet")
     s.add_argument("scene")
     s.add_argument("--sweep", action="append", required=True, help="as caustic's --sweep (repeatable)")
     s.add_argument("--samples", type=int)
-    b = sub.add_parser("batch", parents=[common], help="one task per job of JOBS.json, the sheet and the report")
+    b = sub.add_parser("batch", parents=[common], allow_abbrev=False, help="one task per job of JOBS.json, the sheet and the report")
     b.add_argument("jobs")
-    c = sub.add_parser("compare", parents=[common], help="the comparison report of one image against a reference")
+    c = sub.add_parser("compare", parents=[common], allow_abbrev=False, help="the comparison report of one image against a reference")
     c.add_argument("image")
     c.add_argument("reference_image")
     return p
 
 
 def main(argv=None):
-    args, flags = parser().parse_known_args(argv)
+    p = parser()
+    args, flags = p.parse_known_args(argv)
+    for name in ("max_retries", "cpus_per_task", "local_cpus", "chunks", "crop_tiles"):
+        value = getattr(args, name, None)
+        if value is not None and value < (0 if name == "max_retries" else 1):
+            p.error("--%s: expected at least %d, got %d" % (name.replace("_", "-"), 0 if name == "max_retries" else 1, value))
     try:
         caustic = find_caustic(args.caustic)
         os.makedirs(args.output, exist_ok=True)
