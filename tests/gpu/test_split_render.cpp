@@ -81,7 +81,7 @@ TEST_CASE("a crop holds the whole render's sums for its pixels, and sample range
 // --gpu (the farm passes Ray's GPU number): a GPU that is not there is refused, by number, with
 // no fallback to another device or to software rendering. On the GPU machine,
 // CAUSTIC_TEST_GPU=<n> also checks that GPU n is found (NVIDIA: by EGL_NV_device_cuda's number).
-TEST_CASE("--gpu: a GPU that is not there is refused by number; one that is there is used", "[gpu][split][gpu_select]") {
+TEST_CASE("the GPU option refuses a GPU that is not there by its number, and uses one that is there", "[gpu][split][gpu_select]") {
     test::glContext();   // the fixture's context first: the checks below must not disturb it
     std::string error;
     auto missing = HeadlessGlContext::create(false, &error, 1023);
