@@ -22,6 +22,7 @@ packages=(
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev xvfb xauth
   libassimp-dev assimp-testmodels
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -131,6 +132,25 @@ PY
       -e 's|^\( *\)#cmakedefine \(OIDN_[A-Z_]*\)|\1#define \2|' \
       "$oidn_dir/include/OpenImageDenoise/config.h.in" > "$oidn_dir/include/OpenImageDenoise/config.h"
   echo "$oidn_whl_sha $oidn_sdist_sha" > "$oidn_dir/.stamp"
+fi
+
+# 2d. The render farm (app/farm, docs/farm.md): its own venv, .deps/farm-venv, with Ray, tqdm,
+# numpy and flip-evaluator from PyPI, and Playwright for the test that opens the report in
+# Debian's chromium (installed above; Playwright's own browser download is never used). Versions
+# are pinned; the stamp makes a repeat run skip the install. The package itself is installed
+# editable (no dependencies) whenever the venv does not point at this checkout.
+farm_venv=.deps/farm-venv
+farm_pins="ray==2.60.0 tqdm==4.70.1 numpy==2.4.6 flip-evaluator==1.7 playwright==1.65.2"
+if [ "$(cat "$farm_venv/.stamp" 2>/dev/null)" != "$farm_pins" ]; then
+  log "creating $farm_venv ($farm_pins; about 700 MB)"
+  rm -rf "$farm_venv"
+  python3 -m venv "$farm_venv"
+  "$farm_venv/bin/pip" install -q --disable-pip-version-check $farm_pins
+  echo "$farm_pins" > "$farm_venv/.stamp"
+fi
+if [ "$("$farm_venv/bin/python" -c 'import caustic_farm, os; print(os.path.dirname(os.path.dirname(caustic_farm.__file__)))' 2>/dev/null)" != "$PWD/app/farm" ]; then
+  log "installing app/farm (caustic-farm) into $farm_venv"
+  "$farm_venv/bin/pip" install -q --disable-pip-version-check --no-deps -e app/farm
 fi
 
 # 3. Configure and build (Release).

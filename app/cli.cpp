@@ -2,6 +2,7 @@
 
 #include "renderer/scene.h"
 
+#include <algorithm>
 #include <charconv>
 #include <optional>
 #include <functional>
@@ -24,6 +25,9 @@ bool parseInt(const std::string& s, long long lo, long long hi, T* out) {
 std::string cliUsage() {
     return R"(usage: caustic --scene <file.json> [options]     render headless and exit
        caustic [scene.json]                         open the editor (needs a display)
+       caustic merge <out> <part.exr>...            merge the parts of a split render
+       caustic compare <a> <b> [--map <file.png>]   error metrics of image a against reference b
+       caustic sheet <layout.json>                  a contact sheet of images (the farm's sweeps)
 
 options:
   --scene <file.json>   the scene to render in batch mode
@@ -60,8 +64,25 @@ options:
   --aovs                also write the albedo and normal passes: <scene>-albedo and <scene>-normal
                         for PNG/HDR (normal remapped from [-1, 1] to [0, 1]); with --exr one
                         multi-layer EXR with layers raw, denoised (with --oidn), albedo, normal
+  --sample-range <a:b>  render only sample indices [a, b) of every pixel, into a part file
+  --crop <x0:x1,y0:y1>  render only pixels [x0, x1) x [y0, y1), into a part file; with either
+                        flag caustic writes <scene>.part-s<a>-<b>-x<x0>-<x1>-y<y0>-<y1>.exr
+                        (the sums, counts and AOVs; docs/farm.md) and no image: caustic merge
+                        combines parts into the image a single render would have made
+  --variant <k>         with --sweep: render only variant k (0-based, the order of the sheet)
+  --list-variants       print each variant of the sweeps (or the one render) as a JSON line:
+                        index, label, suffix, width, height, samples, seed, columns; and exit
+  --gpu <n>             render on GPU n (its CUDA number where the driver tells it); the default
+                        is the first GPU, else software rendering
   --help                show this text
   --version             show the version
+
+merge: <out> names the output without extension (its formats come from --png/--hdr/--exr,
+  default PNG) or with one (.png, .hdr or .exr: that format). Options: --png --hdr --exr --half
+  --reinhard --exposure --oidn --oidn-guides --aovs. Parts must come from one scene, seed and
+  image size, and no two may hold the same sample of a pixel.
+compare: prints relMSE, RMSE and the largest differences of <a> against <b> as one JSON object;
+  --map writes a false-colour map of the per-pixel relative error.
 
 Written files are printed on stdout, one per line; progress and the summary go to stderr.
 Exit status: 0 success, 1 the render failed (bad scene, GL or I/O error), 2 bad command line.
@@ -151,6 +172,40 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
              o.sky = true;
              return true;
          }},
+        {"--sample-range", [&](const std::string& v, std::string* why) {
+             CliSampleRange r;
+             const auto colon = v.find(':');
+             if (colon == std::string::npos || !parseInt(v.substr(0, colon), 0, 1 << 24, &r.begin) ||
+                 !parseInt(v.substr(colon + 1), 1, 1 << 24, &r.end) || r.begin >= r.end) {
+                 *why = "expected <a>:<b> with 0 <= a < b <= 16777216, got '" + v + "'";
+                 return false;
+             }
+             o.sampleRange = r;
+             return true;
+         }},
+        {"--crop", [&](const std::string& v, std::string* why) {
+             CliCrop c;
+             const auto comma = v.find(',');
+             auto pair = [](const std::string& t, int* a, int* b) {
+                 const auto colon = t.find(':');
+                 return colon != std::string::npos && parseInt(t.substr(0, colon), 0, 16384, a) &&
+                        parseInt(t.substr(colon + 1), 1, 16384, b) && *a < *b;
+             };
+             if (comma == std::string::npos || !pair(v.substr(0, comma), &c.x0, &c.x1) ||
+                 !pair(v.substr(comma + 1), &c.y0, &c.y1)) {
+                 *why = "expected <x0>:<x1>,<y0>:<y1> with x0 < x1 and y0 < y1 (pixels, end excluded), got '" + v + "'";
+                 return false;
+             }
+             o.crop = c;
+             return true;
+         }},
+        {"--variant", intFlag(&o.variant, 0, 1 << 20)},
+        {"--gpu", intFlag(&o.gpu, 0, 1023)},
+        {"--map", [&](const std::string& v, std::string* why) {
+             if (v.empty()) { *why = "expected an image file"; return false; }
+             o.map = v;
+             return true;
+         }},
         {"--oidn-guides", [&](const std::string& v, std::string* why) {
              if (v != "prefilter" && v != "raw" && v != "none") { *why = "expected prefilter, raw or none, got '" + v + "'"; return false; }
              o.oidnGuides = v;
@@ -160,9 +215,14 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
     const std::map<std::string, bool*> switches = {
         {"--png", &o.png}, {"--hdr", &o.hdr}, {"--exr", &o.exr}, {"--reinhard", &o.reinhard},
         {"--oidn", &o.oidn}, {"--aovs", &o.aovs}, {"--sky", &o.sky}, {"--help", &o.help},
-        {"--version", &o.version}, {"--half", &o.half},
+        {"--version", &o.version}, {"--half", &o.half}, {"--list-variants", &o.listVariants},
     };
-    for (size_t i = 0; i < args.size(); ++i) {
+    size_t first = 0;
+    if (!args.empty() && (args[0] == "merge" || args[0] == "compare" || args[0] == "sheet")) {
+        o.command = args[0];
+        first = 1;
+    }
+    for (size_t i = first; i < args.size(); ++i) {
         std::string arg = args[i];
         std::string value;
         bool hasInlineValue = false;
@@ -184,6 +244,8 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
         } else if (arg.rfind("-", 0) == 0 && arg.size() > 1) {
             result.error = arg + ": unknown option (see --help)";
             return result;
+        } else if (!o.command.empty()) {
+            o.inputs.push_back(arg);
         } else if (!o.editorScene) {
             o.editorScene = arg;  // `caustic scene.json`: the scene to open in the editor
         } else {
@@ -191,8 +253,37 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
             return result;
         }
     }
+    if (!o.command.empty() && !o.help) {
+        if (std::string why = subcommandProblem(o, args); !why.empty()) {
+            result.error = why;
+            return result;
+        }
+    }
     result.options = o;
     return result;
+}
+
+std::string subcommandProblem(const CliOptions& o, const std::vector<std::string>& args) {
+    static const std::map<std::string, std::vector<std::string>> allowed = {
+        {"merge", {"--png", "--hdr", "--exr", "--half", "--reinhard", "--exposure", "--oidn", "--oidn-guides", "--aovs"}},
+        {"compare", {"--map"}},
+        {"sheet", {}},
+    };
+    const auto it = allowed.find(o.command);
+    if (it == allowed.end()) return "";
+    for (const std::string& a : args) {
+        if (a.rfind("--", 0) != 0) continue;
+        const std::string flag = a.substr(0, a.find('='));
+        if (flag == "--help") continue;
+        if (std::find(it->second.begin(), it->second.end(), flag) == it->second.end())
+            return o.command + ": " + flag + " is not an option of caustic " + o.command + " (see --help)";
+    }
+    const size_t need = o.command == "merge" ? 2 : o.command == "compare" ? 2 : 1;
+    if (o.inputs.size() < need || (o.command != "merge" && o.inputs.size() > need))
+        return o.command == "merge"     ? "merge: expected <out> <part.exr>..., got " + std::to_string(o.inputs.size()) + " arguments"
+               : o.command == "compare" ? "compare: expected <image> <reference>, got " + std::to_string(o.inputs.size()) + " arguments"
+                                        : "sheet: expected <layout.json>, got " + std::to_string(o.inputs.size()) + " arguments";
+    return "";
 }
 
 }  // namespace caustic

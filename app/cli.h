@@ -8,7 +8,20 @@
 
 namespace caustic {
 
+// --sample-range A:B: sample indices [begin, end) of every pixel.
+struct CliSampleRange {
+    std::uint32_t begin = 0, end = 0;
+};
+// --crop X0:X1,Y0:Y1: pixels [x0, x1) x [y0, y1) of the image (checked against its size later).
+struct CliCrop {
+    int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+};
+
 struct CliOptions {
+    // The subcommand, "" for a render: "merge" (inputs: OUT PART...), "compare" (inputs: A B),
+    // "sheet" (inputs: LAYOUT.json).
+    std::string command;
+    std::vector<std::string> inputs;
     std::optional<std::string> scene;        // --scene: batch mode
     std::optional<std::string> editorScene;  // a bare file name: open it in the editor
     std::optional<int> samples, width, height, maxDepth;
@@ -27,6 +40,13 @@ struct CliOptions {
     std::optional<std::string> envmap;
     std::optional<std::string> skyPreset;    // --sky-preset: a named sky look (implies --sky)
     bool help = false, version = false;
+    // Splitting a render into parts (the farm, docs/farm.md).
+    std::optional<CliSampleRange> sampleRange;
+    std::optional<CliCrop> crop;
+    std::optional<int> variant;              // --variant K: only the K-th variant of the sweeps
+    bool listVariants = false;               // --list-variants: print the sweep's variants as JSON
+    std::optional<int> gpu;                  // --gpu N: the GPU to render on (HeadlessGlContext)
+    std::optional<std::string> map;          // compare --map <file.png>: the false-colour error map
 };
 
 struct CliParseResult {
@@ -35,6 +55,9 @@ struct CliParseResult {
 };
 
 CliParseResult parseCli(const std::vector<std::string>& args);  // args without argv[0]
+// "" when every option given may be used with o.command, else the message for the first one that
+// may not ("merge: --samples is not an option of caustic merge").
+std::string subcommandProblem(const CliOptions& o, const std::vector<std::string>& args);
 std::string cliUsage();
 
 }  // namespace caustic

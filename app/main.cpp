@@ -1,8 +1,11 @@
 // caustic: batch rendering from the command line (`caustic --scene file.json`) and the editor
 // (`caustic [file.json]`). Thin: parsing is in cli.cpp, rendering in the renderer library.
 #include "app/cli.h"
+#include "app/commands.h"
 #include "editor/ui/editor_app.h"
 #include "app/contact_sheet.h"
+#include "app/outputs.h"
+#include "app/part_file.h"
 #include "renderer/denoise.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
@@ -11,6 +14,7 @@
 #include "renderer/shader_loader.h"
 #include "renderer/tonemap.h"
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,43 +30,9 @@ using namespace caustic;
 
 namespace {
 
-constexpr int kExitRenderFailed = 1;
-constexpr int kExitUsage = 2;
+constexpr int kExitUsage = kExitBadUsage;
 
-int fail(const std::string& message, int code = kExitRenderFailed) {
-    std::cerr << "caustic: error: " << message << "\n";
-    return code;
-}
-
-// A flag whose feature is not in this build must say so before anything renders.
-std::string notAvailable(const CliOptions& o) {
-    std::string error;
-    if (o.oidn && !denoiserAvailable()) {
-        denoise(Film{}, {}, nullptr, &error);
-        return "--oidn: " + error;
-    }
-    return "";
-}
-
-// The AOVs as images: albedo as it is (linear reflectance); the normal remapped from [-1, 1] to
-// [0, 1] (files without negative values: PNG, Radiance) or as it is (EXR).
-std::vector<float> flatten(const std::vector<glm::vec3>& v, bool remapSigned = false) {
-    std::vector<float> out(v.size() * 3);
-    for (size_t i = 0; i < v.size(); ++i)
-        for (int c = 0; c < 3; ++c) out[i * 3 + c] = remapSigned ? v[i][c] * 0.5f + 0.5f : v[i][c];
-    return out;
-}
-
-// 8-bit with no tone curve: linear values in [0, 1], sRGB-encoded (albedo) or stored as they are
-// (the remapped normal, which is data, not colour).
-std::vector<std::uint8_t> to8Bit(const std::vector<float>& v, bool srgb) {
-    std::vector<std::uint8_t> out(v.size());
-    for (size_t i = 0; i < v.size(); ++i) {
-        const float x = std::clamp(v[i], 0.0f, 1.0f);
-        out[i] = static_cast<std::uint8_t>(std::lround((srgb ? srgbEncode(x) : x) * 255.0f));
-    }
-    return out;
-}
+int fail(const std::string& message, int code = kExitFailed) { return commandFailed(message, code); }
 
 std::string formatSeconds(double s) {
     char buf[32];
@@ -198,6 +168,26 @@ int runBatch(const CliOptions& o) {
     std::vector<Variant> variants;
     std::string error;
     if (!makeVariants(o, &variants, &error)) return fail(error, kExitUsage);
+    if (o.variant) {   // the farm's sweeps: one task per variant
+        if (o.sweeps.empty()) return fail("--variant needs --sweep", kExitUsage);
+        if (size_t(*o.variant) >= variants.size())
+            return fail("--variant " + std::to_string(*o.variant) + ": the sweeps make " + std::to_string(variants.size()) +
+                            " variants (0 to " + std::to_string(variants.size() - 1) + ")", kExitUsage);
+        variants = {variants[size_t(*o.variant)]};
+    }
+    // A part of a split render (docs/farm.md) writes only its part file: the image is made by
+    // caustic merge, from all the parts.
+    const bool part = o.sampleRange || o.crop;
+    if (part) {
+        if (o.timeBudget) return fail("--time cannot make a part (--sample-range / --crop): a part's samples must be known", kExitUsage);
+        if (o.png || o.hdr || o.exr || o.half || o.oidn || o.aovs || o.exposure != 0.0f || o.reinhard)
+            return fail("a part (--sample-range / --crop) writes only its part file: give the output options "
+                        "(--png, --hdr, --exr, --half, --oidn, --aovs, --reinhard, --exposure) to caustic merge",
+                        kExitUsage);
+        if (o.sampleRange && o.samples && o.sampleRange->end > std::uint32_t(*o.samples))
+            return fail("--sample-range " + std::to_string(o.sampleRange->begin) + ":" + std::to_string(o.sampleRange->end) +
+                            " goes past --samples " + std::to_string(*o.samples), kExitUsage);
+    }
 
     // Every variant's scene is loaded and validated before anything renders.
     std::vector<Scene> scenes;
@@ -207,8 +197,32 @@ int runBatch(const CliOptions& o) {
         applyFlags(o, *loaded.scene);
         scenes.push_back(std::move(*loaded.scene));
     }
-    for (const Scene& scene : scenes)
-        if (std::string why = memoryProblem(scene, scenes.size()); !why.empty()) return fail(*o.scene + ": " + why);
+    if (o.listVariants) {   // what the farm needs to plan: each variant and its image
+        const int columns = o.sweeps.empty() ? 1 : static_cast<int>(splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size());
+        for (size_t i = 0; i < variants.size(); ++i)
+            std::cout << nlohmann::json{{"index", i}, {"label", variants[i].label}, {"suffix", variants[i].fileSuffix},
+                                        {"width", scenes[i].render.width}, {"height", scenes[i].render.height},
+                                        {"samples", scenes[i].render.samples}, {"seed", scenes[i].render.seed},
+                                        {"columns", columns}}
+                             .dump()
+                      << "\n";
+        return 0;
+    }
+    PixelRect crop;   // empty: the whole image
+    if (o.crop) {
+        crop = {o.crop->x0, o.crop->y0, o.crop->x1, o.crop->y1};
+        for (const Scene& scene : scenes)   // variants may differ in size (--sweep render.width=...)
+            if (crop.x1 > scene.render.width || crop.y1 > scene.render.height)
+                return fail("--crop " + std::to_string(crop.x0) + ":" + std::to_string(crop.x1) + "," + std::to_string(crop.y0) +
+                                ":" + std::to_string(crop.y1) + ": outside the " + std::to_string(scene.render.width) + "x" +
+                                std::to_string(scene.render.height) + " image of " + *o.scene,
+                            kExitUsage);
+    }
+    for (const Scene& scene : scenes) {
+        Scene sized = scene;   // what is held in memory: the crop
+        if (o.crop) { sized.render.width = crop.x1 - crop.x0; sized.render.height = crop.y1 - crop.y0; }
+        if (std::string why = memoryProblem(sized, scenes.size()); !why.empty()) return fail(*o.scene + ": " + why);
+    }
 
     // The output folder, checked before any rendering so a typo costs nothing.
     std::error_code ec;
@@ -224,7 +238,7 @@ int runBatch(const CliOptions& o) {
 #else
     const bool debug = !(debugEnv && *debugEnv == '0');
 #endif
-    auto context = HeadlessGlContext::create(debug, &error);
+    auto context = HeadlessGlContext::create(debug, &error, o.gpu ? *o.gpu : -1);
     if (!context) return fail(error);
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) return fail(error);
@@ -236,18 +250,18 @@ int runBatch(const CliOptions& o) {
     // Each path is printed as soon as its file is complete, so a later failure still reports
     // what exists.
     auto wrote = [](const std::string& path) { std::cout << path << std::endl; };
-    const ToneMap toneMap = o.reinhard ? ToneMap::Reinhard : ToneMap::Aces;
-    const bool png = o.png || (!o.hdr && !o.exr);
     const bool tty = isatty(STDERR_FILENO);
     std::vector<SheetCell> cells;
     for (size_t vi = 0; vi < variants.size(); ++vi) {
         const Scene& scene = scenes[vi];
+        renderer->setCrop(crop);
+        renderer->setSampleBase(o.sampleRange ? o.sampleRange->begin : 0);
         if (!renderer->setScene(scene, &error)) return fail(*o.scene + ": " + error);
         if (vi == 0)  // what mesh import repaired or could not map: the same for every variant
             for (const std::string& w : renderer->compiled().warnings) std::cerr << "caustic: warning: " << w << "\n";
 
         // Render, with progress on a terminal; a time budget renders in steps until it is spent.
-        const int total = scene.render.samples;
+        const int total = o.sampleRange ? int(o.sampleRange->end - o.sampleRange->begin) : scene.render.samples;
         const auto start = std::chrono::steady_clock::now();
         auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
         double lastPrint = -1.0;
@@ -281,26 +295,32 @@ int runBatch(const CliOptions& o) {
         }
         const double seconds = elapsed();
         if (tty) std::fprintf(stderr, "\r%*s\r", 60, "");
-        const Film raw = renderer->readFilm();
-        Film film = raw;  // what the files show: the denoised image with --oidn
-        std::string denoiser;
-        if (o.oidn) {
-            DenoiseOptions dopt;
-            dopt.useGuides = o.oidnGuides != "none";
-            dopt.prefilterGuides = o.oidnGuides == "prefilter";
-            DenoiseResult denoised;
-            const auto t0 = std::chrono::steady_clock::now();
-            if (!denoise(raw, dopt, &denoised, &error)) return fail("--oidn: " + error);
-            const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            film.mean = std::move(denoised.image);
-            denoiser = "Open Image Denoise " + denoiserVersion() + ", filter RT, hdr, guides " +
-                       (dopt.useGuides ? (dopt.prefilterGuides ? "albedo+normal prefiltered" : "albedo+normal") : "none") +
-                       ", device " + denoised.device;
-            std::fprintf(stderr, "caustic: denoised in %.2f s: %s\n", dt, denoiser.c_str());
-        }
         const std::uint64_t dropped = renderer->droppedSamples();
         const int done = renderer->samplesDone();
-
+        if (part) {
+            Part p;
+            p.info.scene = *o.scene;
+            p.info.renderHash = renderIdentityHash(scene, o.strategy);
+            p.info.version = CAUSTIC_VERSION;
+            p.info.variant = variants[vi].label;
+            p.info.seed = scene.render.seed;
+            p.info.width = scene.render.width;
+            p.info.height = scene.render.height;
+            p.info.sample0 = renderer->sampleBase();
+            p.info.sample1 = renderer->sampleBase() + std::uint32_t(done);
+            p.info.crop = renderer->region();
+            p.info.seconds = seconds;
+            p.info.dropped = dropped;
+            p.sums = renderer->readAccumulators();
+            const std::string path = partFileName(stem + variants[vi].fileSuffix, p.info);
+            if (!writePart(path, p, &error)) return fail(error);
+            wrote(path);
+            std::fprintf(stderr, "caustic: %s: part, samples [%u, %u) of pixels %d:%d,%d:%d in %.2f s; %llu NaN/Inf samples dropped\n",
+                         fs::path(*o.scene).filename().c_str(), p.info.sample0, p.info.sample1, p.info.crop.x0,
+                         p.info.crop.x1, p.info.crop.y0, p.info.crop.y1, seconds, static_cast<unsigned long long>(dropped));
+            continue;
+        }
+        const Film raw = renderer->readFilm();
         ImageMetadata meta = {
             {"Software", std::string("caustic ") + CAUSTIC_VERSION},
             {"caustic:scene", *o.scene},
@@ -309,59 +329,9 @@ int runBatch(const CliOptions& o) {
             {"caustic:render_seconds", std::to_string(seconds)},
         };
         if (!variants[vi].label.empty()) meta.push_back({"caustic:variant", variants[vi].label});
-        if (!denoiser.empty()) meta.push_back({"caustic:denoiser", denoiser});
-        const std::string base = stem + variants[vi].fileSuffix;
-        std::vector<std::uint8_t> srgb = toSrgb8(film, toneMap, o.exposure);
-        // AOV files carry the same metadata plus what they are.
-        auto aovMeta = [&](const char* pass) {
-            ImageMetadata m = meta;
-            m.push_back({"caustic:pass", pass});
-            return m;
-        };
-        const std::vector<float> albedo = o.aovs ? flatten(raw.albedo) : std::vector<float>{};
-        const std::vector<float> normal01 = o.aovs ? flatten(raw.normal, true) : std::vector<float>{};
-        if (png) {
-            if (!writeImage8(base + ".png", film.width, film.height, srgb, meta, &error)) return fail(error);
-            wrote(base + ".png");
-            if (o.aovs) {
-                if (!writeImage8(base + "-albedo.png", film.width, film.height, to8Bit(albedo, true), aovMeta("albedo"), &error))
-                    return fail(error);
-                wrote(base + "-albedo.png");
-                if (!writeImage8(base + "-normal.png", film.width, film.height, to8Bit(normal01, false), aovMeta("normal"), &error))
-                    return fail(error);
-                wrote(base + "-normal.png");
-            }
-        }
-        const std::vector<float> linear = toLinearRgb(film);
-        if (o.hdr) {
-            if (!writeImageFloat(base + ".hdr", film.width, film.height, linear, meta, &error)) return fail(error);
-            wrote(base + ".hdr");
-            if (o.aovs) {
-                if (!writeImageFloat(base + "-albedo.hdr", film.width, film.height, albedo, aovMeta("albedo"), &error))
-                    return fail(error);
-                wrote(base + "-albedo.hdr");
-                if (!writeImageFloat(base + "-normal.hdr", film.width, film.height, normal01, aovMeta("normal"), &error))
-                    return fail(error);
-                wrote(base + "-normal.hdr");
-            }
-        }
-        if (o.exr) {
-            // One file: R, G, B hold the final image (what viewers without layer support show);
-            // with --aovs the named layers raw, denoised (with --oidn), albedo and normal follow
-            // (the normal as it is, in [-1, 1]).
-            std::vector<ImageLayer> layers = {{"", &linear}};
-            std::vector<float> rawRgb, normal;
-            if (o.aovs) {
-                rawRgb = toLinearRgb(raw);
-                normal = flatten(raw.normal);
-                layers.push_back({"raw", &rawRgb});
-                if (o.oidn) layers.push_back({"denoised", &linear});
-                layers.push_back({"albedo", &albedo});
-                layers.push_back({"normal", &normal});
-            }
-            if (!writeExrLayers(base + ".exr", film.width, film.height, layers, o.half, meta, &error)) return fail(error);
-            wrote(base + ".exr");
-        }
+        std::vector<std::uint8_t> srgb;
+        if (!writeOutputs(o, stem + variants[vi].fileSuffix, raw, meta, &srgb, &error)) return fail(error);
+        const Film& film = raw;
         std::string oneLineLabel = variants[vi].label;
         std::replace(oneLineLabel.begin(), oneLineLabel.end(), '\n', ' ');
         std::fprintf(stderr, "caustic: %s%s%s: %dx%d, %d spp in %.2f s (%.1f spp/s, %.2f M samples/s) on %s; %llu NaN/Inf samples dropped\n",
@@ -369,9 +339,9 @@ int runBatch(const CliOptions& o) {
                      oneLineLabel.empty() ? "" : ("[" + oneLineLabel + "]").c_str(), film.width, film.height,
                      done, seconds, done / seconds, double(done) * film.width * film.height / seconds * 1e-6,
                      context->info().renderer.c_str(), static_cast<unsigned long long>(dropped));
-        if (!o.sweeps.empty()) cells.push_back({film.width, film.height, std::move(srgb), variants[vi].label});
+        if (!o.sweeps.empty() && !o.variant) cells.push_back({film.width, film.height, std::move(srgb), variants[vi].label});
     }
-    if (!o.sweeps.empty()) {
+    if (!o.sweeps.empty() && !o.variant && !part) {
         const int columns = static_cast<int>(splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size());
         Sheet sheet = makeContactSheet(cells, columns);
         ImageMetadata meta = {{"Software", std::string("caustic ") + CAUSTIC_VERSION}, {"caustic:scene", *o.scene}};
@@ -390,9 +360,12 @@ int main(int argc, char** argv) {
         const CliOptions& o = *parsed.options;
         if (o.help) { std::cout << cliUsage(); return 0; }
         if (o.version) { std::cout << "caustic " << CAUSTIC_VERSION << "\n"; return 0; }
+        if (o.command == "merge") return runMerge(o);
+        if (o.command == "compare") return runCompare(o);
+        if (o.command == "sheet") return runSheet(o);
         if (!o.scene) return editor::runEditor(o.editorScene);   // `caustic [scene.json]`: the editor
         if (o.editorScene) return fail("unexpected argument '" + *o.editorScene + "' in batch mode", kExitUsage);
-        if (std::string why = notAvailable(o); !why.empty()) return fail(why);
+        if (std::string why = outputsNotAvailable(o); !why.empty()) return fail(why);
         return runBatch(o);
     } catch (const std::bad_alloc&) {
         return fail("out of memory (the render size, the scene's meshes and images must fit in memory)");

@@ -22,4 +22,20 @@ struct Film {
     size_t index(int x, int y) const { return static_cast<size_t>(y) * width + x; }
 };
 
+// The accumulation images as the GPU holds them (row 0 = top), before any division: what a
+// part of a split render keeps so that parts merge exactly (app/part_file.h, docs/farm.md).
+struct Accumulators {
+    int width = 0;
+    int height = 0;
+    std::vector<glm::vec4> sum;     // rgb: sum of the samples, a: samples counted (NaN/Inf ones are not)
+    std::vector<glm::vec4> sumSq;   // rgb: sum of the squared samples, a: unused (0)
+    std::vector<glm::vec4> albedo;  // rgb: sum of the first non-specular albedos, a: samples (all)
+    std::vector<glm::vec4> normal;  // rgb: sum of the first non-specular world normals, a: samples (all)
+};
+
+// Means, variance of the mean and counts from the sums: the one rule for a render read back
+// from the GPU (Renderer::readFilm) and for merged parts (caustic merge), so both give the same
+// floats from the same sums.
+Film resolveFilm(const Accumulators& a);
+
 }  // namespace caustic

@@ -110,7 +110,7 @@ bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::strin
     return true;
 }
 
-std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, std::string* error) {
+std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, std::string* error, int gpu) {
     std::string tried;
     auto note = [&](const std::string& platform, const std::string& why) {
         tried += "\n  " + platform + ": " + why;
@@ -129,6 +129,9 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
     } else {
         auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
         auto queryDeviceString = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+        auto queryDeviceAttrib = reinterpret_cast<PFNEGLQUERYDEVICEATTRIBEXTPROC>(eglGetProcAddress("eglQueryDeviceAttribEXT"));
+        constexpr EGLint kEglCudaDeviceNv = 0x323A;   // EGL_NV_device_cuda's EGL_CUDA_DEVICE_NV
+        int hardware = 0;   // hardware devices seen so far
         EGLDeviceEXT devices[16];
         EGLint count = 0;
         if (!queryDevices || !queryDevices(16, devices, &count)) {
@@ -144,6 +147,18 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
                 note("EGL device " + std::to_string(i), "software device, skipped");
                 continue;
             }
+            if (gpu >= 0) {   // only the device asked for (see the header)
+                EGLAttrib cuda = -1;
+                const bool numbered = hasExtension(devExt, "EGL_NV_device_cuda") && queryDeviceAttrib &&
+                                      queryDeviceAttrib(devices[i], kEglCudaDeviceNv, &cuda);
+                const long number = numbered ? long(cuda) : long(hardware);
+                ++hardware;
+                if (number != gpu) {
+                    note("EGL device " + std::to_string(i), (numbered ? "CUDA device " : "hardware device ") +
+                                                                std::to_string(number) + ", not --gpu " + std::to_string(gpu));
+                    continue;
+                }
+            }
             EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
             std::string why;
             if (d == EGL_NO_DISPLAY) { note("EGL device " + std::to_string(i), eglFailure("eglGetPlatformDisplayEXT")); continue; }
@@ -152,6 +167,10 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
         }
     }
 
+    if (context == EGL_NO_CONTEXT && gpu >= 0) {
+        *error = "--gpu " + std::to_string(gpu) + ": no such GPU could be used; tried:" + tried;
+        return nullptr;
+    }
     // 2. Mesa's surfaceless platform (llvmpipe, or a Mesa GPU driver).
     if (context == EGL_NO_CONTEXT) {
         if (!getPlatformDisplay || !hasExtension(clientExt, "EGL_MESA_platform_surfaceless")) {

@@ -19,7 +19,11 @@ public:
     // Creates the context and makes it current on the calling thread. On failure returns null and
     // sets *error to a message naming every platform tried and why it failed.
     // debugOutput turns on GL_KHR_debug messages (errors are printed to stderr).
-    static std::unique_ptr<HeadlessGlContext> create(bool debugOutput, std::string* error);
+    // gpu >= 0 asks for one GPU (caustic --gpu, the farm's GPU assignment): the EGL device whose
+    // CUDA device number is gpu where the driver tells it (EGL_NV_device_cuda: the numbering
+    // CUDA_VISIBLE_DEVICES and Ray use), else the gpu-th hardware device; no fallback to another
+    // device or to software rendering.
+    static std::unique_ptr<HeadlessGlContext> create(bool debugOutput, std::string* error, int gpu = -1);
     ~HeadlessGlContext();
     HeadlessGlContext(const HeadlessGlContext&) = delete;
     HeadlessGlContext& operator=(const HeadlessGlContext&) = delete;

@@ -90,28 +90,80 @@ bool writeExrLayers(const std::string& path, int width, int height, const std::v
                            half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
 }
 
-bool readImage(const std::string& path, ImageData* out, std::string* error) {
-    // A FIFO or a device (/dev/zero) would make the format probes read forever.
-    if (!checkRegularFile(path, error)) return false;
+bool writeExrChannels(const std::string& path, int width, int height, const std::vector<std::string>& names,
+                      const std::vector<float>& pixels, const ImageMetadata& metadata, std::string* error) {
+    if (pixels.size() != size_t(width) * size_t(height) * names.size()) {
+        *error = path + ": " + std::to_string(pixels.size()) + " values for " + std::to_string(names.size()) +
+                 " channels of " + std::to_string(width) + "x" + std::to_string(height) + " pixels";
+        return false;
+    }
+    ImageMetadata meta = metadata;
+    meta.push_back({"compression", "zip"});
+    return writeAtomically(path, width, height, OIIO::TypeDesc::FLOAT, pixels.data(), meta, error, names);
+}
+
+namespace {
+
+// Opens an image for reading after the checks every reader needs: a regular file (a FIFO or a
+// device such as /dev/zero would make the format probes read forever), a header whose size is
+// within the limits (before anything is allocated for the pixels), and a 2D image (read_image
+// fills width x height x depth pixels: a volume, TIFF's image depth, or a deep EXR would overrun
+// a 2D buffer, and nothing here uses one). Null with *error set otherwise.
+std::unique_ptr<OIIO::ImageInput> openChecked(const std::string& path, std::string* error) {
+    if (!checkRegularFile(path, error)) return nullptr;
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        *error = path + ": cannot read image: " + OIIO::geterror();
+        return nullptr;
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (std::string why = imageSizeProblem(path, spec.width, spec.height, spec.nchannels); !why.empty()) {
+        *error = why;
+        return nullptr;
+    }
+    if (spec.depth > 1 || spec.deep) {
+        *error = path + ": " + (spec.deep ? std::string("a deep image") : "a volume image (depth " + std::to_string(spec.depth) + ")") +
+                 ", not a 2D image";
+        return nullptr;
+    }
+    return in;
+}
+
+}  // namespace
+
+bool readChannelImage(const std::string& path, ChannelImage* out, std::string* error, bool pixels) {
     try {
-        auto in = OIIO::ImageInput::open(path);
-        if (!in) {
-            *error = path + ": cannot read image: " + OIIO::geterror();
-            return false;
-        }
+        auto in = openChecked(path, error);
+        if (!in) return false;
         const OIIO::ImageSpec& spec = in->spec();
-        // The header's size, before anything is allocated for the pixels.
-        if (std::string why = imageSizeProblem(path, spec.width, spec.height, spec.nchannels); !why.empty()) {
-            *error = why;
+        out->width = spec.width;
+        out->height = spec.height;
+        out->names = spec.channelnames;
+        out->metadata.clear();
+        for (const OIIO::ParamValue& p : spec.extra_attribs)
+            if (p.type() == OIIO::TypeDesc::STRING) out->metadata.push_back({p.name().string(), p.get_string()});
+        out->pixels.clear();
+        if (!pixels) return true;
+        out->pixels.assign(size_t(spec.width) * spec.height * spec.nchannels, 0.0f);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->pixels.data())) {
+            *error = path + ": cannot decode image (damaged or incomplete?): " + in->geterror();
+            out->pixels = {};
             return false;
         }
-        // read_image fills width x height x depth pixels: a volume (TIFF's image depth, a deep
-        // EXR) would overrun a 2D buffer, and nothing here uses one.
-        if (spec.depth > 1 || spec.deep) {
-            *error = path + ": " + (spec.deep ? std::string("a deep image") : "a volume image (depth " + std::to_string(spec.depth) + ")") +
-                     ", not a 2D image";
-            return false;
-        }
+        in->close();
+        return true;
+    } catch (const std::bad_alloc&) {
+        *error = path + ": out of memory reading the image";
+        out->pixels = {};
+        return false;
+    }
+}
+
+bool readImage(const std::string& path, ImageData* out, std::string* error) {
+    try {
+        auto in = openChecked(path, error);
+        if (!in) return false;
+        const OIIO::ImageSpec& spec = in->spec();
         // At most 4 channels are kept (RGBA; what the renderer uses), so a file declaring 64
         // channels costs no more memory than an RGBA one.
         const int channels = std::min(spec.nchannels, kMaxKeptImageChannels);

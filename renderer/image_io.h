@@ -35,6 +35,23 @@ struct ImageLayer {
 bool writeExrLayers(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers, bool half,
                     const ImageMetadata& metadata, std::string* error);
 
+// Any named float channels in one single-part OpenEXR file (ZIP compressed, 32-bit float):
+// pixels holds width * height * names.size() floats, interleaved in the order of names. Atomic.
+bool writeExrChannels(const std::string& path, int width, int height, const std::vector<std::string>& names,
+                      const std::vector<float>& pixels, const ImageMetadata& metadata, std::string* error);
+
+// An image with all its channels by name and its string metadata (what writeExrChannels
+// wrote), read as 32-bit float; errors name the file. The image's size is checked against the
+// limits of image.h before its pixels are allocated. With pixels = false only the header is read
+// (names, size, metadata; out->pixels stays empty).
+struct ChannelImage {
+    int width = 0, height = 0;
+    std::vector<std::string> names;   // as the file orders them (OpenEXR sorts them by name)
+    std::vector<float> pixels;        // interleaved, names.size() per pixel, row 0 at the top
+    ImageMetadata metadata;           // the string attributes
+};
+bool readChannelImage(const std::string& path, ChannelImage* out, std::string* error, bool pixels = true);
+
 // Reads any format OpenImageIO knows; errors name the file.
 bool readImage(const std::string& path, ImageData* out, std::string* error);
 

@@ -214,7 +214,9 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     m_compiled = std::move(compiled);
     std::string glErrors = upload(!meshesInPlace);
     m_uploaded = glErrors.empty();
-    if (m_width != scene.render.width || m_height != scene.render.height) {
+    const PixelRect region = cropOf(scene);
+    m_region = region;
+    if (m_width != region.x1 - region.x0 || m_height != region.y1 - region.y0) {
         unsigned textures[4] = {m_accum, m_accumSq, m_albedo, m_normal};
         if (m_accum) glDeleteTextures(4, textures);
         glCreateTextures(GL_TEXTURE_2D, 4, textures);
@@ -222,8 +224,8 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         m_accumSq = textures[1];
         m_albedo = textures[2];
         m_normal = textures[3];
-        m_width = scene.render.width;
-        m_height = scene.render.height;
+        m_width = region.x1 - region.x0;
+        m_height = region.y1 - region.y0;
         for (unsigned t : textures) glTextureStorage2D(t, 1, GL_RGBA32F, m_width, m_height);
         if (glErrors.empty()) glErrors = glErrorsSince();
     }
@@ -237,6 +239,13 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     selectProgram();  // compiled now, not inside the first render
     resetAccumulation();
     return true;
+}
+
+PixelRect Renderer::cropOf(const Scene& scene) const {
+    const PixelRect whole{0, 0, scene.render.width, scene.render.height};
+    if (m_crop.x1 <= m_crop.x0 || m_crop.y1 <= m_crop.y0) return whole;
+    return {std::clamp(m_crop.x0, 0, whole.x1), std::clamp(m_crop.y0, 0, whole.y1),
+            std::clamp(m_crop.x1, 0, whole.x1), std::clamp(m_crop.y1, 0, whole.y1)};
 }
 
 bool Renderer::compileChecked(const Scene& scene, CompiledScene* out, std::string* error) {
@@ -407,8 +416,10 @@ std::uint32_t Renderer::tileCount() const {
 
 void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     gpu::GpuFrame frame = makeFrame(m_scene, m_compiled, m_strategy);
-    frame.image.z = firstSample;
+    frame.image.z = m_sampleBase + firstSample;
     frame.dispatch.x = samples;
+    frame.options.y = static_cast<std::uint32_t>(m_region.x0);   // the crop's origin (path.comp)
+    frame.options.z = static_cast<std::uint32_t>(m_region.y0);
     frame.dispatch.z = tile0;
     frame.dispatch.w = std::min(tile1, tileCount());
     // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
@@ -594,41 +605,27 @@ std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPi
     return bands;
 }
 
-Film Renderer::readFilm() const {
-    Film film;
-    film.width = m_width;
-    film.height = m_height;
+Accumulators Renderer::readAccumulators() const {
+    Accumulators a;
+    a.width = m_width;
+    a.height = m_height;
     const size_t n = static_cast<size_t>(m_width) * m_height;
-    std::vector<glm::vec4> sum(n), sumSq(n), albedo(n), normal(n);
+    a.sum.resize(n);
+    a.sumSq.resize(n);
+    a.albedo.resize(n);
+    a.normal.resize(n);
     // In bands of rows: one call's byte count is a GLsizei (readBackBands).
     for (const RowBand& band : readBackBands(m_width, m_height, sizeof(glm::vec4))) {
         const size_t offset = size_t(band.y0) * size_t(m_width);
         const auto bytes = static_cast<GLsizei>(size_t(band.rows) * size_t(m_width) * sizeof(glm::vec4));
-        for (const auto& [texture, out] : {std::pair{m_accum, &sum}, std::pair{m_accumSq, &sumSq},
-                                           std::pair{m_albedo, &albedo}, std::pair{m_normal, &normal}})
+        for (const auto& [texture, out] : {std::pair{m_accum, &a.sum}, std::pair{m_accumSq, &a.sumSq},
+                                           std::pair{m_albedo, &a.albedo}, std::pair{m_normal, &a.normal}})
             glGetTextureSubImage(texture, 0, 0, band.y0, 0, m_width, band.rows, 1, GL_RGBA, GL_FLOAT, bytes,
                                  out->data() + offset);
     }
-    film.mean.resize(n);
-    film.varianceOfMean.resize(n);
-    film.count.resize(n);
-    film.albedo.resize(n);
-    film.normal.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        // The AOVs count every sample, dropped ones too (path.comp), so they have their own count.
-        if (albedo[i].a > 0.0f) film.albedo[i] = glm::vec3(albedo[i]) / albedo[i].a;
-        if (normal[i].a > 0.0f) film.normal[i] = glm::vec3(normal[i]) / normal[i].a;
-        float c = sum[i].a;
-        film.count[i] = c;
-        if (c <= 0.0f) continue;
-        glm::vec3 mean = glm::vec3(sum[i]) / c;
-        film.mean[i] = mean;
-        if (c > 1.0f) {
-            glm::vec3 var = (glm::vec3(sumSq[i]) - c * mean * mean) / (c - 1.0f);
-            film.varianceOfMean[i] = glm::max(var, glm::vec3(0.0f)) / c;
-        }
-    }
-    return film;
+    return a;
 }
+
+Film Renderer::readFilm() const { return resolveFilm(readAccumulators()); }
 
 }  // namespace caustic

@@ -21,6 +21,11 @@ namespace caustic {
 // Reading an image back takes a GLsizei (32-bit) byte count, so a film larger than 2^31 bytes
 // (134 M RGBA float pixels, inside the 16384x16384 render limit) is read in bands of whole rows,
 // each at most maxBytes: the first row and the row count of each, covering [0, height) in order.
+// A rectangle of pixels [x0, x1) x [y0, y1) of the image, row 0 at the top.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 struct RowBand {
     int y0 = 0, rows = 0;
 };
@@ -61,6 +66,18 @@ public:
 
     void resetAccumulation();
 
+    // Parts of a split render (the farm; docs/farm.md). The samples rendered get indices from
+    // `base` on (render(n) after it renders [base, base + n)), so a part renders exactly the
+    // samples of a whole render's range. Takes effect with the next dispatch.
+    void setSampleBase(std::uint32_t base) { m_sampleBase = base; }
+    std::uint32_t sampleBase() const { return m_sampleBase; }
+    // Renders only this rectangle of the scene's image (clamped to it; an empty one: all of it):
+    // the accumulation images, readFilm() and readAccumulators() are the crop's size, and each
+    // pixel gets the same camera ray and random numbers as in the whole image. Takes effect with
+    // the next setScene().
+    void setCrop(const PixelRect& crop) { m_crop = crop; }
+    PixelRect region() const { return m_region; }   // what the accumulation images hold
+
     // Adds `count` samples per pixel. Work is split into short dispatches (adapted to the
     // measured speed) with at most two in flight, so the driver never holds a long queue.
     // progress(samplesDone) is called after each completed dispatch.
@@ -97,6 +114,7 @@ public:
     // (frame.dispatch.z, w).
     void bindScene(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1);
     Film readFilm() const;
+    Accumulators readAccumulators() const;   // the sums as they are (part files)
     const CompiledScene& compiled() const { return m_compiled; }
     // The imported meshes and their BVHs kept between compiles: the editor inserts meshes it
     // prepared off-thread (prepareMesh) before the edit that uses them. Same thread as update().
@@ -122,6 +140,7 @@ private:
     void dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0 = 0, std::uint32_t tile1 = ~0u);
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
     long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
+    PixelRect cropOf(const Scene& scene) const;   // m_crop within the scene's image
 
     // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
     // top of integratorDefines(), compiling it the first time; false with the compiler's message.
@@ -152,7 +171,9 @@ private:
     ImageReader m_readImage;
     GpuLimits m_limits;
     MeshCache m_meshCache;      // imported meshes and their BVHs, reused across edits
-    int m_width = 0, m_height = 0;
+    int m_width = 0, m_height = 0;     // the accumulation images: the crop's size
+    PixelRect m_crop, m_region;        // asked for; rendered (the crop within the image)
+    std::uint32_t m_sampleBase = 0;    // the index of the first sample (setSampleBase)
     Scene m_scene;
     CompiledScene m_compiled;
     std::uint32_t m_strategy = STRATEGY_MIS;

@@ -19,10 +19,15 @@ void main() {
     // by row, on a grid of work groups that may have a few too many (Renderer::dispatch).
     uint tile = frame.dispatch.z + gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     if (tile >= frame.dispatch.w) return;
-    uint tilesX = (frame.image.x + 7u) / 8u;
-    uvec2 pixel = uvec2(tile % tilesX, tile / tilesX) * 8u + gl_LocalInvocationID.xy;
-    if (pixel.x >= frame.image.x || pixel.y >= frame.image.y) return;
-    ivec2 ip = ivec2(pixel);
+    // The accumulation images cover the crop being rendered (the whole image unless a part of a
+    // split render: Renderer::setCrop), whose origin in the image is frame.options.yz; pixel
+    // indices and camera rays are those of the whole image, so a crop's pixels are the same.
+    uvec2 cropSize = uvec2(imageSize(accumImage));
+    uint tilesX = (cropSize.x + 7u) / 8u;
+    uvec2 local = uvec2(tile % tilesX, tile / tilesX) * 8u + gl_LocalInvocationID.xy;
+    if (local.x >= cropSize.x || local.y >= cropSize.y) return;
+    uvec2 pixel = local + frame.options.yz;
+    ivec2 ip = ivec2(local);
     vec4 sum = imageLoad(accumImage, ip);
     vec4 sumSq = imageLoad(accumSqImage, ip);
     vec4 albedoSum = imageLoad(albedoImage, ip);

@@ -267,7 +267,8 @@ CAUSTIC_STRUCT(GpuFrame) {
                        //    pi * mean luminance), y: 1 when every light is an environment
     vec4 rayOffset;    // x: the scale below which ray offsets stop shrinking with the hit's
                        //    magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
-    uvec4 options;     // x: OPTION_* bits (integrator options); y, z, w: unused
+    uvec4 options;     // x: OPTION_* bits (integrator options); y, z: the origin of the crop the
+                       // accumulation images hold (path.comp); w: unused
 };
 
 #ifdef __cplusplus

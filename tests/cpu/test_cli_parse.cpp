@@ -222,7 +222,7 @@ TEST_CASE("cliUsage documents every flag the parser accepts", "[cli]") {
     const std::string usage = cliUsage();
     for (const char* flag : {"--scene", "--samples", "--width", "--height", "--max-depth", "--seed",
                              "--output", "--png", "--hdr", "--exr", "--reinhard", "--sky", "--envmap",
-                             "--oidn", "--aovs", "--help", "--version"}) {
+                             "--oidn", "--aovs", "--help", "--version", "--variant", "--gpu", "--list-variants"}) {
         INFO(flag);
         CHECK(contains(usage, flag));
         // And the parser really accepts it: followed by "1", a flag taking a value takes it and a
@@ -231,4 +231,39 @@ TEST_CASE("cliUsage documents every flag the parser accepts", "[cli]") {
         INFO(r.error);
         CHECK(r.options.has_value());
     }
+}
+
+TEST_CASE("parseCli: --sample-range and --crop (issue 17)", "[cli]") {
+    const CliOptions o = parseOk({"--scene", "s.json", "--sample-range", "8:24", "--crop=3:17,0:5", "--variant", "2",
+                                  "--gpu", "1", "--list-variants"});
+    REQUIRE(o.sampleRange);
+    CHECK(o.sampleRange->begin == 8);
+    CHECK(o.sampleRange->end == 24);
+    REQUIRE(o.crop);
+    CHECK((o.crop->x0 == 3 && o.crop->x1 == 17 && o.crop->y0 == 0 && o.crop->y1 == 5));
+    CHECK(o.variant == 2);
+    CHECK(o.gpu == 1);
+    CHECK(o.listVariants);
+    CHECK(parseOk({"--sample-range", "0:16777216"}).sampleRange->end == 16777216u);
+    for (const char* bad : {"4:4", "5:4", "4", ":4", "4:", "a:b", "-1:4", "0:16777217", "1:2:3"})
+        CHECK(contains(parseError({"--sample-range", bad}), "--sample-range: expected <a>:<b>"));
+    for (const char* bad : {"0:8", "0:8,", "8:0,0:8", "0:8,4:4", "0:8,0:x", "0:16385,0:8", "a"})
+        CHECK(contains(parseError({"--crop", bad}), "--crop: expected <x0>:<x1>,<y0>:<y1>"));
+}
+
+TEST_CASE("parseCli: subcommands take their inputs and only their own options", "[cli]") {
+    const CliOptions m = parseOk({"merge", "out.png", "a.exr", "b.exr", "--oidn", "--exr"});
+    CHECK(m.command == "merge");
+    CHECK(m.inputs == std::vector<std::string>{"out.png", "a.exr", "b.exr"});
+    CHECK(m.oidn);
+    CHECK(parseOk({"compare", "a.exr", "b.exr", "--map", "m.png"}).map == std::optional<std::string>("m.png"));
+    CHECK(parseOk({"sheet", "layout.json"}).inputs.size() == 1);
+    CHECK(contains(parseError({"merge", "out.png"}), "merge: expected <out> <part.exr>"));
+    CHECK(contains(parseError({"merge", "o", "a.exr", "--samples", "4"}), "--samples is not an option of caustic merge"));
+    CHECK(contains(parseError({"compare", "a", "b", "c"}), "compare: expected <image> <reference>, got 3"));
+    CHECK(contains(parseError({"compare", "a", "b", "--oidn"}), "--oidn is not an option of caustic compare"));
+    CHECK(contains(parseError({"sheet"}), "sheet: expected <layout.json>"));
+    CHECK(parseOk({"merge", "--help"}).help);   // help needs no inputs
+    // Not a subcommand anywhere but first: the editor's scene, as before.
+    CHECK(parseOk({"merge.json"}).editorScene == std::optional<std::string>("merge.json"));
 }

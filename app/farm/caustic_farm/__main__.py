@@ -1,0 +1,3 @@
+from caustic_farm.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,65 @@
+// caustic sheet LAYOUT.json: a contact sheet made from image files, the way --sweep makes one
+// from its renders (the farm renders each variant elsewhere and assembles the sheet at the end).
+// The layout: {"output": "sheet.png", "columns": 2, "cells": [{"image": "a.png", "label": "..."}]}
+// (paths relative to the layout file's folder). Cells are read as 8-bit RGB.
+#include "app/commands.h"
+#include "app/contact_sheet.h"
+#include "renderer/file_util.h"
+#include "renderer/image_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+namespace fs = std::filesystem;
+
+namespace caustic {
+
+int runSheet(const CliOptions& o) {
+    const std::string& layoutPath = o.inputs[0];
+    std::string error;
+    const auto text = readTextFile(layoutPath, &error);
+    if (!text) return commandFailed(error);
+    const nlohmann::json layout = nlohmann::json::parse(*text, nullptr, false);
+    if (layout.is_discarded() || !layout.is_object()) return commandFailed(layoutPath + ": not a JSON object");
+    const auto bad = [&](const std::string& where, const std::string& what) {
+        return commandFailed(layoutPath + ": " + where + ": " + what);
+    };
+    if (!layout.contains("output") || !layout["output"].is_string()) return bad("output", "expected a file name");
+    if (!layout.contains("columns") || !layout["columns"].is_number_integer() || layout["columns"].get<long long>() < 1 ||
+        layout["columns"].get<long long>() > 4096)
+        return bad("columns", "expected an integer in [1, 4096]");
+    if (!layout.contains("cells") || !layout["cells"].is_array() || layout["cells"].empty())
+        return bad("cells", "expected a non-empty array");
+    for (const auto& [key, value] : layout.items())
+        if (key != "output" && key != "columns" && key != "cells") return bad(key, "unknown key");
+    const fs::path folder = fs::path(layoutPath).parent_path();
+    auto resolve = [&](const std::string& p) { return fs::path(p).is_absolute() ? p : (folder / p).string(); };
+    std::vector<SheetCell> cells;
+    for (size_t i = 0; i < layout["cells"].size(); ++i) {
+        const auto& c = layout["cells"][i];
+        const std::string where = "cells[" + std::to_string(i) + "]";
+        if (!c.is_object() || !c.contains("image") || !c["image"].is_string()) return bad(where + ".image", "expected a file name");
+        if (c.contains("label") && !c["label"].is_string()) return bad(where + ".label", "expected a string");
+        ImageData img;
+        if (!readImage(resolve(c["image"].get<std::string>()), &img, &error)) return commandFailed(error);
+        if (img.channels < 3) return bad(where, c["image"].get<std::string>() + " is not an RGB image");
+        SheetCell cell{img.width, img.height, std::vector<std::uint8_t>(size_t(img.width) * img.height * 3),
+                       c.value("label", std::string())};
+        for (size_t p = 0; p < size_t(img.width) * img.height; ++p)
+            for (int k = 0; k < 3; ++k)
+                cell.rgb[p * 3 + k] = std::uint8_t(std::lround(std::clamp(img.pixels[p * img.channels + k], 0.0f, 1.0f) * 255.0f));
+        cells.push_back(std::move(cell));
+    }
+    const Sheet sheet = makeContactSheet(cells, int(layout["columns"].get<long long>()));
+    const std::string out = resolve(layout["output"].get<std::string>());
+    const ImageMetadata meta = {{"Software", std::string("caustic ") + CAUSTIC_VERSION}};
+    if (!writeImage8(out, sheet.width, sheet.height, sheet.rgb, meta, &error)) return commandFailed(error);
+    std::cout << out << std::endl;
+    return 0;
+}
+
+}  // namespace caustic
