@@ -87,6 +87,7 @@ struct MeshCacheEntry {
     std::vector<ImportedMaterial> imported;    // the same as the file gives them: those with a
                                                // metallic-roughness texture are mapped again once
                                                // it is read (compileScene, bakeMetallicRoughness)
+    std::vector<EmbeddedImage> embedded;       // the file's embedded images ("*N" texture paths)
     std::vector<std::string> mappingWarnings;  // what of them could not be mapped
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
@@ -122,7 +123,29 @@ enum class TextureEncoding { Srgb, Linear };
 
 // Appends the image and its mip chain (linear RGBA, 2x2 box filtered) to out->texels and its
 // descriptor to out->textures; fails for an empty, truncated or non-finite image.
-bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error);
+// wrap: GpuTexture's TEXTURE_WRAP_* bits (repeat by default).
+bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error,
+                std::uint32_t wrap = 0);
+
+// Where a model file's material textures come from: the file's embedded images ("*N" paths) and
+// its samplers' wrap modes (ImportedMaterial::wrap), for readTextureImage and addTexture.
+struct FileTextures {
+    std::string file;                                   // the model file
+    const std::vector<EmbeddedImage>* embedded = nullptr;
+    std::uint32_t wraps = 0;                            // ImportedMaterial::wrap
+    // The texture cache key of a path ("*N" is the file's own).
+    std::string key(const std::string& path) const { return !path.empty() && path[0] == '*' ? file + path : path; }
+    // The GpuTexture wrap bits of the slot named by the scene key ("albedo_texture", ...).
+    std::uint32_t wrap(const std::string& slotKey) const;
+};
+// An image a texture slot names: a file through the reader, or (files non-null, path "*N") the
+// model file's embedded image N decoded from memory. Errors name the file (and the image).
+bool readTextureImage(const ImageReader& reader, const FileTextures* files, const std::string& path, ImageData* out,
+                      std::string* error);
+// Decodes an image file held in memory (a texture embedded in a model file: glTF's PNG or JPEG,
+// told apart by their signatures) into 8-bit values as floats in [0, 1] (16-bit PNGs in 16 bits),
+// without colour conversion. Errors start with `what` (the file and the texture).
+bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error);
 
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names
@@ -150,11 +173,13 @@ bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScen
 Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped,
                              const struct MetallicRoughnessMap* mr = nullptr);
 
-// A glTF metallic-roughness texture, read: the GGX alpha per texel, (roughnessFactor * G)^2 (glTF
-// roughness is perceptual, alpha its square, as for the factor), and what its metalness
-// (metallicFactor * B) does over the texels. Fails for an empty image or non-finite texels.
+// A glTF metallic-roughness texture, read: roughness and metalness per texel, each times its
+// factor, for the surface material's roughness slot (shaders/bsdf/material.glsl squares the
+// roughness and, with MAT_FLAG_METAL_TEXTURE, reads the metalness from G), and what its metalness
+// does over the texels. Fails for an empty image or non-finite texels.
 struct MetallicRoughnessMap {
-    ImageData alpha;              // one channel, the texture's size
+    ImageData texture;            // RGB, the texture's size: R the perceptual roughness
+                                  // (roughnessFactor * G), G the metalness (metallicFactor * B)
     float metalMin = 0.0f, metalMax = 0.0f, metalMean = 0.0f;
     float metalFraction = 0.0f;   // the fraction of texels whose metalness is above 0.5
 };

@@ -33,6 +33,7 @@ namespace caustic {
 struct MeshImportResult {
     std::vector<Mesh> meshes;
     std::vector<ImportedMaterial> materials;
+    std::vector<EmbeddedImage> embedded;  // the file's embedded images ("*N" texture paths)
     std::vector<std::string> warnings;   // what could not be mapped or was repaired
     std::string error;                   // empty on success
     double seconds = 0.0;                // time spent in Assimp and conversion
