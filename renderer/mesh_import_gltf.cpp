@@ -28,12 +28,14 @@ float number(const Json& j, const char* key, float fallback) {
     return std::isfinite(v) ? float(v) : fallback;
 }
 
-glm::vec3 colour(const Json& j, const char* key, glm::vec3 fallback) {
+// A vector of N numbers at j[key] (each finite one replaces the fallback's component).
+template <int N>
+glm::vec<N, float> numbers(const Json& j, const char* key, glm::vec<N, float> fallback) {
     if (!j.is_object()) return fallback;
     const auto it = j.find(key);
-    if (it == j.end() || !it->is_array() || it->size() < 3) return fallback;
-    glm::vec3 c = fallback;
-    for (int i = 0; i < 3; ++i)
+    if (it == j.end() || !it->is_array() || it->size() < size_t(N)) return fallback;
+    glm::vec<N, float> c = fallback;
+    for (int i = 0; i < N; ++i)
         if ((*it)[size_t(i)].is_number()) {
             const double v = (*it)[size_t(i)].get<double>();
             if (std::isfinite(v)) c[i] = float(v);
@@ -41,18 +43,8 @@ glm::vec3 colour(const Json& j, const char* key, glm::vec3 fallback) {
     return c;
 }
 
-glm::vec2 pair(const Json& j, const char* key, glm::vec2 fallback) {
-    if (!j.is_object()) return fallback;
-    const auto it = j.find(key);
-    if (it == j.end() || !it->is_array() || it->size() < 2) return fallback;
-    glm::vec2 c = fallback;
-    for (int i = 0; i < 2; ++i)
-        if ((*it)[size_t(i)].is_number()) {
-            const double v = (*it)[size_t(i)].get<double>();
-            if (std::isfinite(v)) c[i] = float(v);
-        }
-    return c;
-}
+glm::vec3 colour(const Json& j, const char* key, glm::vec3 fallback) { return numbers<3>(j, key, fallback); }
+glm::vec2 pair(const Json& j, const char* key, glm::vec2 fallback) { return numbers<2>(j, key, fallback); }
 
 const Json& member(const Json& j, const char* key) {
     static const Json null;

@@ -96,18 +96,26 @@ double sheenQuadrature(double mu, double r) {
     return sum * (kPi / 2 / kTheta) * (2 * kPi / kPhi);
 }
 
-}  // namespace
-
-TEST_CASE("the GGX albedo table from the shader's microfacet code matches a quadrature", "[gpu][bsdf][materials]") {
+// Every BSDF table, as the renderer computes it (shaders/bsdf/*.comp).
+std::vector<float> computedTables() {
     test::glContext();
     GLuint buffer = 0;
     glCreateBuffers(1, &buffer);
     std::string error;
-    REQUIRE(computeBsdfTables(defaultShaderDir(), buffer, &error));
-    const std::vector<float> t = readFloatBuffer(buffer);
+    const bool ok = computeBsdfTables(defaultShaderDir(), buffer, &error);
+    INFO(error);
+    REQUIRE(ok);
+    std::vector<float> t = readFloatBuffer(buffer);
     glDeleteBuffers(1, &buffer);
-    constexpr int N = GGX_ALBEDO_TABLE_SIZE;
     REQUIRE(t.size() == size_t(BSDF_TABLE_FLOATS));
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("the GGX albedo table from the shader's microfacet code matches a quadrature", "[gpu][bsdf][materials]") {
+    const std::vector<float> t = computedTables();
+    constexpr int N = GGX_ALBEDO_TABLE_SIZE;
     for (int i = 0; i < N * N; ++i) {
         CHECK(t[size_t(i)] > 0.0f);
         CHECK(t[size_t(i)] <= 1.0f);
@@ -128,15 +136,8 @@ TEST_CASE("the GGX albedo table from the shader's microfacet code matches a quad
 }
 
 TEST_CASE("the surface material's albedo tables from the shader's lobes match quadratures", "[gpu][bsdf][materials]") {
-    test::glContext();
-    GLuint buffer = 0;
-    glCreateBuffers(1, &buffer);
-    std::string error;
-    REQUIRE(computeBsdfTables(defaultShaderDir(), buffer, &error));
-    const std::vector<float> t = readFloatBuffer(buffer);
-    glDeleteBuffers(1, &buffer);
+    const std::vector<float> t = computedTables();
     constexpr int N = GGX_ALBEDO_TABLE_SIZE, I = SURFACE_TABLE_IOR;
-    REQUIRE(t.size() == size_t(BSDF_TABLE_FLOATS));
     for (int i = BSDF_TABLE_DIELECTRIC; i < BSDF_TABLE_FLOATS; ++i) {
         CHECK(t[size_t(i)] >= 0.0f);
         CHECK(t[size_t(i)] <= 1.0f);
