@@ -365,13 +365,13 @@ struct Builder {
         const ImportedMaterial* im = k < imported.size() ? &imported[k] : nullptr;
         const FileTextures files{file, &out.meshEntries[blas]->embedded, im ? im->wrap : 0u};
         fileTextures = &files;
-        const bool ok = addFileMaterialTexturesWith(m, g, im, file, where);
+        const bool ok = addFileMaterialTexturesWith(m, g, im, where);
         fileTextures = nullptr;
         return ok;
     }
 
     bool addFileMaterialTexturesWith(Material& m, gpu::GpuMaterial& g, const ImportedMaterial* im,
-                                     const std::string& file, const std::string& where) {
+                                     const std::string& where) {
         if (!im || im->metallicRoughnessTexture.empty()) return addTextures(m, where, "", &g);
         const std::string& texture = im->metallicRoughnessTexture;
         const std::string context = where + ".metallic_roughness_texture (material '" + m.name + "'): ";
@@ -386,9 +386,8 @@ struct Builder {
             *error = context + texture + ": " + why;
             return false;
         }
-        std::vector<std::string> unmapped;
+        std::vector<std::string> unmapped;  // the same as the import's mapping reported (mappingWarnings)
         m = mapImportedMaterial(*im, &unmapped, &mr);
-        for (const std::string& u : unmapped) out.warnings.push_back(file + ": " + u);
         Material others = m;   // albedo and normal maps as usual; the roughness slot is filled here
         others.roughnessTexture.clear();
         g = convertMaterial(m);

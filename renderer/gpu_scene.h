@@ -158,18 +158,14 @@ bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageDa
 // moved back if the compile fails, so *reuse stays valid for its owner.
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
                   MeshCache* meshCache = nullptr, CompiledScene* reuse = nullptr);
-// A model file's material (glTF metallic-roughness terms) as a caustic material, as well as it
-// maps: transmission -> dielectric (ior, alpha = roughness^2), metallic -> conductor (complex IOR
-// from the base colour as both reflectivity and edge tint, Gulbrandsen 2014), otherwise diffuse;
-// base colour and normal textures, emission. What does not map is appended to *unmapped.
-//
-// glTF's metallic-roughness texture (glTF 2.0 spec, section 3.9.2: roughness in G, metalness in
-// B, linear, each multiplied by its factor) is mapped once it is read, with mr (from
-// bakeMetallicRoughness): the material is a conductor or not by where most of its texels' metalness
-// lies (above or below 0.5), reported when the texture holds both; a conductor or dielectric gets
-// the texture's roughness as a roughness map (mr->alpha, wired by compileScene; m.roughnessTexture
-// is set to the texture's path so the material is a rough one). Without mr a material with such a
-// texture is mapped by its factors alone, silently: compileScene maps it again.
+// A model file's material (glTF metallic-roughness terms and the material extensions the importer
+// read) as a caustic material: KHR_materials_transmission above 0.5 -> dielectric (ior, alpha =
+// roughness^2), everything else the layered surface (base colour, metallic, perceptual roughness,
+// ior, specular, clearcoat, sheen, emission; docs/scene-format.md lists the mapping); base colour,
+// normal (with its scale) and metallic-roughness textures carry over, the last in the roughness
+// slot (baked by bakeMetallicRoughness and wired by compileScene). What does not map is appended
+// to *unmapped. mr (the baked texture) is accepted for the compile's second pass and changes
+// nothing in the mapping: the surface material reads metalness per texel.
 Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped,
                              const struct MetallicRoughnessMap* mr = nullptr);
 

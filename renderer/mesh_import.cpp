@@ -198,7 +198,7 @@ void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<Glt
     }
     const size_t n = std::min(info.materials.size(), r->materials.size());
     std::vector<std::string> ignored;
-    bool mixedTransforms = false, otherUvSet = false, masked = false, blended = false, singleSided = false;
+    bool mixedTransforms = false, otherUvSet = false, masked = false, blended = false;
     for (size_t i = 0; i < n; ++i) {
         const GltfMaterialInfo& g = info.materials[i];
         ImportedMaterial& m = r->materials[i];
@@ -236,7 +236,6 @@ void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<Glt
         if (first) (*uvTransforms)[i] = *first;
         masked |= g.alphaMode == 1;
         blended |= g.alphaMode == 2;
-        singleSided |= !g.doubleSided;
         for (const std::string& s : g.ignored)
             if (std::find(ignored.begin(), ignored.end(), s) == ignored.end()) ignored.push_back(s);
     }
@@ -247,9 +246,6 @@ void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<Glt
     if (otherUvSet) r->warnings.push_back(path + ": textures on UV sets other than the first use the first");
     if (masked) r->warnings.push_back(path + ": alphaMode MASK is rendered opaque (cut-outs are not implemented)");
     if (blended) r->warnings.push_back(path + ": alphaMode BLEND is rendered opaque");
-    if (singleSided)
-        r->warnings.push_back(path + ": single-sided materials (doubleSided false) are rendered two-sided, as every "
-                                     "caustic surface");
 }
 
 struct Converter {

@@ -60,8 +60,8 @@ TEST_CASE("imported dielectrics, diffuse bases and what cannot be mapped", "[cpu
     paint.name = "paint";
     paint.baseColor = glm::vec3(0.2f, 0.5f, 0.1f);
     paint.emission = glm::vec3(3.0f);
-    paint.metallicRoughnessTexture = "*0";  // embedded: decoded from memory when compiled
-    paint.emissionTexture = "*1";
+    paint.metallicRoughnessTexture = "/models/paint_mr.png";
+    paint.emissionTexture = "/models/paint_emission.png";
     paint.opacity = 0.5f;
     paint.baseColorTexture = "/tmp/base.png";
     unmapped.clear();
@@ -71,7 +71,7 @@ TEST_CASE("imported dielectrics, diffuse bases and what cannot be mapped", "[cpu
     CHECK(p.metalness == 0.0f);
     CHECK(p.emission == glm::vec3(3.0f));
     CHECK(p.albedoTexture == "/tmp/base.png");
-    CHECK(p.roughnessTexture == "*0");
+    CHECK(p.roughnessTexture == "/models/paint_mr.png");
     std::string all;
     for (const std::string& u : unmapped) all += u + "\n";
     INFO(all);

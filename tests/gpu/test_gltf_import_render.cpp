@@ -7,6 +7,8 @@
 
 #include "renderer/gpu_scene.h"
 
+#include <glad/gl.h>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -32,6 +34,30 @@ Scene quadScene(const fs::path& file) {
     quad.file = file.string();  // the file's own materials
     s.objects.push_back(quad);
     return s;
+}
+
+// textureSampleLod (shaders/bsdf/texture.glsl) of texture `index` at each uv, level 0, through the
+// test kernel tests/gpu/kernels/bsdf_texture.comp (mode 0).
+std::vector<glm::vec4> sampleTexture(Renderer& r, GLuint index, const std::vector<glm::vec4>& uvs) {
+    const GLuint p = test::kernel("bsdf_texture.comp");
+    GLuint buffers[2];
+    glCreateBuffers(2, buffers);
+    glNamedBufferData(buffers[0], GLsizeiptr(uvs.size() * sizeof(glm::vec4)), uvs.data(), GL_STATIC_DRAW);
+    glNamedBufferData(buffers[1], GLsizeiptr(uvs.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_READ);
+    r.bindScene(0, 1);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, buffers[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, buffers[1]);
+    glUseProgram(p);
+    glProgramUniform1ui(p, glGetUniformLocation(p, "u_mode"), 0);
+    glProgramUniform1ui(p, glGetUniformLocation(p, "u_count"), GLuint(uvs.size()));
+    glProgramUniform1ui(p, glGetUniformLocation(p, "u_texture"), index);
+    glProgramUniform1f(p, glGetUniformLocation(p, "u_lod"), 0.0f);
+    glDispatchCompute(GLuint(uvs.size() + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> out(uvs.size());
+    glGetNamedBufferSubData(buffers[1], 0, GLsizeiptr(out.size() * sizeof(glm::vec4)), out.data());
+    glDeleteBuffers(2, buffers);
+    return out;
 }
 
 }  // namespace
@@ -70,4 +96,17 @@ TEST_CASE("a .glb and its .gltf twin import and render the same image", "[gpu][m
     INFO("largest difference " << largest << ", red from " << lo << " to " << hi);
     CHECK(largest == 0.0);
     CHECK(hi - lo > 0.2);  // the texture is there: the checker's red and blue squares differ
+
+    // The sampler's wrap modes in the shader: u clamps to the edge texel, v mirrors (period 2).
+    std::string why;
+    REQUIRE(renderer->setScene(quadScene(data / "quad.glb"), &why));
+    const GLuint texture = renderer->compiled().materials[0].textures.x - 1;
+    const std::vector<glm::vec4> uv = {{0.875f, 0.375f, 0, 0}, {3.6f, 0.375f, 0, 0}, {0.125f, 0.625f, 0, 0},
+                                       {0.125f, 1.375f, 0, 0}, {0.125f, 0.375f, 0, 0}, {0.125f, -0.375f, 0, 0}};
+    const std::vector<glm::vec4> v = sampleTexture(*renderer, texture, uv);
+    CHECK(glm::length(v[1] - v[0]) < 1e-4f);  // u 3.6 clamps to the last column's centre (u 0.875)
+    CHECK(glm::length(v[3] - v[2]) < 1e-4f);  // v 1.375 mirrors to 0.625
+    CHECK(glm::length(v[5] - v[4]) < 1e-4f);  // v -0.375 mirrors to 0.375
+    CHECK(glm::length(v[2] - v[4]) > 0.3f);   // and those are different checker squares
+    REQUIRE(glDebugErrorCount() == 0);
 }
