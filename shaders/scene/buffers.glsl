@@ -144,13 +144,14 @@ GpuInstance loadInstance(uint i) {
 GpuMaterial loadMaterial(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
     GpuMaterial m;
-    m.albedo = FETCH_F4(materialTexels, 7u * i);
-    m.emission = FETCH_F4(materialTexels, 7u * i + 1u);
-    m.params = FETCH_F4(materialTexels, 7u * i + 2u);
-    m.info = FETCH_U4(materialTexels, 7u * i + 3u);
-    m.eta = FETCH_F4(materialTexels, 7u * i + 4u);
-    m.k = FETCH_F4(materialTexels, 7u * i + 5u);
-    m.textures = FETCH_U4(materialTexels, 7u * i + 6u);
+    m.albedo = FETCH_F4(materialTexels, 8u * i);
+    m.emission = FETCH_F4(materialTexels, 8u * i + 1u);
+    m.params = FETCH_F4(materialTexels, 8u * i + 2u);
+    m.info = FETCH_U4(materialTexels, 8u * i + 3u);
+    m.eta = FETCH_F4(materialTexels, 8u * i + 4u);
+    m.k = FETCH_F4(materialTexels, 8u * i + 5u);
+    m.textures = FETCH_U4(materialTexels, 8u * i + 6u);
+    m.sheen = FETCH_F4(materialTexels, 8u * i + 7u);
     return m;
 #else
     return materials[i];
