@@ -21,7 +21,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev xvfb xauth
-  libassimp-dev assimp-testmodels
+  libassimp-dev assimp-testmodels libpng-dev libjpeg-dev
   chromium
 )
 missing=()

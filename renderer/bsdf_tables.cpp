@@ -7,20 +7,46 @@
 
 namespace caustic {
 
-bool computeGgxAlbedoTable(const std::string& shaderDir, unsigned buffer, std::string* error) {
+static_assert(BSDF_TABLE_DIELECTRIC == GGX_ALBEDO_TABLE_SIZE * GGX_ALBEDO_TABLE_SIZE);
+static_assert(BSDF_TABLE_DIELECTRIC_AVG ==
+              BSDF_TABLE_DIELECTRIC + GGX_ALBEDO_TABLE_SIZE * GGX_ALBEDO_TABLE_SIZE * SURFACE_TABLE_IOR);
+static_assert(BSDF_TABLE_SHEEN == BSDF_TABLE_DIELECTRIC_AVG + GGX_ALBEDO_TABLE_SIZE * SURFACE_TABLE_IOR);
+static_assert(BSDF_TABLE_FLOATS == BSDF_TABLE_SHEEN + GGX_ALBEDO_TABLE_SIZE * GGX_ALBEDO_TABLE_SIZE);
+
+namespace {
+
+unsigned loadKernel(const std::string& shaderDir, const char* name, std::string* error) {
     ShaderLoader loader(shaderDir);
     ShaderSource source;
-    if (!loader.load("bsdf/ggx_albedo.comp", {}, &source, error)) return false;
-    const unsigned program = compileComputeProgram(source, "bsdf/ggx_albedo.comp", error);
-    if (!program) return false;
+    if (!loader.load(name, {}, &source, error)) return 0;
+    return compileComputeProgram(source, name, error);
+}
+
+}  // namespace
+
+bool computeBsdfTables(const std::string& shaderDir, unsigned buffer, std::string* error) {
+    const unsigned ggx = loadKernel(shaderDir, "bsdf/ggx_albedo.comp", error);
+    if (!ggx) return false;
+    const unsigned surface = loadKernel(shaderDir, "bsdf/surface_albedo.comp", error);
+    if (!surface) {
+        glDeleteProgram(ggx);
+        return false;
+    }
     constexpr int N = GGX_ALBEDO_TABLE_SIZE;
-    glNamedBufferData(buffer, GLsizeiptr(sizeof(float)) * N * N, nullptr, GL_STATIC_DRAW);
-    glUseProgram(program);
+    glNamedBufferData(buffer, GLsizeiptr(sizeof(float)) * BSDF_TABLE_FLOATS, nullptr, GL_STATIC_DRAW);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BSDF_TABLES, buffer);
+    glUseProgram(ggx);
     glDispatchCompute((N + 7) / 8, (N + 7) / 8, 1);
+    glUseProgram(surface);
+    for (unsigned pass = 0; pass < 2; ++pass) {
+        glProgramUniform1ui(surface, glGetUniformLocation(surface, "u_pass"), pass);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glDispatchCompute((N + 7) / 8, (N + 7) / 8, SURFACE_TABLE_IOR + 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
-    glDeleteProgram(program);
+    glDeleteProgram(ggx);
+    glDeleteProgram(surface);
     return true;
 }
 

@@ -7,12 +7,17 @@
 
 namespace caustic {
 
-// The directional albedo E(mu, alpha) of the F = 1 GGX lobe (height-correlated Smith) for the
-// multiple-scattering compensation of rough conductors: GGX_ALBEDO_TABLE_SIZE^2 floats, mu =
-// i / (N - 1) fastest, alpha = j / (N - 1), computed by shaders/bsdf/ggx_albedo.comp into
-// `buffer` (its storage is replaced). Needs a current GL context; false with a message if the
-// kernel does not compile.
-bool computeGgxAlbedoTable(const std::string& shaderDir, unsigned buffer, std::string* error);
+// Every BSDF table, into `buffer` (its storage is replaced; BSDF_TABLE_FLOATS floats, offsets
+// BSDF_TABLE_* in shaders/shared/layout.h):
+//   - at BSDF_TABLE_GGX, the directional albedo E(mu, alpha) of the F = 1 GGX lobe
+//     (height-correlated Smith) for the multiple-scattering compensation of rough conductors:
+//     GGX_ALBEDO_TABLE_SIZE^2 floats, mu = i / (N - 1) fastest, alpha = j / (N - 1), computed by
+//     shaders/bsdf/ggx_albedo.comp;
+//   - the layered surface material's: the dielectric reflection lobe's E(mu, alpha, ior) and its
+//     cosine-weighted average, the sheen lobe's E(mu, r), computed by
+//     shaders/bsdf/surface_albedo.comp (its header has the axes).
+// Needs a current GL context; false with a message if a kernel does not compile.
+bool computeBsdfTables(const std::string& shaderDir, unsigned buffer, std::string* error);
 
 // The buffer's floats (tests).
 std::vector<float> readFloatBuffer(unsigned buffer);

@@ -4,6 +4,7 @@
 
 #include "renderer/gpu_materials.h"
 #include "renderer/mesh_import.h"
+#include "renderer/scene_schema.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -45,7 +46,7 @@ constexpr float kSmoothAlpha = 1e-3f;
 
 gpu::GpuMaterial convertMaterial(const Material& m) {
     gpu::GpuMaterial g{};
-    g.emission = glm::vec4(m.emission, 0);
+    g.emission = glm::vec4(m.emission, m.normalScale);  // w: the normal map's scale (material.glsl)
     g.albedo = glm::vec4(m.tint, 0);
     g.params = glm::vec4(m.roughness, m.ior, 0, 0);
     std::uint32_t type = MAT_DIFFUSE, flags = 0;
@@ -85,9 +86,56 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
         if (m.energyCompensation) flags |= MAT_FLAG_ENERGY_COMPENSATION;
         break;
     }
+    case MaterialType::Surface: {
+        // shaders/bsdf/surface.glsl's header says which member holds what; roughnesses become
+        // GGX alphas here (perceptual^2; the sheen's Charlie r likewise, as KHR_materials_sheen
+        // defines it), the sheen's colour is times its weight.
+        type = MAT_SURFACE;
+        const float clampedIor = std::clamp(m.specularIor, 1.0f, 3.0f);
+        g.albedo = glm::vec4(m.albedo, std::clamp(m.metalness, 0.0f, 1.0f));
+        g.params = glm::vec4(m.specularRoughness * m.specularRoughness, clampedIor,
+                             std::clamp(m.specularWeight, 0.0f, 1.0f), std::clamp(m.coatWeight, 0.0f, 1.0f));
+        g.eta = glm::vec4(m.specularColor, m.coatRoughness * m.coatRoughness);
+        g.k = glm::vec4(m.coatColor, std::clamp(m.coatIor, 1.0f, 3.0f));
+        g.sheen = glm::vec4(m.sheenColor * std::clamp(m.sheenWeight, 0.0f, 1.0f), m.sheenRoughness * m.sheenRoughness);
+        break;
+    }
     }
     g.info = glm::uvec4(type, flags, 0, 0);
     return g;
+}
+
+std::span<const Material> materialPresets() {
+    static const std::vector<Material> presets = [] {
+        auto surface = [](const char* name, glm::vec3 base) {
+            Material m = materialDefaults(MaterialType::Surface);
+            m.name = name;
+            m.albedo = base;
+            return m;
+        };
+        Material plastic = surface("plastic", {0.70f, 0.06f, 0.05f});
+        plastic.specularRoughness = 0.25f;
+        Material wood = surface("varnished wood", {0.30f, 0.14f, 0.06f});
+        wood.specularRoughness = 0.7f;  // the raw wood under the varnish
+        wood.coatWeight = 1.0f;
+        wood.coatRoughness = 0.08f;
+        wood.coatIor = 1.5f;
+        wood.coatColor = {0.95f, 0.82f, 0.60f};  // an amber varnish
+        Material paint = surface("car paint", {0.55f, 0.03f, 0.04f});
+        paint.metalness = 1.0f;  // metallic flakes, smoothed into a rough metal
+        paint.specularRoughness = 0.45f;
+        paint.specularColor = {1.0f, 0.6f, 0.6f};
+        paint.coatWeight = 1.0f;
+        paint.coatRoughness = 0.03f;
+        Material velvet = surface("velvet", {0.20f, 0.02f, 0.06f});
+        velvet.specularWeight = 0.2f;
+        velvet.specularRoughness = 0.8f;
+        velvet.sheenWeight = 1.0f;
+        velvet.sheenColor = {0.85f, 0.35f, 0.55f};
+        velvet.sheenRoughness = 0.45f;
+        return std::vector<Material>{plastic, wood, paint, velvet};
+    }();
+    return presets;
 }
 
 Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string>* unmapped,
@@ -95,66 +143,56 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
     Material m;
     m.name = in.name;
     m.emission = glm::max(in.emission, glm::vec3(0.0f));
-    const float alpha = std::clamp(in.roughness * in.roughness, 0.0f, 1.0f);  // glTF roughness is perceptual
     const glm::vec3 base = glm::clamp(in.baseColor, glm::vec3(0.0f), glm::vec3(1.0f));
     const std::string who = "material '" + in.name + "': ";
-    // A texture not yet read (mr null): map by the factors, and leave the reports to the mapping
-    // that reads it. An embedded one ('*N') is never read: the factors it is.
-    const bool packed = !in.metallicRoughnessTexture.empty() && in.metallicRoughnessTexture[0] != '*';
-    const bool provisional = packed && !mr;
-    std::vector<std::string> ignored;
-    if (provisional) unmapped = &ignored;
-    // Metalness: the factor, or where most of the texture's texels lie (glTF multiplies the two).
-    float metallic = in.metallic;
-    if (mr) {
-        metallic = mr->metalFraction > 0.5f ? 1.0f : 0.0f;
-        if (mr->metalMin <= 0.5f && mr->metalMax > 0.5f) {
-            char pct[32];
-            std::snprintf(pct, sizeof pct, "%.1f%%", 100.0 * double(mr->metalFraction));
-            unmapped->push_back(who + "metalness varies over its metallic-roughness texture (" + pct +
-                                " of texels above 0.5): mapped as " +
-                                (metallic > 0.5f ? "a conductor" : "a non-metal") +
-                                " throughout (a per-texel blend needs a layered material)");
-        } else {
-            metallic = mr->metalMean;  // uniform on one side of 0.5: rounded (and reported) below
-        }
-    }
+    const float roughness = std::clamp(in.roughness, 0.0f, 1.0f);  // perceptual, as glTF's
     if (in.transmission > 0.5f) {
+        // KHR_materials_transmission: rough glass (the surface model has no transmission lobe).
         m.type = MaterialType::Dielectric;
         m.ior = in.ior;
-        m.roughness = alpha;
+        m.roughness = roughness * roughness;
         m.tint = base;
-    } else if (metallic > 0.5f) {
-        // Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4), eqs. 6-7, with the
-        // reflectivity r and the edge tint g both the base colour.
-        m.type = MaterialType::Conductor;
-        m.metal = Metal::Custom;
-        m.roughness = alpha;
-        for (int c = 0; c < 3; ++c) {
-            const float r = std::clamp(base[c], 0.0f, 0.99f), g = r;
-            const float sr = std::sqrt(r);
-            const float n = g * (1.0f - r) / (1.0f + r) + (1.0f - g) * (1.0f + sr) / (1.0f - sr);
-            const float k2 = (r * (n + 1.0f) * (n + 1.0f) - (n - 1.0f) * (n - 1.0f)) / (1.0f - r);
-            m.eta[c] = std::max(n, 1e-3f);
-            m.k[c] = std::sqrt(std::max(k2, 0.0f));
-        }
-        if (metallic < 0.99f) unmapped->push_back(who + "metallic " + std::to_string(metallic) + " rounded to 1");
+        if (in.transmission < 1.0f)
+            unmapped->push_back(who + "transmission " + std::to_string(in.transmission) + " rounded to 1");
+        if (!in.metallicRoughnessTexture.empty())
+            unmapped->push_back(who + "the metallic-roughness texture of a transmissive material is not mapped (its "
+                                      "roughness factor is used)");
+        if (in.clearcoat > 0.0f || glm::any(glm::greaterThan(in.sheenColor, glm::vec3(0.0f))))
+            unmapped->push_back(who + "clearcoat and sheen of a transmissive material are not mapped");
     } else {
-        m.type = MaterialType::Diffuse;
+        // The layered surface, by the glTF-to-OpenPBR correspondence (OpenPBR Surface 1.1,
+        // appendix "glTF PBR"): base colour, metalness (per texel with a metallic-roughness
+        // texture: mr, wired by compileScene), roughness (perceptual in both), KHR_materials_ior,
+        // _specular (factor -> specular_weight, colour -> specular_color), _clearcoat (ior 1.5, as
+        // the extension defines; white), _sheen (colour, roughness; weight 1 where the colour is
+        // not black).
+        m = materialDefaults(MaterialType::Surface);
+        m.name = in.name;
+        m.emission = glm::max(in.emission, glm::vec3(0.0f));
         m.albedo = base;
-        if (metallic > 0.01f) unmapped->push_back(who + "metallic " + std::to_string(metallic) + " rounded to 0");
-        unmapped->push_back(who + "the specular reflection of a non-metal is not modelled (diffuse only)");
+        m.metalness = std::clamp(in.metallic, 0.0f, 1.0f);
+        m.specularRoughness = roughness;
+        m.specularIor = std::clamp(in.ior, 1.0f, 3.0f);
+        if (in.ior > 3.0f) unmapped->push_back(who + "ior " + std::to_string(in.ior) + " clamped to 3");
+        m.specularWeight = std::clamp(in.specular, 0.0f, 1.0f);
+        m.specularColor = glm::clamp(in.specularColor, glm::vec3(0.0f), glm::vec3(1.0f));
+        m.coatWeight = std::clamp(in.clearcoat, 0.0f, 1.0f);
+        m.coatRoughness = std::clamp(in.clearcoatRoughness, 0.0f, 1.0f);
+        m.coatIor = 1.5f;
+        m.sheenColor = glm::clamp(in.sheenColor, glm::vec3(0.0f), glm::vec3(1.0f));
+        m.sheenWeight = glm::any(glm::greaterThan(m.sheenColor, glm::vec3(0.0f))) ? 1.0f : 0.0f;
+        m.sheenRoughness = std::clamp(in.sheenRoughness, 0.0f, 1.0f);
+        // The roughness slot holds the baked texture (roughness in R, metalness in G).
+        if (!in.metallicRoughnessTexture.empty()) m.roughnessTexture = in.metallicRoughnessTexture;
+        (void)mr;
     }
-    if (in.transmission > 0.0f && in.transmission <= 0.5f)
-        unmapped->push_back(who + "transmission " + std::to_string(in.transmission) + " rounded to 0");
-    if (!in.baseColorTexture.empty() && in.baseColorTexture[0] != '*') m.albedoTexture = in.baseColorTexture;
-    if (!in.normalTexture.empty() && in.normalTexture[0] != '*') m.normalTexture = in.normalTexture;
-    // The texture's roughness becomes a roughness map where the model has a roughness (conductor,
-    // dielectric); the path marks the material rough, compileScene wires mr->alpha in its slot.
-    if (mr && m.type != MaterialType::Diffuse) m.roughnessTexture = in.metallicRoughnessTexture;
-    if (!in.metallicRoughnessTexture.empty() && !packed)
-        unmapped->push_back(who + "embedded metallic-roughness texture not read (the factors are used)");
-    if (!in.emissionTexture.empty()) unmapped->push_back(who + "emission texture not mapped (the factor is used)");
+    if (!in.baseColorTexture.empty()) m.albedoTexture = in.baseColorTexture;
+    if (!in.normalTexture.empty()) {
+        m.normalTexture = in.normalTexture;
+        m.normalScale = std::max(in.normalScale, 0.0f);
+    }
+    if (!in.emissionTexture.empty())
+        unmapped->push_back(who + "emission texture not mapped per texel (the emissive factor is used)");
     if (in.opacity < 1.0f) unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
     return m;
 }
@@ -170,30 +208,31 @@ bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float 
     const int g = ch >= 3 ? 1 : 0, b = ch >= 3 ? 2 : 0;
     const float rf = std::clamp(roughnessFactor, 0.0f, 1.0f), mf = std::clamp(metallicFactor, 0.0f, 1.0f);
     MetallicRoughnessMap m;
-    m.alpha.width = w;
-    m.alpha.height = h;
-    m.alpha.channels = 1;
-    m.alpha.pixels.resize(size_t(w) * size_t(h));
+    m.texture.width = w;
+    m.texture.height = h;
+    m.texture.channels = 3;  // R roughness, G metalness, B unused (addTexture keeps RGB as it is)
+    const size_t n = size_t(w) * size_t(h);
+    m.texture.pixels.assign(3 * n, 0.0f);
     m.metalMin = 1.0f;
     m.metalMax = 0.0f;
     double sum = 0.0;
     size_t metal = 0;
-    for (size_t i = 0; i < m.alpha.pixels.size(); ++i) {
+    for (size_t i = 0; i < n; ++i) {
         const float* px = &image.pixels[i * size_t(ch)];
         if (!std::isfinite(px[g]) || !std::isfinite(px[b])) {
             *error = "non-finite pixel at (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) + ")";
             return false;
         }
-        const float r = rf * std::clamp(px[g], 0.0f, 1.0f);
-        m.alpha.pixels[i] = r * r;
+        m.texture.pixels[3 * i] = rf * std::clamp(px[g], 0.0f, 1.0f);
         const float mt = mf * std::clamp(px[b], 0.0f, 1.0f);
+        m.texture.pixels[3 * i + 1] = mt;
         m.metalMin = std::min(m.metalMin, mt);
         m.metalMax = std::max(m.metalMax, mt);
         sum += mt;
         metal += mt > 0.5f ? 1 : 0;
     }
-    m.metalMean = float(sum / double(m.alpha.pixels.size()));
-    m.metalFraction = float(double(metal) / double(m.alpha.pixels.size()));
+    m.metalMean = float(sum / double(n));
+    m.metalFraction = float(double(metal) / double(n));
     *out = std::move(m);
     return true;
 }

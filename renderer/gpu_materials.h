@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include <span>
 #include <utility>
 
 namespace caustic {
@@ -17,5 +18,10 @@ std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m);
 
 // The GPU material for a scene material (textures are filled in by the caller).
 gpu::GpuMaterial convertMaterial(const Material& m);
+
+// Named layered ("surface") materials for the editor's "Add > Material preset" menu and the
+// lookdev scene: plastic, varnished wood, car paint (a metal base under a clear coat), velvet
+// (sheen); each Material's name is the preset's. docs/materials.md lists their values.
+std::span<const Material> materialPresets();
 
 }  // namespace caustic

@@ -21,7 +21,7 @@
 namespace caustic {
 namespace gpu {
 static_assert(sizeof(GpuPrimitive) == 64);
-static_assert(sizeof(GpuMaterial) == 112);
+static_assert(sizeof(GpuMaterial) == 128);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 96);
@@ -264,7 +264,8 @@ struct Builder {
         auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
             if (name.empty()) return true;
             const std::filesystem::path file(resolvePathIn(baseDir, name));
-            const auto cacheKey = std::make_pair(file.string(), enc);
+            // A model file's embedded image ("*N") is its file's: the key names both.
+            const auto cacheKey = std::make_pair(fileTextures ? fileTextures->key(name) : file.string(), enc);
             if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
                 *slot = found->second + 1;
                 return true;
@@ -272,16 +273,12 @@ struct Builder {
             const std::string context = where + "." + key + " (material '" + m.name + "'): ";
             ImageData image;
             std::string why;
-            if (!readImage) {
-                *error = context + file.string() + ": this build cannot read images";
+            if (!readTextureImage(readImage, fileTextures, file.string(), &image, &why)) {
+                *error = context + why;
                 return false;
             }
-            if (!readImage(file.string(), &image, &why)) {
-                // The reader's message names the file; make sure it does even if it did not.
-                *error = context + (why.find(file.string()) == std::string::npos ? file.string() + ": " : "") + why;
-                return false;
-            }
-            if (!addTexture(image, enc, &out, &why)) {
+            const std::uint32_t wrap = fileTextures ? fileTextures->wrap(key) : 0u;
+            if (!addTexture(image, enc, &out, &why, wrap)) {
                 *error = context + file.string() + ": " + why;
                 return false;
             }
@@ -352,6 +349,8 @@ struct Builder {
     static constexpr std::uint32_t kFileMaterials = 0xffffffffu;  // addMeshInstance: use the file's
     std::vector<std::uint32_t> meshMaterialBase;          // per BLAS: its first file material
     std::vector<std::vector<std::uint32_t>> meshSlots;    // per BLAS: each triangle's file material
+    // While a model file's material is loaded: its embedded images and wrap modes (textures.cpp).
+    const FileTextures* fileTextures = nullptr;
     std::vector<std::vector<Material>> meshMaterials;     // per BLAS: the file's materials, mapped
     std::vector<std::vector<std::string>> meshMappingWarnings;  // reported once an object uses them
     std::vector<bool> meshTexturesLoaded;                 // per BLAS: its file materials' textures
@@ -364,28 +363,31 @@ struct Builder {
         gpu::GpuMaterial& g = out.materials[meshMaterialBase[blas] + k];
         const std::vector<ImportedMaterial>& imported = out.meshEntries[blas]->imported;
         const ImportedMaterial* im = k < imported.size() ? &imported[k] : nullptr;
-        if (!im || im->metallicRoughnessTexture.empty() || im->metallicRoughnessTexture[0] == '*')
-            return addTextures(m, where, "", &g);
+        const FileTextures files{file, &out.meshEntries[blas]->embedded, im ? im->wrap : 0u};
+        fileTextures = &files;
+        const bool ok = addFileMaterialTexturesWith(m, g, im, where);
+        fileTextures = nullptr;
+        return ok;
+    }
+
+    bool addFileMaterialTexturesWith(Material& m, gpu::GpuMaterial& g, const ImportedMaterial* im,
+                                     const std::string& where) {
+        if (!im || im->metallicRoughnessTexture.empty()) return addTextures(m, where, "", &g);
         const std::string& texture = im->metallicRoughnessTexture;
         const std::string context = where + ".metallic_roughness_texture (material '" + m.name + "'): ";
         ImageData image;
         MetallicRoughnessMap mr;
         std::string why;
-        if (!readImage) {
-            *error = context + texture + ": this build cannot read images";
-            return false;
-        }
-        if (!readImage(texture, &image, &why)) {
-            *error = context + (why.find(texture) == std::string::npos ? texture + ": " : "") + why;
+        if (!readTextureImage(readImage, fileTextures, texture, &image, &why)) {
+            *error = context + why;
             return false;
         }
         if (!bakeMetallicRoughness(image, im->roughness, im->metallic, &mr, &why)) {
             *error = context + texture + ": " + why;
             return false;
         }
-        std::vector<std::string> unmapped;
+        std::vector<std::string> unmapped;  // the same as the import's mapping reported (mappingWarnings)
         m = mapImportedMaterial(*im, &unmapped, &mr);
-        for (const std::string& u : unmapped) out.warnings.push_back(file + ": " + u);
         Material others = m;   // albedo and normal maps as usual; the roughness slot is filled here
         others.roughnessTexture.clear();
         g = convertMaterial(m);
@@ -394,12 +396,14 @@ struct Builder {
         // One baked texture per (file, roughness factor): the factor is part of every texel.
         char factor[32];
         std::snprintf(factor, sizeof factor, "%.9g", double(im->roughness));
-        const auto cacheKey = std::make_pair("glTF alpha x" + std::string(factor) + " " + texture, TextureEncoding::Linear);
+        const auto cacheKey = std::make_pair("glTF metallic-roughness x" + std::string(factor) + " " + fileTextures->key(texture),
+                                             TextureEncoding::Linear);
+        if (m.type == MaterialType::Surface) g.info.y |= MAT_FLAG_METAL_TEXTURE;
         if (auto found = textureIndex.find(cacheKey); found != textureIndex.end()) {
             g.textures.z = found->second + 1;
             return true;
         }
-        if (!addTexture(mr.alpha, TextureEncoding::Linear, &out, &why)) {
+        if (!addTexture(mr.texture, TextureEncoding::Linear, &out, &why, fileTextures->wrap("roughness_texture"))) {
             *error = context + texture + ": " + why;
             return false;
         }
@@ -652,7 +656,7 @@ struct Builder {
                 emission = o.emission;
                 twoSided = o.twoSided;
                 gpu::GpuMaterial copy = out.materials[mat];
-                copy.emission = glm::vec4(emission, 0.0f);
+                copy.emission = glm::vec4(emission, copy.emission.w);  // w: the normal scale
                 out.materials.push_back(copy);
                 mat = static_cast<std::uint32_t>(out.materials.size() - 1);
             }

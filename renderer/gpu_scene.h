@@ -87,6 +87,7 @@ struct MeshCacheEntry {
     std::vector<ImportedMaterial> imported;    // the same as the file gives them: those with a
                                                // metallic-roughness texture are mapped again once
                                                // it is read (compileScene, bakeMetallicRoughness)
+    std::vector<EmbeddedImage> embedded;       // the file's embedded images ("*N" texture paths)
     std::vector<std::string> mappingWarnings;  // what of them could not be mapped
     std::vector<std::string> warnings;
     std::filesystem::file_time_type stamp;
@@ -122,7 +123,29 @@ enum class TextureEncoding { Srgb, Linear };
 
 // Appends the image and its mip chain (linear RGBA, 2x2 box filtered) to out->texels and its
 // descriptor to out->textures; fails for an empty, truncated or non-finite image.
-bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error);
+// wrap: GpuTexture's TEXTURE_WRAP_* bits (repeat by default).
+bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error,
+                std::uint32_t wrap = 0);
+
+// Where a model file's material textures come from: the file's embedded images ("*N" paths) and
+// its samplers' wrap modes (ImportedMaterial::wrap), for readTextureImage and addTexture.
+struct FileTextures {
+    std::string file;                                   // the model file
+    const std::vector<EmbeddedImage>* embedded = nullptr;
+    std::uint32_t wraps = 0;                            // ImportedMaterial::wrap
+    // The texture cache key of a path ("*N" is the file's own).
+    std::string key(const std::string& path) const { return !path.empty() && path[0] == '*' ? file + path : path; }
+    // The GpuTexture wrap bits of the slot named by the scene key ("albedo_texture", ...).
+    std::uint32_t wrap(const std::string& slotKey) const;
+};
+// An image a texture slot names: a file through the reader, or (files non-null, path "*N") the
+// model file's embedded image N decoded from memory. Errors name the file (and the image).
+bool readTextureImage(const ImageReader& reader, const FileTextures* files, const std::string& path, ImageData* out,
+                      std::string* error);
+// Decodes an image file held in memory (a texture embedded in a model file: glTF's PNG or JPEG,
+// told apart by their signatures) into 8-bit values as floats in [0, 1] (16-bit PNGs in 16 bits),
+// without colour conversion. Errors start with `what` (the file and the texture).
+bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error);
 
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names
@@ -135,26 +158,24 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
 // moved back if the compile fails, so *reuse stays valid for its owner.
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
                   MeshCache* meshCache = nullptr, CompiledScene* reuse = nullptr);
-// A model file's material (glTF metallic-roughness terms) as a caustic material, as well as it
-// maps: transmission -> dielectric (ior, alpha = roughness^2), metallic -> conductor (complex IOR
-// from the base colour as both reflectivity and edge tint, Gulbrandsen 2014), otherwise diffuse;
-// base colour and normal textures, emission. What does not map is appended to *unmapped.
-//
-// glTF's metallic-roughness texture (glTF 2.0 spec, section 3.9.2: roughness in G, metalness in
-// B, linear, each multiplied by its factor) is mapped once it is read, with mr (from
-// bakeMetallicRoughness): the material is a conductor or not by where most of its texels' metalness
-// lies (above or below 0.5), reported when the texture holds both; a conductor or dielectric gets
-// the texture's roughness as a roughness map (mr->alpha, wired by compileScene; m.roughnessTexture
-// is set to the texture's path so the material is a rough one). Without mr a material with such a
-// texture is mapped by its factors alone, silently: compileScene maps it again.
+// A model file's material (glTF metallic-roughness terms and the material extensions the importer
+// read) as a caustic material: KHR_materials_transmission above 0.5 -> dielectric (ior, alpha =
+// roughness^2), everything else the layered surface (base colour, metallic, perceptual roughness,
+// ior, specular, clearcoat, sheen, emission; docs/scene-format.md lists the mapping); base colour,
+// normal (with its scale) and metallic-roughness textures carry over, the last in the roughness
+// slot (baked by bakeMetallicRoughness and wired by compileScene). What does not map is appended
+// to *unmapped. mr (the baked texture) is accepted for the compile's second pass and changes
+// nothing in the mapping: the surface material reads metalness per texel.
 Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped,
                              const struct MetallicRoughnessMap* mr = nullptr);
 
-// A glTF metallic-roughness texture, read: the GGX alpha per texel, (roughnessFactor * G)^2 (glTF
-// roughness is perceptual, alpha its square, as for the factor), and what its metalness
-// (metallicFactor * B) does over the texels. Fails for an empty image or non-finite texels.
+// A glTF metallic-roughness texture, read: roughness and metalness per texel, each times its
+// factor, for the surface material's roughness slot (shaders/bsdf/material.glsl squares the
+// roughness and, with MAT_FLAG_METAL_TEXTURE, reads the metalness from G), and what its metalness
+// does over the texels. Fails for an empty image or non-finite texels.
 struct MetallicRoughnessMap {
-    ImageData alpha;              // one channel, the texture's size
+    ImageData texture;            // RGB, the texture's size: R the perceptual roughness
+                                  // (roughnessFactor * G), G the metalness (metallicFactor * B)
     float metalMin = 0.0f, metalMax = 0.0f, metalMean = 0.0f;
     float metalFraction = 0.0f;   // the fraction of texels whose metalness is above 0.5
 };

@@ -16,8 +16,11 @@ namespace caustic {
 // What a file says about a material, in glTF 2.0 metallic-roughness terms (other formats are
 // mapped onto it by Assimp; what cannot be mapped is reported as an import warning). Texture
 // paths are as the file gives them, resolved against the model file's folder when relative;
-// empty when absent. A path that starts with '*' names a texture embedded in the file (not
-// extracted: reported as a warning).
+// empty when absent. A path "*N" names the file's embedded image N (a .glb buffer view or a
+// data URI), whose bytes are MeshImportResult::embedded[N].
+// Texture wrap modes (glTF samplers) per slot, 2 bits per axis: see textureWrap().
+inline constexpr std::uint32_t kWrapRepeat = 0, kWrapClamp = 1, kWrapMirror = 2;
+enum class TextureSlot { BaseColor = 0, MetallicRoughness = 1, Normal = 2, Emission = 3 };
 struct ImportedMaterial {
     std::string name;
     glm::vec3 baseColor{0.8f};            // linear RGB factor
@@ -33,6 +36,30 @@ struct ImportedMaterial {
     float transmission = 0.0f;            // KHR_materials_transmission factor
     float ior = 1.5f;                     // KHR_materials_ior
     bool doubleSided = false;
+    float specular = 1.0f;                // KHR_materials_specular: specularFactor
+    glm::vec3 specularColor{1.0f};        //   specularColorFactor
+    float clearcoat = 0.0f;               // KHR_materials_clearcoat: clearcoatFactor
+    float clearcoatRoughness = 0.0f;      //   clearcoatRoughnessFactor (perceptual)
+    glm::vec3 sheenColor{0.0f};           // KHR_materials_sheen: sheenColorFactor
+    float sheenRoughness = 0.0f;          //   sheenRoughnessFactor
+    int alphaMode = 0;                    // glTF alphaMode: 0 OPAQUE, 1 MASK, 2 BLEND
+    float alphaCutoff = 0.5f;
+    std::uint32_t wrap = 0;               // wrap modes per TextureSlot: bits 4 slot + 2 axis (u, v)
+
+    std::uint32_t textureWrap(TextureSlot slot, int axis) const {
+        return (wrap >> (4 * static_cast<int>(slot) + 2 * axis)) & 3u;
+    }
+    void setTextureWrap(TextureSlot slot, std::uint32_t u, std::uint32_t v) {
+        const int shift = 4 * static_cast<int>(slot);
+        wrap = (wrap & ~(15u << shift)) | ((u & 3u) << shift) | ((v & 3u) << (shift + 2));
+    }
+};
+
+// An image file embedded in a model file, as its bytes (PNG or JPEG; renderer/textures.cpp
+// decodeImageBytes decodes it).
+struct EmbeddedImage {
+    std::string name;                     // what the file calls it ("" when it has no name)
+    std::string bytes;
 };
 
 struct Mesh {

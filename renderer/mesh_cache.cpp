@@ -29,6 +29,7 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
     }
     entry->warnings = imported.warnings;
     entry->imported = imported.materials;
+    entry->embedded = std::move(imported.embedded);
     for (const ImportedMaterial& im : imported.materials) {
         std::vector<std::string> unmapped;
         entry->materials.push_back(mapImportedMaterial(im, &unmapped));

@@ -1,4 +1,5 @@
 #include "renderer/mesh_import.h"
+#include "renderer/mesh_import_gltf.h"
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
@@ -109,6 +110,18 @@ ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, boo
         m.roughness = std::sqrt(std::sqrt(2.0f / (f + 2.0f)));
         *approximated = true;
     }
+    // Formats without PBR data (OBJ/MTL, COLLADA, FBX's Phong): the specular colour Ks becomes the
+    // dielectric specular layer's weight (its largest channel) and colour; none, or black, is none.
+    if (!hasMetallic) {
+        m.specular = 0.0f;
+        if (mat->Get(AI_MATKEY_COLOR_SPECULAR, c3) == AI_SUCCESS) {
+            const float w = std::max({c3.r, c3.g, c3.b});
+            if (std::isfinite(w) && w > 0.0f) {
+                m.specular = std::min(w, 1.0f);
+                m.specularColor = glm::vec3(c3.r, c3.g, c3.b) / w;
+            }
+        }
+    }
     if (mat->Get(AI_MATKEY_COLOR_EMISSIVE, c3) == AI_SUCCESS) m.emission = {c3.r, c3.g, c3.b};
     if (mat->Get(AI_MATKEY_EMISSIVE_INTENSITY, f) == AI_SUCCESS) m.emission *= f;
     if (mat->Get(AI_MATKEY_TRANSMISSION_FACTOR, f) == AI_SUCCESS) m.transmission = f;
@@ -145,6 +158,7 @@ ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, boo
     for (int i = 0; i < 3; ++i) {
         if (!finitePositive(m.baseColor[i])) m.baseColor[i] = 0.8f;
         if (!finitePositive(m.emission[i])) m.emission[i] = 0.0f;
+        if (!finitePositive(m.specularColor[i])) m.specularColor[i] = 1.0f;
     }
     m.baseColor = glm::min(m.baseColor, glm::vec3(1.0f));
     auto unit = [](float v, float fallback) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : fallback; };
@@ -155,6 +169,83 @@ ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, boo
     if (!std::isfinite(m.ior)) m.ior = 1.5f;
     if (!std::isfinite(m.normalScale)) m.normalScale = 1.0f;
     return m;
+}
+
+bool isGltfPath(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".gltf" || ext == ".glb";
+}
+
+// glTF files: what Assimp 5.2 does not pass on, from the file's JSON (mesh_import_gltf.h), laid
+// over the materials Assimp made (the same order: Assimp's glTF importer makes material i from
+// the file's material i and may append a default one). Reports, once per file, the material
+// extensions and properties that are not mapped.
+void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<GltfTextureRef>* uvTransforms) {
+    GltfInfo info;
+    std::string why;
+    if (!readGltfInfo(path, &info, &why)) {
+        r->warnings.push_back(why + " (material extensions, texture transforms and samplers not read)");
+        return;
+    }
+    std::vector<std::string> unsupported;
+    for (const std::string& e : info.extensionsUsed)
+        if (!isMappedGltfExtension(e)) unsupported.push_back(e);
+    if (!unsupported.empty()) {
+        std::string list;
+        for (const std::string& e : unsupported) list += (list.empty() ? "" : ", ") + e;
+        r->warnings.push_back(path + ": glTF extensions not supported (ignored): " + list);
+    }
+    const size_t n = std::min(info.materials.size(), r->materials.size());
+    std::vector<std::string> ignored;
+    bool mixedTransforms = false, otherUvSet = false, masked = false, blended = false;
+    for (size_t i = 0; i < n; ++i) {
+        const GltfMaterialInfo& g = info.materials[i];
+        ImportedMaterial& m = r->materials[i];
+        if (!g.name.empty() && !m.name.empty() && g.name != m.name) {
+            r->warnings.push_back(path + ": material " + std::to_string(i) + " is '" + m.name + "' to Assimp and '" +
+                                  g.name + "' in the file: its glTF extensions are not applied");
+            continue;
+        }
+        m.alphaMode = g.alphaMode;
+        m.alphaCutoff = g.alphaCutoff;
+        m.doubleSided = g.doubleSided;
+        m.normalScale = g.normalScale;
+        if (g.hasIor && g.ior >= 1.0f) m.ior = g.ior;
+        m.specular = g.specular;
+        m.specularColor = g.specularColor;
+        m.clearcoat = g.clearcoat;
+        m.clearcoatRoughness = g.clearcoatRoughness;
+        m.sheenColor = g.sheenColor;
+        m.sheenRoughness = g.sheenRoughness;
+        m.transmission = std::max(m.transmission, g.transmission);
+        m.emission = g.emissiveFactor * g.emissiveStrength;
+        m.setTextureWrap(TextureSlot::BaseColor, g.baseColor.wrapS, g.baseColor.wrapT);
+        m.setTextureWrap(TextureSlot::MetallicRoughness, g.metallicRoughness.wrapS, g.metallicRoughness.wrapT);
+        m.setTextureWrap(TextureSlot::Normal, g.normal.wrapS, g.normal.wrapT);
+        m.setTextureWrap(TextureSlot::Emission, g.emissive.wrapS, g.emissive.wrapT);
+        const GltfTextureRef* first = nullptr;
+        for (const GltfTextureRef* t : {&g.baseColor, &g.metallicRoughness, &g.normal, &g.emissive}) {
+            if (!t->present) continue;
+            if (t->texCoord != 0) otherUvSet = true;
+            if (!first) first = t;
+            else if (t->transformed != first->transformed || t->offset != first->offset || t->scale != first->scale ||
+                     t->rotation != first->rotation)
+                mixedTransforms = true;
+        }
+        if (first) (*uvTransforms)[i] = *first;
+        masked |= g.alphaMode == 1;
+        blended |= g.alphaMode == 2;
+        for (const std::string& s : g.ignored)
+            if (std::find(ignored.begin(), ignored.end(), s) == ignored.end()) ignored.push_back(s);
+    }
+    for (const std::string& s : ignored) r->warnings.push_back(path + ": not mapped (ignored): " + s);
+    if (mixedTransforms)
+        r->warnings.push_back(path + ": a material's textures have different KHR_texture_transforms: the base colour "
+                                     "texture's is used for all of them");
+    if (otherUvSet) r->warnings.push_back(path + ": textures on UV sets other than the first use the first");
+    if (masked) r->warnings.push_back(path + ": alphaMode MASK is rendered opaque (cut-outs are not implemented)");
+    if (blended) r->warnings.push_back(path + ": alphaMode BLEND is rendered opaque");
 }
 
 struct Converter {
@@ -418,6 +509,22 @@ MeshImportResult importImpl(const std::string& path) {
             r.materials.push_back(ImportedMaterial{});
     }
 
+    // The embedded images ("*N" paths): compressed files (PNG, JPEG) as their bytes.
+    bool uncompressed = false;
+    for (unsigned i = 0; scene->mTextures && i < scene->mNumTextures; ++i) {
+        EmbeddedImage e;
+        const aiTexture* t = scene->mTextures[i];
+        if (t && t->mHeight == 0 && t->pcData) {
+            e.name = t->mFilename.C_Str();
+            e.bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
+        } else {
+            uncompressed = true;  // decoded texels: only from formats glTF is not (left empty: reported when used)
+        }
+        r.embedded.push_back(std::move(e));
+    }
+    std::vector<GltfTextureRef> uvTransforms(r.materials.size());
+    if (isGltfPath(path)) applyGltfInfo(path, &r, &uvTransforms);
+
     Converter conv;
     conv.scene = scene;
     conv.path = path;
@@ -445,7 +552,19 @@ MeshImportResult importImpl(const std::string& path) {
     if (scene->mNumAnimations) conv.warn(std::to_string(scene->mNumAnimations) + " animations ignored");
     if (scene->mNumCameras) conv.warn(std::to_string(scene->mNumCameras) + " cameras ignored");
     if (scene->mNumLights) conv.warn(std::to_string(scene->mNumLights) + " lights ignored");
-    if (embedded) conv.warn("embedded textures are not extracted ('*N' texture paths)");
+    if (uncompressed) conv.warn("embedded textures stored as raw texels are not read (only PNG and JPEG files)");
+    (void)embedded;
+    // KHR_texture_transform: one per material (its base colour texture's, else the first textured
+    // slot's), applied to the UVs of its meshes in glTF's UV space (Assimp flips v: v_gltf = 1 - v).
+    for (Mesh& mesh : r.meshes) {
+        if (mesh.material < 0 || size_t(mesh.material) >= uvTransforms.size()) continue;
+        const GltfTextureRef& t = uvTransforms[size_t(mesh.material)];
+        if (!t.transformed) continue;
+        for (glm::vec2& uv : mesh.uvs) {
+            const glm::vec2 g = t.apply(glm::vec2(uv.x, 1.0f - uv.y));
+            uv = glm::vec2(g.x, 1.0f - g.y);
+        }
+    }
     if (approximated) conv.warn("non-PBR materials (Phong shininess / specular-glossiness) mapped approximately to roughness");
     if (otherTextures) conv.warn("texture types other than base colour, metallic-roughness, normal and emission ignored");
     if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) conv.warn("Assimp marked the scene incomplete");

@@ -16,7 +16,9 @@
 //   - every mesh validated (renderer/mesh.h): out-of-range indices, non-finite vertices and
 //     zero-area triangles dropped and counted, so everything returned is safe to build a BVH over;
 //   - materials in glTF metallic-roughness terms, one per file material, Mesh::material indexing
-//     them.
+//     them; for glTF files completed from the file's own JSON (material extensions, samplers,
+//     KHR_texture_transform, applied to the UVs; renderer/mesh_import_gltf.h), and the file's
+//     embedded images as their bytes (decoded when compiled).
 //
 // Errors never throw and never crash: a file that cannot be used returns an empty mesh list and an
 // error naming the file and what is wrong ("<path>: ..."). A file that loads with problems returns
@@ -33,6 +35,7 @@ namespace caustic {
 struct MeshImportResult {
     std::vector<Mesh> meshes;
     std::vector<ImportedMaterial> materials;
+    std::vector<EmbeddedImage> embedded;  // the file's embedded images ("*N" texture paths)
     std::vector<std::string> warnings;   // what could not be mapped or was repaired
     std::string error;                   // empty on success
     double seconds = 0.0;                // time spent in Assimp and conversion

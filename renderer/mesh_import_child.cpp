@@ -39,7 +39,7 @@ namespace {
 
 // Update writeMesh/readMesh and writeMaterial/readMaterial when these change.
 static_assert(sizeof(Mesh) == 160, "a Mesh field was added: serialise it in mesh_import_child.cpp");
-static_assert(sizeof(ImportedMaterial) == 216,
+static_assert(sizeof(ImportedMaterial) == 264,
               "an ImportedMaterial field was added: serialise it in mesh_import_child.cpp");
 
 constexpr std::uint32_t kMagic = 0x31494d43;  // "CMI1"
@@ -110,12 +110,24 @@ void writeMaterial(Writer& w, const ImportedMaterial& m) {
     w.pod(m.transmission);
     w.pod(m.ior);
     w.pod(m.doubleSided);
+    w.pod(m.specular);
+    w.pod(m.specularColor);
+    w.pod(m.clearcoat);
+    w.pod(m.clearcoatRoughness);
+    w.pod(m.sheenColor);
+    w.pod(m.sheenRoughness);
+    w.pod(m.alphaMode);
+    w.pod(m.alphaCutoff);
+    w.pod(m.wrap);
 }
 
 bool readMaterial(Reader& r, ImportedMaterial& m) {
     return r.str(m.name) && r.pod(m.baseColor) && r.pod(m.opacity) && r.str(m.baseColorTexture) && r.pod(m.roughness) &&
            r.pod(m.metallic) && r.str(m.metallicRoughnessTexture) && r.str(m.normalTexture) && r.pod(m.normalScale) &&
-           r.pod(m.emission) && r.str(m.emissionTexture) && r.pod(m.transmission) && r.pod(m.ior) && r.pod(m.doubleSided);
+           r.pod(m.emission) && r.str(m.emissionTexture) && r.pod(m.transmission) && r.pod(m.ior) && r.pod(m.doubleSided) &&
+           r.pod(m.specular) && r.pod(m.specularColor) && r.pod(m.clearcoat) && r.pod(m.clearcoatRoughness) &&
+           r.pod(m.sheenColor) && r.pod(m.sheenRoughness) && r.pod(m.alphaMode) && r.pod(m.alphaCutoff) &&
+           r.pod(m.wrap);
 }
 
 void writeMesh(Writer& w, const Mesh& m) {
@@ -156,6 +168,11 @@ std::string serializeImport(const MeshImportResult& r) {
     for (const Mesh& m : r.meshes) writeMesh(w, m);
     w.pod(std::uint64_t(r.materials.size()));
     for (const ImportedMaterial& m : r.materials) writeMaterial(w, m);
+    w.pod(std::uint64_t(r.embedded.size()));
+    for (const EmbeddedImage& e : r.embedded) {
+        w.str(e.name);
+        w.str(e.bytes);
+    }
     w.pod(kMagic);
     return std::move(w.out);
 }
@@ -178,6 +195,10 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     result.materials.resize(n);
     for (ImportedMaterial& m : result.materials)
         if (!readMaterial(r, m)) return false;
+    if (!r.count(n, 2 * sizeof(std::uint64_t))) return false;
+    result.embedded.resize(n);
+    for (EmbeddedImage& e : result.embedded)
+        if (!r.str(e.name) || !r.str(e.bytes)) return false;
     if (!r.pod(end) || end != kMagic || r.at != bytes.size()) return false;
     *out = std::move(result);
     return true;

@@ -144,7 +144,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(1, &r->m_lightTree);
     glCreateBuffers(1, &r->m_primitiveHits);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
-    if (!computeGgxAlbedoTable(shaderDir, r->m_bsdfTables, error)) return nullptr;
+    if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
 

@@ -78,7 +78,7 @@ struct RenderSettings {
 };
 
 // The material models (docs/materials.md; shaders/bsdf/ has one file per model).
-enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor };
+enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor, Surface };
 
 // Conductor presets: complex IOR (eta, k) at R, G, B (see gpu_materials.cpp conductorPreset for the
 // values and their sources); Custom takes Material::eta and Material::k.
@@ -97,6 +97,20 @@ struct Material {
     Metal metal = Metal::Aluminium;    // conductor
     glm::vec3 eta{1.0f};               // conductor, metal == Custom: real part of the IOR, > 0
     glm::vec3 k{0.0f};                 // conductor, metal == Custom: extinction, >= 0
+    // surface (shaders/bsdf/surface.glsl; OpenPBR Surface's names and meanings): the base colour is
+    // `albedo`, the emission `emission`; roughnesses are perceptual (GGX alpha = roughness^2).
+    float metalness = 0.0f;            // [0, 1]: metal (F82-tint Fresnel) instead of specular + diffuse
+    float specularWeight = 1.0f;       // [0, 1]: the dielectric specular layer's strength
+    glm::vec3 specularColor{1.0f};     // tints the dielectric specular and the metal's edge (F82)
+    float specularRoughness = 0.3f;    // [0, 1], perceptual
+    float specularIor = 1.5f;          // [1, 3]
+    float coatWeight = 0.0f;           // [0, 1]: the clear coat's strength
+    glm::vec3 coatColor{1.0f};         // what passes the coat is multiplied by it
+    float coatRoughness = 0.0f;        // [0, 1], perceptual
+    float coatIor = 1.6f;              // [1, 3]
+    float sheenWeight = 0.0f;          // [0, 1]
+    glm::vec3 sheenColor{1.0f};
+    float sheenRoughness = 0.5f;       // [0, 1], perceptual (the Charlie lobe's r = roughness^2)
     // Texture files (relative to the scene file), "" for none. albedoTexture replaces albedo
     // (diffuse models) or tint (the others) and is decoded from sRGB unless the file is HDR;
     // normalTexture is a tangent-space normal map; roughnessTexture's first channel replaces
@@ -104,6 +118,7 @@ struct Material {
     std::string albedoTexture{};
     std::string normalTexture{};
     std::string roughnessTexture{};
+    float normalScale = 1.0f;          // with normalTexture: scales the map's tangent-space x and y (glTF's scale)
     bool operator==(const Material&) const = default;
 };
 

@@ -137,7 +137,8 @@ std::span<const EnumChoice> enumChoices(MaterialType) {
                                        {3, "mirror", "mirror"},
                                        {4, "transmission", "transmission"},
                                        {5, "dielectric", "dielectric (glass)"},
-                                       {6, "conductor", "conductor (metal)"}};
+                                       {6, "conductor", "conductor (metal)"},
+                                       {7, "surface", "surface (layered, OpenPBR-style)"}};
     return k;
 }
 std::span<const EnumChoice> enumChoices(Metal) {
@@ -312,22 +313,71 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "energy_compensation", .label = "Multiple scattering", .kind = ParamKind::Bool,
          .member = &M::energyCompensation, .doc = "multiple-scattering compensation of rough GGX",
          .types = bits(T::Conductor)},
+        // surface (shaders/bsdf/surface.glsl), grouped as OpenPBR's panels are.
+        {.key = "base_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::albedo,
+         .range = between(0, 1), .doc = "`surface`: the diffuse albedo of the dielectric base, F0 of the metal",
+         .types = bits(T::Surface), .section = "Base"},
+        {.key = "metalness", .label = "Metalness", .kind = ParamKind::Float, .member = &M::metalness,
+         .range = between(0, 1), .doc = "`surface`: mixes the dielectric base (specular over diffuse) into a metal",
+         .types = bits(T::Surface), .slider = true},
+        {.key = "specular_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::specularWeight,
+         .range = between(0, 1), .doc = "`surface`: scales the dielectric specular layer (the diffuse below gets "
+                                       "what it leaves)",
+         .types = bits(T::Surface), .slider = true, .section = "Specular"},
+        {.key = "specular_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::specularColor,
+         .range = between(0, 1), .doc = "`surface`: tints the dielectric specular, and is the metal's edge tint (F82)",
+         .types = bits(T::Surface)},
+        {.key = "specular_roughness", .label = "Roughness", .kind = ParamKind::Float,
+         .member = &M::specularRoughness, .range = between(0, 1),
+         .doc = "`surface`: perceptual roughness of the specular layer and the metal (GGX alpha = roughness^2)",
+         .types = bits(T::Surface), .slider = true},
+        {.key = "specular_ior", .label = "IOR", .kind = ParamKind::Float, .member = &M::specularIor,
+         .range = between(1, 3), .doc = "`surface`: the dielectric base's index of refraction (relative to air)",
+         .types = bits(T::Surface), .speed = 0.005f},
+        {.key = "coat_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::coatWeight,
+         .range = between(0, 1), .doc = "`surface`: the clear coat's strength (0: none)", .types = bits(T::Surface),
+         .slider = true, .section = "Coat"},
+        {.key = "coat_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::coatColor,
+         .range = between(0, 1), .doc = "`surface`: the light that passes the coat is multiplied by it",
+         .types = bits(T::Surface)},
+        {.key = "coat_roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::coatRoughness,
+         .range = between(0, 1), .doc = "`surface`: perceptual roughness of the coat", .types = bits(T::Surface),
+         .slider = true},
+        {.key = "coat_ior", .label = "IOR", .kind = ParamKind::Float, .member = &M::coatIor, .range = between(1, 3),
+         .doc = "`surface`: the coat's index of refraction", .types = bits(T::Surface), .speed = 0.005f},
+        {.key = "sheen_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::sheenWeight,
+         .range = between(0, 1), .doc = "`surface`: the sheen (fuzz) layer's strength (0: none)",
+         .types = bits(T::Surface), .slider = true, .section = "Sheen"},
+        {.key = "sheen_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::sheenColor,
+         .range = between(0, 1), .doc = "`surface`: the sheen's colour", .types = bits(T::Surface)},
+        {.key = "sheen_roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::sheenRoughness,
+         .range = between(0, 1), .doc = "`surface`: perceptual roughness of the sheen (the Charlie lobe's r = roughness^2, as glTF's; below "
+                "0.265, r = 0.07)",
+         .types = bits(T::Surface), .slider = true},
         {.key = "emission", .label = "Emission", .kind = ParamKind::Radiance, .member = &M::emission,
          .range = between(0, kMaxRadiance), .unit = "W/(sr m^2)",
          .doc = "emitted radiance (every emitted radiance or intensity is at most 1e12: the film sums squared samples "
-                "in 32-bit floats); non-zero makes every object using the material an area light (see below)"},
+                "in 32-bit floats); non-zero makes every object using the material an area light (see below)",
+         .section = "Emission"},
         {.key = "albedo_texture", .label = "Albedo texture", .kind = ParamKind::File, .member = &M::albedoTexture,
-         .doc = "image file (relative to the scene file) replacing `albedo` (diffuse types) or `tint` (the others); "
+         .doc = "image file (relative to the scene file) replacing `albedo` (diffuse types), `base_color` (`surface`) "
+                "or `tint` (the others); "
                 "8-bit files are decoded from sRGB, `.hdr` / `.exr` read as linear",
-         .omitted = [](const M& m) { return m.albedoTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
+         .omitted = [](const M& m) { return m.albedoTexture.empty(); }, .nonEmpty = true, .defaultText = "none",
+         .section = "Textures"},
         {.key = "normal_texture", .label = "Normal texture", .kind = ParamKind::File, .member = &M::normalTexture,
          .doc = "tangent-space normal map, stored as (n + 1) / 2: x along the surface's u direction, y along v, z "
                 "along the geometric normal",
          .omitted = [](const M& m) { return m.normalTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
+        {.key = "normal_scale", .label = "Normal scale", .kind = ParamKind::Float, .member = &M::normalScale,
+         .range = atLeast(0),
+         .doc = "with `normal_texture`: multiplies the map's x and y before the normal is normalised (glTF's "
+                "`normalTexture.scale`; 0 flattens it); written only with a normal texture",
+         .applies = [](const M& m) { return !m.normalTexture.empty(); }, .speed = 0.01f},
         {.key = "roughness_texture", .label = "Roughness texture", .kind = ParamKind::File,
          .member = &M::roughnessTexture,
-         .doc = "its first channel replaces `roughness` (or `sigma`), linear; a dielectric or conductor with one is "
-                "always rough",
+         .doc = "its first channel replaces `roughness` (or `sigma`, or a `surface`'s perceptual "
+                "`specular_roughness`), linear; a dielectric or conductor with one is always rough",
          .omitted = [](const M& m) { return m.roughnessTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
     };
     return k;

@@ -174,6 +174,9 @@ struct Param {
     float speed = 0.0f;
     bool slider = false;
     bool deferred = false;
+    // Inspector: the heading of the group this parameter opens ("Specular", "Coat"): drawn as a
+    // separator before it when it applies; "" continues the group before.
+    std::string_view section{};
 };
 
 // The schema of each struct, in the order the keys are written.

@@ -3,6 +3,13 @@
 
 #include <glm/gtc/packing.hpp>
 
+#include <jpeglib.h>
+#include <png.h>
+
+#include <csetjmp>
+#include <cstdlib>
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,9 +26,158 @@ float srgbToLinear(float c) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
+// libjpeg reports errors through error_exit, which must not return: jump back to the decoder.
+struct JpegError {
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+void jpegErrorExit(j_common_ptr cinfo) {
+    auto* e = reinterpret_cast<JpegError*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, e->message);
+    std::longjmp(e->jump, 1);
+}
+
+void jpegSilence(j_common_ptr, int) {}
+
+bool decodeJpeg(const std::string& bytes, const std::string& what, ImageData* out, std::string* error) {
+    jpeg_decompress_struct cinfo{};
+    JpegError err{};
+    cinfo.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = jpegErrorExit;
+    err.mgr.emit_message = jpegSilence;
+    // Locals that live across setjmp are volatile or set before it (C's rule for longjmp).
+    std::vector<unsigned char> rows;
+    if (setjmp(err.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        *error = what + ": not a readable JPEG (" + err.message + ")";
+        return false;
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&cinfo, TRUE);
+    const std::string size = imageSizeProblem(what, cinfo.image_width, cinfo.image_height, cinfo.num_components);
+    if (!size.empty()) {
+        jpeg_destroy_decompress(&cinfo);
+        *error = size;
+        return false;
+    }
+    cinfo.out_color_space = cinfo.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_start_decompress(&cinfo);
+    const int w = int(cinfo.output_width), h = int(cinfo.output_height), ch = int(cinfo.output_components);
+    rows.resize(size_t(w) * size_t(h) * size_t(ch));
+    while (cinfo.output_scanline < cinfo.output_height) {
+        unsigned char* row = rows.data() + size_t(cinfo.output_scanline) * size_t(w) * size_t(ch);
+        jpeg_read_scanlines(&cinfo, &row, 1);
+    }
+    jpeg_finish_decompress(&cinfo);
+    jpeg_destroy_decompress(&cinfo);
+    out->width = w;
+    out->height = h;
+    out->channels = ch;
+    out->pixels.resize(rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) out->pixels[i] = float(rows[i]) / 255.0f;
+    return true;
+}
+
+bool decodePng(const std::string& bytes, const std::string& what, ImageData* out, std::string* error) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
+        *error = what + ": not a readable PNG (" + image.message + ")";
+        return false;
+    }
+    const bool alpha = (image.format & PNG_FORMAT_FLAG_ALPHA) != 0, colour = (image.format & PNG_FORMAT_FLAG_COLOR) != 0;
+    const int ch = (colour ? 3 : 1) + (alpha ? 1 : 0);
+    const std::string size = imageSizeProblem(what, image.width, image.height, ch);
+    if (!size.empty()) {
+        png_image_free(&image);
+        *error = size;
+        return false;
+    }
+    // 16 bits per channel where the file has them (linear "LINEAR" formats would convert gamma:
+    // read the stored values as 8 or 16-bit integers without any conversion instead).
+    const bool sixteen = (image.format & PNG_FORMAT_FLAG_LINEAR) != 0;
+    image.format = (colour ? PNG_FORMAT_FLAG_COLOR : 0u) | (alpha ? PNG_FORMAT_FLAG_ALPHA : 0u);
+    if (sixteen) image.format |= PNG_FORMAT_FLAG_LINEAR;
+    const size_t count = size_t(image.width) * size_t(image.height) * size_t(ch);
+    std::vector<unsigned char> raw(count * (sixteen ? 2 : 1));
+    if (!png_image_finish_read(&image, nullptr, raw.data(), 0, nullptr)) {
+        *error = what + ": not a readable PNG (" + image.message + ")";
+        png_image_free(&image);
+        return false;
+    }
+    out->width = int(image.width);
+    out->height = int(image.height);
+    out->channels = ch;
+    out->pixels.resize(count);
+    for (size_t i = 0; i < count; ++i) {
+        if (sixteen) {
+            std::uint16_t v;
+            std::memcpy(&v, raw.data() + 2 * i, 2);
+            out->pixels[i] = float(v) / 65535.0f;
+        } else {
+            out->pixels[i] = float(raw[i]) / 255.0f;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
-bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error) {
+bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error) {
+    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+    if (bytes.size() >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return decodePng(bytes, what, out, error);
+    if (bytes.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return decodeJpeg(bytes, what, out, error);
+    *error = what + ": an embedded image that is neither PNG nor JPEG (the two formats glTF 2.0 allows)";
+    return false;
+}
+
+std::uint32_t FileTextures::wrap(const std::string& slotKey) const {
+    const TextureSlot slot = slotKey == "albedo_texture"      ? TextureSlot::BaseColor
+                             : slotKey == "roughness_texture" ? TextureSlot::MetallicRoughness
+                             : slotKey == "normal_texture"    ? TextureSlot::Normal
+                                                              : TextureSlot::Emission;
+    ImportedMaterial m;
+    m.wrap = wraps;
+    return m.textureWrap(slot, 0) | m.textureWrap(slot, 1) << 2;
+}
+
+bool readTextureImage(const ImageReader& reader, const FileTextures* files, const std::string& path, ImageData* out,
+                      std::string* error) {
+    if (files && !path.empty() && path[0] == '*') {
+        const std::string what = files->file + " (embedded image " + path.substr(1) + ")";
+        size_t index = 0;
+        const char* digits = path.c_str() + 1;
+        char* end = nullptr;
+        const unsigned long long n = std::strtoull(digits, &end, 10);
+        index = size_t(n);
+        if (end == digits || *end != '\0' || !files->embedded || index >= files->embedded->size()) {
+            *error = what + ": the file has no such embedded image";
+            return false;
+        }
+        const EmbeddedImage& e = (*files->embedded)[index];
+        if (e.bytes.empty()) {
+            *error = what + ": stored as raw texels, which are not read (only PNG and JPEG files)";
+            return false;
+        }
+        return decodeImageBytes(e.bytes, what, out, error);
+    }
+    if (!reader) {
+        *error = path + ": this build cannot read images";
+        return false;
+    }
+    if (!reader(path, out, error)) {
+        // The reader's message names the file; make sure it does even if it did not.
+        if (error->find(path) == std::string::npos) *error = path + ": " + *error;
+        return false;
+    }
+    return true;
+}
+
+bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error,
+                std::uint32_t wrap) {
     const int w = image.width, h = image.height, ch = image.channels;
     if (w <= 0 || h <= 0 || ch <= 0 || image.pixels.size() < size_t(w) * size_t(h) * size_t(ch)) {
         *error = "empty or truncated image";
@@ -53,7 +209,7 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
     for (;;) {
         for (const glm::vec4& c : level)
             out->texels.emplace_back(glm::packHalf2x16(glm::vec2(c.r, c.g)), glm::packHalf2x16(glm::vec2(c.b, c.a)));
-        ++t.info.w;
+        ++t.info.w;  // the level count (the low 8 bits)
         if (lw == 1 && lh == 1) break;
         const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
         std::vector<glm::vec4> next(size_t(nw) * size_t(nh));
@@ -69,6 +225,7 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
         lw = nw;
         lh = nh;
     }
+    t.info.w |= (wrap & 15u) << 8;  // TEXTURE_WRAP_* of u (bits 8-9) and v (10-11)
     out->textures.push_back(t);
     return true;
 }

@@ -262,9 +262,9 @@ std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type) {
     return std::make_unique<InsertCommand<Light>>(static_cast<int>(s.scene.lights.size()), std::move(l));
 }
 
-std::unique_ptr<Command> makeAddMaterial(const EditorState& s) {
-    Material m;
-    m.name = uniqueName("material", namesOf(s.scene.materials));
+std::unique_ptr<Command> makeAddMaterial(const EditorState& s, const Material* preset) {
+    Material m = preset ? *preset : Material{};
+    m.name = uniqueName(preset ? preset->name : std::string("material"), namesOf(s.scene.materials));
     return std::make_unique<InsertCommand<Material>>(static_cast<int>(s.scene.materials.size()), std::move(m));
 }
 

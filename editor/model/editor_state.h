@@ -96,7 +96,8 @@ std::unique_ptr<Command> makeSetEnvironment(const EditorState& s, Environment af
 // Adds a primitive, light or material with a unique name in front of the camera's look-at point.
 std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape);
 std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type);
-std::unique_ptr<Command> makeAddMaterial(const EditorState& s);
+// preset: a material to copy (renderer/gpu_materials.h materialPresets), named after it.
+std::unique_ptr<Command> makeAddMaterial(const EditorState& s, const Material* preset = nullptr);
 // A mesh object for a model file (check the file first: the renderer would refuse a broken one).
 // The path is stored relative to the scene's folder when the scene has a file.
 std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file);

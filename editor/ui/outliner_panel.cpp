@@ -3,6 +3,7 @@
 // materials.
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
+#include "renderer/gpu_materials.h"
 
 #include <imgui.h>
 
@@ -85,6 +86,11 @@ void addMenu(EditorUi& ui) {
         if (ImGui::MenuItem("Sphere light")) ui.state.apply(makeAddLight(ui.state, LightType::Sphere));
         ImGui::Separator();
         if (ImGui::MenuItem("Material")) ui.state.apply(makeAddMaterial(ui.state));
+        if (ImGui::BeginMenu("Material preset")) {
+            for (const Material& preset : materialPresets())
+                if (ImGui::MenuItem(preset.name.c_str())) ui.state.apply(makeAddMaterial(ui.state, &preset));
+            ImGui::EndMenu();
+        }
         ImGui::Separator();
         if (ImGui::MenuItem("Import mesh...")) openFileBrowser(ui, FileBrowserState::Mode::ImportMesh);
         ImGui::EndPopup();

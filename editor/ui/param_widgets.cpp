@@ -228,6 +228,7 @@ template <class T>
 void drawParams(Edit& e, T& value, const std::function<bool(const Param<T>&, T&)>& special) {
     for (const Param<T>& p : schemaOf<T>()) {
         if (!appliesTo(p, value)) continue;
+        if (!p.section.empty()) ImGui::SeparatorText(std::string(p.section).c_str());
         ImGui::PushID(p.key.data(), p.key.data() + p.key.size());
         if (special && special(p, value)) {
             ImGui::PopID();

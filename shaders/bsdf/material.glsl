@@ -29,8 +29,13 @@ GpuMaterial materialAtSurface(GpuMaterial m, SurfacePoint s, float coneWidth, ou
         if (tex == 0u) continue;
         vec4 v = textureSampleLod(tex - 1u, s.uv, materialTextureLod(tex - 1u, uvWidth));
         if (slot == 0u) m.albedo.rgb = v.rgb;
-        else if (slot == 1u) normalTexel = v.rgb * 2.0 - 1.0;
-        else m.params.x = v.r;
+        else if (slot == 1u) normalTexel = (v.rgb * 2.0 - 1.0) * vec3(m.emission.w, m.emission.w, 1.0);  // w: its scale
+        else if (m.info.x == MAT_SURFACE) {
+            // Perceptual roughness (squared: alpha), and with a baked glTF metallic-roughness
+            // texture the metalness in G.
+            m.params.x = v.r * v.r;
+            if ((m.info.y & MAT_FLAG_METAL_TEXTURE) != 0u) m.albedo.w = v.g;
+        } else m.params.x = v.r;
     }
     return m;
 }

@@ -18,6 +18,7 @@
 #include "specular.glsl"
 #include "dielectric.glsl"
 #include "conductor.glsl"
+#include "surface.glsl"
 
 #define BSDF_DELTA 1u
 #define BSDF_TRANSMITS 2u
@@ -33,6 +34,7 @@
           roughDielectricSample(m, wo, u.z, u.xy), BSDF_TRANSMITS)                                          \
     MODEL(MAT_CONDUCTOR, vec3(0.0), 0.0, smoothConductorSample(m, wo), BSDF_DELTA)                          \
     MODEL(MAT_ROUGH_CONDUCTOR, roughConductorEval(m, wo, wi), roughConductorPdf(m, wo, wi),                 \
-          roughConductorSample(m, wo, u.xy), 0u)
+          roughConductorSample(m, wo, u.xy), 0u)                                                           \
+    MODEL(MAT_SURFACE, surfaceEval(m, wo, wi), surfacePdf(m, wo, wi), surfaceSample(m, wo, u), 0u)
 
 #endif

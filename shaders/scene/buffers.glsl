@@ -29,8 +29,8 @@ layout(binding = TEXUNIT_ENV_MAP) uniform sampler2D envMapTexture;
 // found through its GpuTexture descriptor (shaders/bsdf/texture.glsl reads them).
 layout(std430, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
 layout(std430, binding = BINDING_TEXTURES) readonly buffer TextureBuffer { GpuTexture textures[]; };
-// The directional albedo of the F = 1 GGX lobe (computed by bsdf/ggx_albedo.comp from microfacet.glsl; renderer/bsdf_tables.h).
-layout(std430, binding = BINDING_BSDF_TABLES) readonly buffer BsdfTableBuffer { float ggxAlbedoTable[]; };
+// The BSDF tables (BSDF_TABLE_* offsets; computed by bsdf/ggx_albedo.comp and bsdf/surface_albedo.comp from the BSDF code; renderer/bsdf_tables.h).
+layout(std430, binding = BINDING_BSDF_TABLES) readonly buffer BsdfTableBuffer { float bsdfTables[]; };
 // Geometry: BVH nodes (the top level first), top-level leaf entries, mesh instances, triangles
 // (object space, each mesh's in its BVH's leaf order) and vertices.
 layout(std430, binding = BINDING_BVH_NODES) readonly buffer BvhNodeBuffer { GpuBvhNode bvhNodes[]; };
@@ -144,13 +144,14 @@ GpuInstance loadInstance(uint i) {
 GpuMaterial loadMaterial(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
     GpuMaterial m;
-    m.albedo = FETCH_F4(materialTexels, 7u * i);
-    m.emission = FETCH_F4(materialTexels, 7u * i + 1u);
-    m.params = FETCH_F4(materialTexels, 7u * i + 2u);
-    m.info = FETCH_U4(materialTexels, 7u * i + 3u);
-    m.eta = FETCH_F4(materialTexels, 7u * i + 4u);
-    m.k = FETCH_F4(materialTexels, 7u * i + 5u);
-    m.textures = FETCH_U4(materialTexels, 7u * i + 6u);
+    m.albedo = FETCH_F4(materialTexels, 8u * i);
+    m.emission = FETCH_F4(materialTexels, 8u * i + 1u);
+    m.params = FETCH_F4(materialTexels, 8u * i + 2u);
+    m.info = FETCH_U4(materialTexels, 8u * i + 3u);
+    m.eta = FETCH_F4(materialTexels, 8u * i + 4u);
+    m.k = FETCH_F4(materialTexels, 8u * i + 5u);
+    m.textures = FETCH_U4(materialTexels, 8u * i + 6u);
+    m.sheen = FETCH_F4(materialTexels, 8u * i + 7u);
     return m;
 #else
     return materials[i];

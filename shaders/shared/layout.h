@@ -49,7 +49,7 @@ using uint = std::uint32_t;
 #define BINDING_INSTANCES 15       // GpuInstance[]: mesh instances
 #define BINDING_TRIANGLES 16       // GpuTriangle[]: every mesh's triangles, in its BVH's leaf order
 #define BINDING_VERTICES 17        // GpuVertex[]: every mesh's shading attributes
-#define BINDING_BSDF_TABLES 11     // float[]: the GGX directional albedo table (GGX_ALBEDO_TABLE_SIZE^2)
+#define BINDING_BSDF_TABLES 11     // float[]: the BSDF tables (GGX albedo, then the surface model's; BSDF_TABLE_*)
 
 // Words of the counter buffer.
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
@@ -75,14 +75,25 @@ using uint = std::uint32_t;
 #define MAT_ROUGH_DIELECTRIC 6u     // GGX microfacet glass
 #define MAT_CONDUCTOR 7u            // smooth conductor (delta, complex Fresnel)
 #define MAT_ROUGH_CONDUCTOR 8u      // GGX microfacet conductor
+#define MAT_SURFACE 9u              // layered surface: sheen over coat over metal / specular + diffuse (surface.glsl)
 
 // Material flags (GpuMaterial::info.y).
 #define MAT_FLAG_ENERGY_COMPENSATION 1u  // Oren-Nayar: the global factor; rough conductor: multiple scattering
 #define MAT_FLAG_FRESNEL_ONE 2u          // conductor with F = 1 (the "perfect" metal)
 #define MAT_FLAG_NO_REFLECTION 4u        // rough dielectric: transmission only (rough "transmission"):
                                          // F = 0 where light can refract, 1 under total internal reflection
+#define MAT_FLAG_METAL_TEXTURE 8u        // surface: the roughness texture's G channel is the metalness
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
+// The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
+// (renderer/bsdf_tables.cpp): offsets in floats. N = GGX_ALBEDO_TABLE_SIZE entries per mu, alpha
+// and sheen-roughness axis, SURFACE_TABLE_IOR slices in (ior - 1) / (ior + 1) over ior [1, 3].
+#define SURFACE_TABLE_IOR 16
+#define BSDF_TABLE_GGX 0                                   // E(mu, alpha), F = 1 GGX: N x N
+#define BSDF_TABLE_DIELECTRIC 1024                         // E(mu, alpha, ior), GGX reflection x Fresnel: N x N x I
+#define BSDF_TABLE_DIELECTRIC_AVG (1024 + 1024 * 16)      // 2 int E mu dmu (alpha, ior): N x I
+#define BSDF_TABLE_SHEEN (BSDF_TABLE_DIELECTRIC_AVG + 32 * 16)  // E(mu, r), the sheen lobe: N x N
+#define BSDF_TABLE_FLOATS (BSDF_TABLE_SHEEN + 1024)
 
 #define BVH_BRUTE_FORCE_MAX 32u  // scenes of at most this many analytic primitives and no mesh skip the tree
 #define TLAS_REF_INSTANCE 0x80000000u
@@ -194,19 +205,25 @@ CAUSTIC_STRUCT(GpuVertex) {
 
 CAUSTIC_STRUCT(GpuMaterial) {
     vec4 albedo;    // rgb: diffuse albedo (diffuse models) or specular tint (the others)
-    vec4 emission;  // rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER)
+    vec4 emission;  // rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER),
+                    // w: the normal map's scale (x and y of its tangent-space normal)
     vec4 params;    // x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
     uvec4 info;     // x: MAT_*, y: MAT_FLAG_*
     vec4 eta;       // conductors: rgb real part of the complex IOR
     vec4 k;         // conductors: rgb imaginary part (extinction)
     uvec4 textures; // texture index + 1 (0: none): x albedo (linear RGB), y normal map, z roughness (R)
+    vec4 sheen;     // surface: rgb sheen colour (times its weight), w sheen roughness
 };
 
 // A texture in the texel buffer: its mip levels follow each other from `offset`, level l being
 // max(1, width >> l) x max(1, height >> l) texels, rows top to bottom.
 CAUSTIC_STRUCT(GpuTexture) {
     uvec4 info;     // x: offset of level 0 (in texels), y: width, z: height, w: number of levels
+                    // (bits 0-7), TEXTURE_WRAP_* of u (bits 8-9) and of v (bits 10-11)
 };
+#define TEXTURE_WRAP_REPEAT 0u      // glTF's REPEAT (and every scene texture)
+#define TEXTURE_WRAP_CLAMP 1u       // CLAMP_TO_EDGE
+#define TEXTURE_WRAP_MIRROR 2u      // MIRRORED_REPEAT
 
 // mesh:   p0.x = total world area; info.z = instance index, info.w = offset of its triangle CDF
 //         (triangle count = the instance's info2.y)

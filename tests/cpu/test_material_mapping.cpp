@@ -8,24 +8,39 @@
 
 using namespace caustic;
 
-TEST_CASE("imported metals get a complex IOR whose normal-incidence Fresnel is the base colour", "[cpu][materials]") {
+TEST_CASE("imported glTF materials become layered surfaces with their factors", "[cpu][materials]") {
     ImportedMaterial gold;
     gold.name = "gold";
     gold.baseColor = glm::vec3(1.0f, 0.766f, 0.336f);
     gold.metallic = 1.0f;
     gold.roughness = 0.4f;
+    gold.ior = 1.45f;
+    gold.specular = 0.7f;
+    gold.specularColor = glm::vec3(1.0f, 0.9f, 0.8f);
+    gold.clearcoat = 0.5f;
+    gold.clearcoatRoughness = 0.3f;
+    gold.sheenColor = glm::vec3(0.2f, 0.1f, 0.0f);
+    gold.sheenRoughness = 0.6f;
+    gold.normalTexture = "/models/n.png";
+    gold.normalScale = 0.25f;
     std::vector<std::string> unmapped;
-    Material m = mapImportedMaterial(gold, &unmapped);
-    CHECK(m.type == MaterialType::Conductor);
-    CHECK(m.metal == Metal::Custom);
-    CHECK(m.roughness == Approx(0.16f));  // alpha = perceptual roughness squared
-    for (int c = 0; c < 3; ++c) {
-        // F0 = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2), the conductor Fresnel at normal incidence.
-        const double n = m.eta[c], k = m.k[c];
-        const double f0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
-        INFO("channel " << c << " eta " << n << " k " << k);
-        CHECK(f0 == Approx(std::min(double(gold.baseColor[c]), 0.99)).epsilon(1e-3));
-    }
+    const Material m = mapImportedMaterial(gold, &unmapped);
+    CHECK(m.type == MaterialType::Surface);
+    CHECK(m.albedo == gold.baseColor);
+    CHECK(m.metalness == 1.0f);
+    CHECK(m.specularRoughness == 0.4f);  // perceptual in both
+    CHECK(m.specularIor == 1.45f);
+    CHECK(m.specularWeight == 0.7f);
+    CHECK(m.specularColor == gold.specularColor);
+    CHECK(m.coatWeight == 0.5f);
+    CHECK(m.coatRoughness == 0.3f);
+    CHECK(m.coatIor == 1.5f);           // KHR_materials_clearcoat's fixed IOR
+    CHECK(m.sheenWeight == 1.0f);
+    CHECK(m.sheenColor == gold.sheenColor);
+    CHECK(m.sheenRoughness == 0.6f);
+    CHECK(m.normalTexture == "/models/n.png");
+    CHECK(m.normalScale == 0.25f);
+    INFO(unmapped.size());
     CHECK(unmapped.empty());
 }
 
@@ -45,19 +60,22 @@ TEST_CASE("imported dielectrics, diffuse bases and what cannot be mapped", "[cpu
     paint.name = "paint";
     paint.baseColor = glm::vec3(0.2f, 0.5f, 0.1f);
     paint.emission = glm::vec3(3.0f);
-    paint.metallicRoughnessTexture = "*0 (an embedded texture)";  // never read: the factors are used
+    paint.metallicRoughnessTexture = "/models/paint_mr.png";
+    paint.emissionTexture = "/models/paint_emission.png";
     paint.opacity = 0.5f;
     paint.baseColorTexture = "/tmp/base.png";
     unmapped.clear();
     Material p = mapImportedMaterial(paint, &unmapped);
-    CHECK(p.type == MaterialType::Diffuse);
+    CHECK(p.type == MaterialType::Surface);
     CHECK(p.albedo == glm::vec3(0.2f, 0.5f, 0.1f));
+    CHECK(p.metalness == 0.0f);
     CHECK(p.emission == glm::vec3(3.0f));
     CHECK(p.albedoTexture == "/tmp/base.png");
+    CHECK(p.roughnessTexture == "/models/paint_mr.png");
     std::string all;
     for (const std::string& u : unmapped) all += u + "\n";
     INFO(all);
-    CHECK(all.find("metallic-roughness texture") != std::string::npos);
+    CHECK(all.find("emission texture") != std::string::npos);
     CHECK(all.find("opacity") != std::string::npos);
     CHECK(all.find("material 'paint'") != std::string::npos);
 }
@@ -87,71 +105,44 @@ std::string joined(const std::vector<std::string>& lines) {
 
 }  // namespace
 
-TEST_CASE("glTF metallic-roughness textures: roughness from G as alpha, metalness from B", "[cpu][materials]") {
+TEST_CASE("glTF metallic-roughness textures: roughness from G, metalness from B, per texel", "[cpu][materials]") {
     // glTF 2.0, section 3.9.2: G = perceptual roughness, B = metalness, each times its factor;
-    // R (occlusion in packed ORM textures) must not matter.
-    const ImageData mr = image(4, 2, [](int x, int) { return glm::vec3(0.9f, x < 2 ? 0.2f : 1.0f, 1.0f); });
+    // R (occlusion in packed ORM textures) must not matter. The baked texture holds roughness in
+    // R and metalness in G for the surface material's roughness slot.
+    const ImageData mr = image(4, 2, [](int x, int) { return glm::vec3(0.9f, x < 2 ? 0.2f : 1.0f, x % 2 ? 1.0f : 0.25f); });
     MetallicRoughnessMap baked;
     std::string error;
-    REQUIRE(bakeMetallicRoughness(mr, 0.5f, 1.0f, &baked, &error));
-    REQUIRE(baked.alpha.channels == 1);
-    REQUIRE(baked.alpha.pixels.size() == 8);
-    CHECK(baked.alpha.pixels[0] == Approx(0.01f));   // (0.5 x 0.2)^2
-    CHECK(baked.alpha.pixels[3] == Approx(0.25f));   // (0.5 x 1)^2
-    CHECK(baked.alpha.pixels[5] == Approx(0.01f));
-    CHECK(baked.metalMin == 1.0f);
-    CHECK(baked.metalFraction == 1.0f);
+    REQUIRE(bakeMetallicRoughness(mr, 0.5f, 0.8f, &baked, &error));
+    REQUIRE(baked.texture.channels == 3);
+    REQUIRE(baked.texture.pixels.size() == 24);
+    for (int i = 0; i < 8; ++i) {
+        const int x = i % 4;
+        INFO("texel " << i);
+        CHECK(baked.texture.pixels[3 * i] == Approx(0.5f * (x < 2 ? 0.2f : 1.0f)));
+        CHECK(baked.texture.pixels[3 * i + 1] == Approx(0.8f * (x % 2 ? 1.0f : 0.25f)));
+    }
+    CHECK(baked.metalMin == Approx(0.2f));
+    CHECK(baked.metalMax == Approx(0.8f));
+    CHECK(baked.metalFraction == Approx(0.5f));
 
     ImportedMaterial steel;
     steel.name = "steel";
     steel.baseColor = glm::vec3(0.8f);
-    steel.metallic = 1.0f;
+    steel.metallic = 0.8f;
     steel.roughness = 0.5f;
     steel.metallicRoughnessTexture = "/models/steel_mr.png";
     std::vector<std::string> unmapped;
-    // Before the texture is read: the factors, and nothing reported yet.
-    const Material provisional = mapImportedMaterial(steel, &unmapped);
-    CHECK(provisional.type == MaterialType::Conductor);
-    CHECK(provisional.roughnessTexture.empty());
-    CHECK(unmapped.empty());
-    // Read: a conductor whose roughness slot takes the texture (the path marks it rough).
     const Material m = mapImportedMaterial(steel, &unmapped, &baked);
-    CHECK(m.type == MaterialType::Conductor);
+    CHECK(m.type == MaterialType::Surface);
     CHECK(m.roughnessTexture == "/models/steel_mr.png");
     INFO(joined(unmapped));
-    CHECK(unmapped.empty());
+    CHECK(unmapped.empty());  // a per-texel mix is what the surface material does: nothing to report
 
-    // Metalness uniform below 0.5 (factor 0.4 x B = 1): a non-metal, reported as rounded; a
-    // diffuse base has no roughness, so no roughness map.
-    REQUIRE(bakeMetallicRoughness(mr, 1.0f, 0.4f, &baked, &error));
-    unmapped.clear();
-    const Material dull = mapImportedMaterial(steel, &unmapped, &baked);
-    CHECK(dull.type == MaterialType::Diffuse);
-    CHECK(dull.roughnessTexture.empty());
-    CHECK(joined(unmapped).find("metallic 0.4") != std::string::npos);
-
-    // Metalness varying over the texture: the majority of texels decides, and it is reported.
-    const ImageData mixed = image(4, 1, [](int x, int) { return glm::vec3(0.0f, 0.5f, x == 0 ? 0.0f : 1.0f); });
-    REQUIRE(bakeMetallicRoughness(mixed, 1.0f, 1.0f, &baked, &error));
-    CHECK(baked.metalFraction == Approx(0.75f));
-    unmapped.clear();
-    const Material mostlyMetal = mapImportedMaterial(steel, &unmapped, &baked);
-    CHECK(mostlyMetal.type == MaterialType::Conductor);
-    CHECK(joined(unmapped).find("metalness varies") != std::string::npos);
-    CHECK(joined(unmapped).find("75.0%") != std::string::npos);
-    const ImageData mostlyNot = image(4, 1, [](int x, int) { return glm::vec3(0.0f, 0.5f, x == 0 ? 1.0f : 0.0f); });
-    REQUIRE(bakeMetallicRoughness(mostlyNot, 1.0f, 1.0f, &baked, &error));
-    unmapped.clear();
-    CHECK(mapImportedMaterial(steel, &unmapped, &baked).type == MaterialType::Diffuse);
-    CHECK(joined(unmapped).find("a non-metal throughout") != std::string::npos);
-
-    // Glass keeps its roughness map too; a broken image is refused.
+    // Glass keeps its roughness map; a broken image is refused.
     ImportedMaterial glass = steel;
     glass.transmission = 1.0f;
-    REQUIRE(bakeMetallicRoughness(mr, 1.0f, 0.0f, &baked, &error));
     const Material g = mapImportedMaterial(glass, &unmapped, &baked);
     CHECK(g.type == MaterialType::Dielectric);
-    CHECK(g.roughnessTexture == "/models/steel_mr.png");
     ImageData broken = mr;
     broken.pixels[4] = std::nanf("");
     CHECK_FALSE(bakeMetallicRoughness(broken, 1.0f, 1.0f, &baked, &error));

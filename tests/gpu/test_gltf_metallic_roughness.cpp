@@ -1,7 +1,7 @@
 // A glTF file's metallic-roughness texture through import, compile and the real integrator: a
 // quad whose texture is smooth (G = 0.2) on its left half and rough (G = 1) on its right, all
-// metal (B = 1), under a constant sky. The compiled material must be a rough conductor with the
-// roughness slot wired, and the image must show the two roughnesses: the smooth half reflects
+// metal (B = 1), under a constant sky. The compiled material must be a layered surface with the
+// roughness slot wired to the baked texture (roughness in R, metalness in G: MAT_FLAG_METAL_TEXTURE), and the image must show the two roughnesses: the smooth half reflects
 // nearly all the sky (alpha 0.04), the rough half loses the light single-scattering GGX loses at
 // alpha 1; the same file without the texture (roughness factor 1 everywhere) shows both halves
 // alike.
@@ -106,23 +106,25 @@ TEST_CASE("a glTF metallic-roughness texture drives the imported material's roug
     const fs::path textured = writeQuad(dir / "textured", true);
     const fs::path constant = writeQuad(dir / "constant", false);
 
-    // Compiled: the file's material (Assimp may add a default one after it) is a rough conductor
-    // with its roughness slot wired, and no albedo or normal map.
+    // Compiled: the file's material (Assimp may add a default one after it) is a surface with its
+    // roughness slot wired to the baked metallic-roughness texture, and no albedo or normal map.
     CompiledScene compiled;
     std::string error;
     REQUIRE(compileScene(quadScene(textured), generatedReader(), &compiled, &error));
     INFO(error);
     REQUIRE_FALSE(compiled.materials.empty());
-    CHECK(compiled.materials[0].info.x == MAT_ROUGH_CONDUCTOR);
+    CHECK(compiled.materials[0].info.x == MAT_SURFACE);
+    CHECK((compiled.materials[0].info.y & MAT_FLAG_METAL_TEXTURE) != 0u);
     CHECK(compiled.materials[0].textures.z != 0u);
     CHECK(compiled.materials[0].textures.x == 0u);
     CHECK(compiled.materials[0].textures.y == 0u);
     REQUIRE(compiled.textures.size() == 1);
-    CHECK(compiled.textures[0].info.y == 16u);   // the texture's own size, one channel of alpha
+    CHECK(compiled.textures[0].info.y == 16u);   // the texture's own size
     CompiledScene plain;
     REQUIRE(compileScene(quadScene(constant), generatedReader(), &plain, &error));
     REQUIRE_FALSE(plain.materials.empty());
-    CHECK(plain.materials[0].info.x == MAT_ROUGH_CONDUCTOR);
+    CHECK(plain.materials[0].info.x == MAT_SURFACE);
+    CHECK(plain.materials[0].albedo.w == 1.0f);  // metalness 1 from the factor
     CHECK(plain.materials[0].textures.z == 0u);
     CHECK(plain.textures.empty());
 
@@ -135,8 +137,9 @@ TEST_CASE("a glTF metallic-roughness texture drives the imported material's roug
     const double plainLeft = columnsMean(b, 0, 12), plainRight = columnsMean(b, 20, 32);
     INFO("textured: left " << smooth << " right " << rough << "; constant: left " << plainLeft << " right " << plainRight);
     // Alpha 0.04 at normal view loses under 1% (the furnace table of docs/materials.md): the
-    // conductor's F0 of 0.9. Alpha 1 keeps 1 - ln 2 = 0.3069 of F = 1 at normal incidence, so
-    // about 0.9 x 0.3069 = 0.276 (the camera's rays are within 10 degrees of the normal).
+    // metal's F0 of 0.9 (F82-tint Fresnel, white tint: Schlick's). Alpha 1 keeps 1 - ln 2 = 0.3069
+    // of F = 1 at normal incidence, so about 0.9 x 0.3069 = 0.276 (the camera's rays are within
+    // 10 degrees of the normal).
     CHECK(smooth == Approx(0.9).epsilon(0.03));
     CHECK(rough == Approx(0.9 * 0.3069).epsilon(0.04));
     CHECK(rough == Approx(plainRight).epsilon(0.05));   // the texture's G = 1 is the factor's roughness

@@ -55,6 +55,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("materials", GpuMaterial, eta);
     CHECK_MEMBER("materials", GpuMaterial, k);
     CHECK_MEMBER("materials", GpuMaterial, textures);
+    CHECK_MEMBER("materials", GpuMaterial, sheen);
     CHECK_MEMBER("textures", GpuTexture, info);
     CHECK(arrayStride(p, "textures[0].info") == GLint(sizeof(GpuTexture)));
     CHECK(arrayStride(p, "materials[0].albedo") == GLint(sizeof(GpuMaterial)));

@@ -1,0 +1,64 @@
+// What a glTF 2.0 file (.gltf or .glb) says about its materials beyond what Assimp 5.2 passes on:
+// read from the file's own JSON (for a .glb its JSON chunk), so that the material extensions,
+// KHR_texture_transform, the samplers' wrap modes, the alpha mode and the list of extensions the
+// file uses are taken as the glTF 2.0 specification and the Khronos extension documents define
+// them. Geometry, UVs and embedded images still come from Assimp (renderer/mesh_import.cpp).
+// Hostile input: every value is type-checked; what is missing or malformed keeps its glTF default.
+#pragma once
+
+#include "renderer/mesh.h"
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+// A textureInfo: present, its UV set, its KHR_texture_transform and its sampler's wrap modes.
+struct GltfTextureRef {
+    bool present = false;
+    int texCoord = 0;
+    bool transformed = false;          // has KHR_texture_transform
+    glm::vec2 offset{0.0f}, scale{1.0f};
+    float rotation = 0.0f;             // radians
+    std::uint32_t wrapS = kWrapRepeat, wrapT = kWrapRepeat;
+    bool operator==(const GltfTextureRef&) const = default;
+    // The transform in glTF's UV space (v down from the top): scale, then rotation, then offset.
+    glm::vec2 apply(glm::vec2 uv) const;
+};
+
+struct GltfMaterialInfo {
+    std::string name;
+    GltfTextureRef baseColor, metallicRoughness, normal, emissive;
+    int alphaMode = 0;                 // 0 OPAQUE, 1 MASK, 2 BLEND
+    float alphaCutoff = 0.5f;
+    bool doubleSided = false;
+    float normalScale = 1.0f;
+    bool hasIor = false;
+    float ior = 1.5f;
+    bool hasSpecular = false;
+    float specular = 1.0f;
+    glm::vec3 specularColor{1.0f};
+    float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
+    glm::vec3 sheenColor{0.0f};
+    float sheenRoughness = 0.0f;
+    float transmission = 0.0f;
+    glm::vec3 emissiveFactor{0.0f};
+    float emissiveStrength = 1.0f;
+    std::vector<std::string> ignored;  // what the material has that is not mapped ("clearcoatTexture", ...)
+};
+
+struct GltfInfo {
+    std::vector<GltfMaterialInfo> materials;
+    std::vector<std::string> extensionsUsed;
+};
+
+// False with *error ("<path>: ...") when the file is not readable glTF JSON; the import then
+// goes on with what Assimp gives.
+bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error);
+
+// The material extensions this importer maps (the others in extensionsUsed are reported).
+bool isMappedGltfExtension(const std::string& name);
+
+}  // namespace caustic

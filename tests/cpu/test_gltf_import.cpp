@@ -1,0 +1,180 @@
+// glTF 2.0 import of the files tests/gltf/make_test_gltf.py writes (tests/data/gltf/quad.gltf with
+// data-URI PNGs and its .glb twin with the PNGs in buffer views): what was written comes back:
+// the factors and extension values, the samplers' wrap modes, the alpha mode, the embedded images
+// decoded from memory texel for texel, the KHR_texture_transform applied to the UVs, and one report
+// per file for what is not mapped. The script is also run here, and its output must be the
+// committed files, so the files and the script cannot drift apart.
+#include "renderer/gpu_scene.h"
+#include "renderer/mesh_import.h"
+#include "renderer/mesh_import_gltf.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <unistd.h>
+
+using namespace caustic;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kData = fs::path(CAUSTIC_SOURCE_DIR) / "tests" / "data" / "gltf";
+
+std::string bytesOf(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+    std::string all;
+    for (const std::string& l : lines) all += l + "\n";
+    return all;
+}
+
+size_t count(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("the glTF test files are the generator script's output", "[cpu][mesh][gltf]") {
+    const fs::path out = fs::temp_directory_path() / ("caustic-gltf-gen-" + std::to_string(::getpid()));
+    const std::string command = "python3 \"" + (fs::path(CAUSTIC_SOURCE_DIR) / "tests/gltf/make_test_gltf.py").string() +
+                                "\" \"" + out.string() + "\"";
+    REQUIRE(std::system(command.c_str()) == 0);
+    for (const char* name : {"quad.gltf", "quad.glb"}) {
+        INFO(name);
+        CHECK(bytesOf(out / name) == bytesOf(kData / name));
+    }
+    fs::remove_all(out);
+}
+
+TEST_CASE("glTF import: .gltf (data URIs) and .glb give what the file says", "[cpu][mesh][gltf]") {
+    for (const char* name : {"quad.gltf", "quad.glb"}) {
+        INFO(name);
+        const std::string path = (kData / name).string();
+        const MeshImportResult r = importMeshFile(path);
+        REQUIRE(r.ok());
+        const std::string warnings = joined(r.warnings);
+        INFO(warnings);
+        REQUIRE(r.materials.size() >= 1);
+        const ImportedMaterial& m = r.materials[0];
+        CHECK(m.name == "layered");
+        CHECK(m.ior == Approx(1.4f));
+        CHECK(m.specular == Approx(0.8f));
+        CHECK(m.specularColor == glm::vec3(1.0f, 0.9f, 0.8f));
+        CHECK(m.clearcoat == Approx(0.5f));
+        CHECK(m.clearcoatRoughness == Approx(0.2f));
+        CHECK(m.sheenColor == glm::vec3(0.3f, 0.2f, 0.1f));
+        CHECK(m.sheenRoughness == Approx(0.6f));
+        CHECK(m.emission.x == Approx(0.4f));  // emissiveFactor x KHR_materials_emissive_strength 4
+        CHECK(m.emission.y == Approx(0.8f));
+        CHECK(m.emission.z == Approx(1.2f));
+        CHECK(m.normalScale == Approx(0.5f));
+        CHECK(m.alphaMode == 1);
+        CHECK(m.alphaCutoff == Approx(0.3f));
+        CHECK(m.doubleSided);
+        CHECK(m.metallic == 1.0f);
+        CHECK(m.roughness == 1.0f);
+        CHECK(m.textureWrap(TextureSlot::BaseColor, 0) == kWrapClamp);
+        CHECK(m.textureWrap(TextureSlot::BaseColor, 1) == kWrapMirror);
+        CHECK(m.textureWrap(TextureSlot::MetallicRoughness, 0) == kWrapRepeat);
+        // The embedded images, decoded from memory: the checker's texels are the script's.
+        REQUIRE(m.baseColorTexture.size() > 1);
+        REQUIRE(m.baseColorTexture[0] == '*');
+        const FileTextures files{path, &r.embedded, m.wrap};
+        ImageData base, mr;
+        std::string error;
+        REQUIRE(readTextureImage(ImageReader{}, &files, m.baseColorTexture, &base, &error));
+        REQUIRE(base.width == 4);
+        REQUIRE(base.height == 4);
+        REQUIRE(base.channels == 3);
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                const bool red = (x + y) % 2 == 0;
+                const float* px = &base.pixels[size_t(3 * (y * 4 + x))];
+                CHECK(px[0] == Approx((red ? 230 : 20) / 255.0));
+                CHECK(px[2] == Approx((red ? 30 : 220) / 255.0));
+            }
+        REQUIRE(readTextureImage(ImageReader{}, &files, m.metallicRoughnessTexture, &mr, &error));
+        REQUIRE(mr.width == 2);
+        CHECK(mr.pixels[1] == Approx(51 / 255.0));   // left texel: roughness 0.2 (G)
+        CHECK(mr.pixels[2] == Approx(1.0));          // metal (B)
+        CHECK(mr.pixels[4] == Approx(204 / 255.0));  // right: roughness 0.8, not metal
+        CHECK(mr.pixels[5] == Approx(0.0));
+        // KHR_texture_transform on the UVs (glTF's v runs down; caustic's up): corner (0, 0) of
+        // glTF's UV space goes to the offset, the others by scale then rotation.
+        REQUIRE(r.meshes.size() == 1);
+        const Mesh& mesh = r.meshes[0];
+        REQUIRE(mesh.uvs.size() == 4);
+        GltfTextureRef t;
+        t.offset = {0.25f, 0.5f};
+        t.scale = {2.0f, 0.5f};
+        t.rotation = 0.3f;
+        const glm::vec2 gltfUv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};  // the script's UVS, per corner
+        const glm::vec3 corner[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+        for (size_t v = 0; v < 4; ++v) {
+            int k = 0;
+            while (k < 4 && glm::length(mesh.positions[v] - corner[k]) > 1e-5f) ++k;
+            REQUIRE(k < 4);
+            const float c = std::cos(0.3f), s = std::sin(0.3f);
+            const glm::vec2 p = gltfUv[k] * glm::vec2(2.0f, 0.5f);
+            const glm::vec2 expected = glm::vec2(c * p.x - s * p.y + 0.25f, s * p.x + c * p.y + 0.5f);
+            CHECK(mesh.uvs[v].x == Approx(expected.x).margin(1e-5));
+            CHECK(mesh.uvs[v].y == Approx(1.0f - expected.y).margin(1e-5));
+        }
+        // Reports: once per file each.
+        CHECK(count(warnings, "KHR_materials_iridescence") == 1);
+        CHECK(count(warnings, "alphaMode MASK") == 1);
+        CHECK(warnings.find("embedded textures are not") == std::string::npos);
+
+        // Mapped onto the layered surface.
+        std::vector<std::string> unmapped;
+        const Material s = mapImportedMaterial(m, &unmapped);
+        CHECK(s.type == MaterialType::Surface);
+        CHECK(s.specularIor == Approx(1.4f));
+        CHECK(s.coatWeight == Approx(0.5f));
+        CHECK(s.sheenWeight == 1.0f);
+        CHECK(s.roughnessTexture == m.metallicRoughnessTexture);
+    }
+}
+
+TEST_CASE("broken embedded images and broken glTF JSON are reported by name, not crashed on", "[cpu][mesh][gltf]") {
+    ImageData out;
+    std::string error;
+    std::string png = bytesOf(kData / "quad.glb");  // not an image
+    CHECK_FALSE(decodeImageBytes(png, "model.glb (embedded image 0)", &out, &error));
+    CHECK(error.find("model.glb (embedded image 0)") != std::string::npos);
+    // A PNG signature over garbage, and a JPEG start marker over garbage.
+    CHECK_FALSE(decodeImageBytes(std::string("\x89PNG\r\n\x1a\n", 8) + std::string(64, 'x'), "a.glb (embedded image 1)", &out,
+                                 &error));
+    CHECK(error.find("not a readable PNG") != std::string::npos);
+    CHECK_FALSE(decodeImageBytes(std::string("\xFF\xD8\xFF\xE0", 4) + std::string(64, '\x01'), "a.glb (embedded image 2)",
+                                 &out, &error));
+    CHECK(error.find("not a readable JPEG") != std::string::npos);
+    // An index past the file's images.
+    const std::vector<EmbeddedImage> none;
+    const FileTextures files{"m.glb", &none, 0};
+    CHECK_FALSE(readTextureImage(ImageReader{}, &files, "*7", &out, &error));
+    CHECK(error.find("m.glb (embedded image 7)") != std::string::npos);
+    // glTF JSON that does not parse, and a truncated GLB chunk.
+    const fs::path dir = fs::temp_directory_path() / ("caustic-gltf-bad-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "bad.gltf") << "{\"materials\": [";
+    std::string glb = bytesOf(kData / "quad.glb");
+    glb.resize(40);
+    std::ofstream(dir / "cut.glb", std::ios::binary) << glb;
+    GltfInfo info;
+    CHECK_FALSE(readGltfInfo((dir / "bad.gltf").string(), &info, &error));
+    CHECK(error.find("bad.gltf") != std::string::npos);
+    CHECK_FALSE(readGltfInfo((dir / "cut.glb").string(), &info, &error));
+    CHECK(error.find("cut.glb") != std::string::npos);
+    fs::remove_all(dir);
+}
