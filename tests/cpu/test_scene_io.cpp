@@ -456,10 +456,10 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"negative emission", scene(R"("materials": [{"name": "w", "emission": [0, -1, 0]}])"),
          "materials[0].emission[1]", "must be >= 0, got -1"},
         {"unknown material type", scene(R"("materials": [{"name": "w", "type": "glass"}])"),
-         "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor)"},
+         "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor, surface)"},
         {"unknown material key", scene(R"("materials": [{"name": "w", "roughness": 0.5}])"),
          "materials[0].roughness", "unknown key for a 'diffuse' material (allowed: name, type, albedo, emission, albedo_texture, normal_texture, "
-         "roughness_texture)"},
+         "normal_scale, roughness_texture)"},
         {"eta on a preset metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "gold", "eta": [1, 1, 1]}])"),
          "materials[0].eta", "only a 'custom' metal takes eta and k (this one is 'gold')"},
         {"unknown metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "brass"}])"),
