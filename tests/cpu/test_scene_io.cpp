@@ -316,7 +316,7 @@ TEST_CASE("Absent keys take the defaults of scene.h", "[scene_io]") {
     CHECK(mustParse(R"({"version": 1, "render": {"width": 1e3, "height": 20.0}})").render.width == 1000);
 }
 
-TEST_CASE("A sky preset sets horizon, zenith and intensity; the file's own keys override it", "[scene_io]") {
+TEST_CASE("A sky preset sets horizon, zenith and intensity, the file's own keys override it", "[scene_io]") {
     const Scene original = mustParse(R"({"version": 1, "environment": {"type": "sky", "preset": "original"}})");
     CHECK(original.environment.type == EnvironmentType::Sky);
     // The values docs/scene-format.md gives for "original".

@@ -219,7 +219,7 @@ TEST_CASE("add, duplicate and delete select sensibly and undo exactly", "[editor
     CHECK(s.scene == original);
 }
 
-TEST_CASE("a material in use cannot be deleted; renaming it renames its users' references", "[editor]") {
+TEST_CASE("a material in use cannot be deleted, renaming it renames its users' references", "[editor]") {
     EditorState s = cornell();
     const EntityRef white = findEntity(s.scene, EntityKind::Material, "white");
     std::string why;
@@ -270,7 +270,7 @@ TEST_CASE("opening a broken scene keeps the current one and reports file and JSO
     CHECK(error.find("cannot read") != std::string::npos);
 }
 
-TEST_CASE("save writes a scene that loads back equal; a failed save keeps the old file", "[editor]") {
+TEST_CASE("save writes a scene that loads back equal, a failed save keeps the old file", "[editor]") {
     TempDir dir;
     EditorState s = cornell();
     dragStep(s, 2, glm::vec3(0.0f, 0.2f, 0.0f));

@@ -73,7 +73,7 @@ TEST_CASE("Rotating a point or sphere light changes nothing and records no undo 
     }
 }
 
-TEST_CASE("Rotating a spot light turns its direction; turning it about its axis does nothing", "[editor][gizmo]") {
+TEST_CASE("Rotating a spot light turns its direction, turning it about its axis does nothing", "[editor][gizmo]") {
     EditorState st = stateWithLight(LightType::Spot);
     const Light before = st.scene.lights[0];
     const glm::mat4 m0 = lightGizmoMatrix(before);
@@ -119,7 +119,7 @@ TEST_CASE("The sample rate is per second of elapsed time since the restart", "[e
     CHECK(m.samplesPerSecond() == 0.0);
 }
 
-TEST_CASE("The ETA is the samples left at the wall-clock rate; durations read as s, min, h", "[editor][status]") {
+TEST_CASE("The ETA is the samples left at the wall-clock rate, durations read as s, min, h", "[editor][status]") {
     SampleRateMeter m;
     m.restart(0.0);
     CHECK(m.etaSeconds(0.0, 16.0) < 0.0);  // no rate yet: unknown

@@ -64,7 +64,7 @@ TEST_CASE("rebasePath keeps a relative path relative and the same file", "[edito
     CHECK(rebasePath("./a/../b.obj", "/p", "/p") == "./a/../b.obj");        // same folder: untouched
 }
 
-TEST_CASE("Save As into a sibling and a parent folder rebases every path; the copies load and compile", "[editor][paths]") {
+TEST_CASE("Save As into a sibling and a parent folder rebases every path, the copies load and compile", "[editor][paths]") {
     TempDir tmp;
     const fs::path root = tmp.path;
     writeFile(root / "assets" / "sky.hdr", "not decoded by the test reader");

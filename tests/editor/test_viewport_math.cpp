@@ -215,7 +215,7 @@ TEST_CASE("the frame pacer turns measured speed into a preview size", "[editor]"
     CHECK(p.secondsPerSample(65536) > 0.05);
 }
 
-TEST_CASE("scripts parse with quotes and comments; mistakes name the line", "[editor]") {
+TEST_CASE("scripts parse with quotes and comments, mistakes name the line", "[editor]") {
     ScriptParseResult r = parseScript("# a comment\nselect object \"small box\"\n\ntranslate 0.1 0 -2e-1  # move\nquit\n", "s.txt");
     REQUIRE(r.error.empty());
     REQUIRE(r.lines.size() == 3);

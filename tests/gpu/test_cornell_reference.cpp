@@ -322,7 +322,7 @@ TEST_CASE("the CPU reference tracer reproduces closed forms", "[gpu][cornell][cp
 // llvmpipe): build/tests/caustic_gpu_tests "[cornell-regenerate]", CAUSTIC_REFERENCE_SPP to
 // change the 4096 samples per pixel. It prints the JSON members to paste (Mitsuba's come from
 // tests/mitsuba/cornell_mean.py).
-TEST_CASE("regenerate the converged Cornell box image (hidden; prints tests/data JSON)", "[.][cornell-regenerate]") {
+TEST_CASE("regenerate the converged Cornell box image (hidden, prints tests/data JSON)", "[.][cornell-regenerate]") {
     const char* sppText = std::getenv("CAUSTIC_REFERENCE_SPP");
     const int spp = sppText ? std::atoi(sppText) : 4096;
     auto renderer = test::makeRenderer();

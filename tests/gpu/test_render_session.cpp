@@ -127,7 +127,7 @@ TEST_CASE("render session: a drag previews at a reduced size, and full size retu
     CHECK(session.previewDivisor == 1);
 }
 
-TEST_CASE("render session: held updates wait; a failed compile keeps the last good scene", "[gpu][editor]") {
+TEST_CASE("render session: held updates wait, a failed compile keeps the last good scene", "[gpu][editor]") {
     auto renderer = test::makeRenderer();
     EditorState state;
     state.scene = smallScene();
@@ -170,7 +170,7 @@ TEST_CASE("render session: held updates wait; a failed compile keeps the last go
     CHECK(session.renderError.empty());
 }
 
-TEST_CASE("render session: the viewport renders at its panel's size; Render to file at the output's", "[gpu][editor]") {
+TEST_CASE("render session: the viewport renders at its panel's size, Render to file at the output's", "[gpu][editor]") {
     auto renderer = test::makeRenderer();
     EditorState state;
     state.scene = smallScene();  // 32 x 24 output

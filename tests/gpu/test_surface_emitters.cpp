@@ -154,7 +154,7 @@ TEST_CASE("surface emitters: MIS, light sampling and BSDF sampling agree for eve
     }
 }
 
-TEST_CASE("a closed one-sided emitting shell is dark inside; two-sided it gives Le / (1 - a)", "[gpu][emitters]") {
+TEST_CASE("a closed one-sided emitting shell is dark inside, two-sided it gives Le / (1 - a)", "[gpu][emitters]") {
     // The shell emits from its front, the outside, so the camera inside sees neither emission nor
     // anything for the albedo to reflect: exactly black. Two-sided, the closed form.
     auto renderer = test::makeRenderer();
