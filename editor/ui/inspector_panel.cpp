@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
+#include <variant>
 
 namespace caustic::editor {
 namespace {
@@ -60,16 +62,17 @@ void materialParams(EditorUi& ui, int index, bool renamable) {
         return true;
     });
     if (m.type != before) {
-        // A new type starts from that type's defaults for what it did not have (an eon's roughness 0.5).
-        Material fresh = materialDefaults(m.type);
-        fresh.name = m.name;
-        fresh.emission = m.emission;
-        fresh.albedo = m.albedo;
-        fresh.tint = m.tint;
-        fresh.albedoTexture = m.albedoTexture;
-        fresh.normalTexture = m.normalTexture;
-        fresh.roughnessTexture = m.roughnessTexture;
-        m = fresh;
+        // A new type takes its own defaults for the parameters (schema rows) the old type did not
+        // have (an eon's roughness 0.5, a dielectric's GGX alpha 0); everything else is kept.
+        const Material defaults = materialDefaults(m.type);
+        for (const Param<Material>& p : schemaOf<Material>()) {
+            if (!takesKey(p, int(m.type)) || takesKey(p, int(before))) continue;
+            if (p.kind == ParamKind::Enum) p.setEnum(m, p.getEnum(defaults));
+            else
+                std::visit([&](auto member) {
+                    if constexpr (!std::is_same_v<decltype(member), std::monostate>) m.*member = defaults.*member;
+                }, p.member);
+        }
     }
     e.commit(e.changed ? makeSetMaterial(s, index, m) : nullptr);
 }
