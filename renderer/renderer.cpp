@@ -95,15 +95,20 @@ std::vector<gpu::GpuPrimitive> primitiveHitRecords(const std::vector<gpu::GpuPri
     std::vector<gpu::GpuPrimitive> out = primitives;
     for (gpu::GpuPrimitive& p : out) {
         if (p.info.x != PRIM_QUAD) continue;
-        const glm::vec3 corner(p.a), e1(p.b), e2(p.c);
-        const glm::vec3 n = glm::cross(e1, e2);
-        const float nn = glm::dot(n, n);
+        // In double, with the normal normalised: N = e1 x e2 scales with the square of the quad's
+        // size and N.N with its fourth power, which in float flushed to zero below a scale of
+        // ~1e-9 (the quad then missed every ray; docs/reliability.md, scale invariance).
+        const glm::dvec3 corner(glm::vec3(p.a)), e1(glm::vec3(p.b)), e2(glm::vec3(p.c));
+        const glm::dvec3 n0 = glm::cross(e1, e2);
+        const double len = glm::length(n0);
         // A degenerate quad (zero area) gets N = 0: the test's |N.d| < 1e-20 rejects every ray.
-        const glm::vec3 u = nn > 0.0f ? glm::cross(e2, n) / nn : glm::vec3(0.0f);
-        const glm::vec3 v = nn > 0.0f ? glm::cross(n, e1) / nn : glm::vec3(0.0f);
-        p.a = glm::vec4(n, glm::dot(n, corner));
-        p.b = glm::vec4(u, glm::dot(u, corner));
-        p.c = glm::vec4(v, glm::dot(v, corner));
+        const glm::dvec3 n = len > 0.0 ? n0 / len : glm::dvec3(0.0);
+        // U.p - U.corner and V.p - V.corner are the hit's coordinates along e1 and e2 (0..1).
+        const glm::dvec3 u = len > 0.0 ? glm::cross(e2, n) / len : glm::dvec3(0.0);
+        const glm::dvec3 v = len > 0.0 ? glm::cross(n, e1) / len : glm::dvec3(0.0);
+        p.a = glm::vec4(glm::vec3(n), float(glm::dot(n, corner)));
+        p.b = glm::vec4(glm::vec3(u), float(glm::dot(u, corner)));
+        p.c = glm::vec4(glm::vec3(v), float(glm::dot(v, corner)));
     }
     return out;
 }

@@ -115,7 +115,7 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
     hit.p = r.o + th.t * r.d;
     if (!HAS_MESHES || (th.ref & TLAS_REF_INSTANCE) == 0u) {
         GpuPrimitive prim = loadPrimitive(th.ref);
-        hit.ng = primitiveIsSphere(prim) ? sphereNormal(prim, hit.p) : normalize(cross(prim.b.xyz, prim.c.xyz));
+        hit.ng = primitiveIsSphere(prim) ? sphereNormal(prim, hit.p) : normalizeScaled(cross(prim.b.xyz, prim.c.xyz));
         hit.ns = hit.ng;
         hit.material = prim.info.y;
         hit.light = prim.info.z;

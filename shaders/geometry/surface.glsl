@@ -83,7 +83,7 @@ SurfacePoint triangleSurface(GpuInstance inst, GpuTriangle tri, vec2 b) {
         dpdu = (d2.y * e1 - d1.y * e2) / det;
         dpdv = (-d2.x * e1 + d1.x * e2) / det;
     } else {  // no usable UVs: any frame around the normal
-        vec3 n = normalize(cross(e1, e2));
+        vec3 n = normalizeScaled(cross(e1, e2));
         buildOnb(n, dpdu, dpdv);
     }
     vec3 t = b0 * v0.tangentV.xyz + b.x * v1.tangentV.xyz + b.y * v2.tangentV.xyz;

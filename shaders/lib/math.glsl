@@ -10,6 +10,14 @@ const float FLT_MAX = 3.402823466e38;
 // Rec. 709 / sRGB luminance weights (ITU-R BT.709).
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
+// normalize() of a vector whose squared length underflows a float (a cross product of two edges
+// ~1e-11 long is ~1e-22, its square 1e-44, flushed to 0 by GPUs and llvmpipe: the normal came out
+// NaN or 0 and the Cornell box scaled by 1e-11 rendered black): scaled by its largest component
+// first. A zero vector stays zero.
+vec3 normalizeScaled(vec3 v) {
+    float m = maxComponent(abs(v));
+    return m > 0.0 ? normalize(v * (1.0 / m)) : v;
+}
 float safeSqrt(float x) { return sqrt(max(x, 0.0)); }
 float sqr(float x) { return x * x; }
 

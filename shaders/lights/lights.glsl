@@ -67,7 +67,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
     // only the types its scene has.
     if (HAS_LIGHT(LIGHT_RECT) && type == LIGHT_RECT) {
         vec3 q = l.p0.xyz + u.x * l.p1.xyz + u.y * l.p2.xyz;
-        vec3 n = normalize(cross(l.p1.xyz, l.p2.xyz));
+        vec3 n = normalizeScaled(cross(l.p1.xyz, l.p2.xyz));
         vec3 d = q - p;
         float dist2 = dot(d, d);
         if (dist2 <= 0.0) return s;
