@@ -1,0 +1,86 @@
+// Which reader opens an image file (renderer/image_io.cpp, openByExtension): the one its extension
+// names, then the common texture formats' (PNG, JPEG, OpenEXR, Radiance HDR, TIFF, BMP) for a
+// file saved under the wrong extension, never OpenImageIO's fallback through every reader it has
+// (FITS, DPX, PNM, PSD, ...: 15-60 ms per damaged file, and parsers no scene needs exposed to
+// hostile bytes). A PNM file stands for "a format outside the common list": OpenImageIO reads it
+// by its own extension, and its old fallback also read it under a PNG name.
+#include "renderer/image_io.h"
+#include "tests/support/meshes.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using namespace caustic;
+
+namespace {
+
+// A 2 x 1 binary PPM: red, then blue.
+void writePpm(const std::string& path) {
+    std::ofstream f(path, std::ios::binary);
+    f << "P6\n2 1\n255\n";
+    const unsigned char px[] = {255, 0, 0, 0, 0, 255};
+    f.write(reinterpret_cast<const char*>(px), sizeof px);
+}
+
+void writePng(const std::string& path) {
+    std::string error;
+    REQUIRE(writeImage8(path, 2, 1, {255, 0, 0, 0, 0, 255}, {}, &error));
+}
+
+ImageData readOk(const std::string& path) {
+    ImageData image;
+    std::string error;
+    INFO(error);
+    REQUIRE(readImage(path, &image, &error));
+    return image;
+}
+
+}  // namespace
+
+TEST_CASE("images: a file is read by the reader its extension names, in either case", "[image]") {
+    test::TempDir dir;
+    writePng(dir.file("a.png"));
+    std::filesystem::copy_file(dir.file("a.png"), dir.file("B.PNG"));
+    writePpm(dir.file("c.ppm"));
+    for (const char* name : {"a.png", "B.PNG", "c.ppm"}) {
+        INFO(name);
+        const ImageData image = readOk(dir.file(name));
+        CHECK(image.width == 2);
+        CHECK(image.height == 1);
+        REQUIRE(image.channels >= 3);
+        CHECK(image.pixels[0] == Approx(1.0f));                   // red ...
+        CHECK(image.pixels[size_t(image.channels) + 2] == Approx(1.0f));  // ... then blue
+    }
+}
+
+TEST_CASE("images: a PNG saved as .jpg still reads; a PNM saved as .png is refused, naming the file", "[image]") {
+    test::TempDir dir;
+    writePng(dir.file("a.png"));
+    std::filesystem::copy_file(dir.file("a.png"), dir.file("really-png.jpg"));
+    CHECK(readOk(dir.file("really-png.jpg")).width == 2);
+
+    writePpm(dir.file("c.ppm"));
+    std::filesystem::copy_file(dir.file("c.ppm"), dir.file("really-ppm.png"));
+    ImageData image;
+    std::string error;
+    CHECK_FALSE(readImage(dir.file("really-ppm.png"), &image, &error));
+    CHECK(error.rfind(dir.file("really-ppm.png"), 0) == 0);
+    CHECK(error.find("cannot read image") != std::string::npos);
+}
+
+TEST_CASE("images: an extension no reader knows, or none, is refused with a message saying so", "[image]") {
+    test::TempDir dir;
+    writePng(dir.file("a.png"));
+    std::filesystem::copy_file(dir.file("a.png"), dir.file("a.texture"));
+    std::filesystem::copy_file(dir.file("a.png"), dir.file("noext"));
+    ImageData image;
+    std::string error;
+    CHECK_FALSE(readImage(dir.file("a.texture"), &image, &error));
+    CHECK(error == dir.file("a.texture") + ": cannot read image: OpenImageIO has no reader for '.texture' files");
+    CHECK_FALSE(readImage(dir.file("noext"), &image, &error));
+    CHECK(error == dir.file("noext") + ": cannot read image: the file name has no extension to tell its format");
+}
