@@ -73,7 +73,11 @@ private:
                 m_ext[i] = std::string(ext);
                 return i;
             }
-        failed("scratch extensions fit the table", std::string(ext));
+        // Full (the fuzzer invents extensions: "p3", "pm3", ...): the last slot's file is removed
+        // and the slot reused, so a run still leaves at most kSlots files.
+        if (!m_written[kSlots - 1].empty()) ::unlink(m_written[kSlots - 1].c_str());
+        m_ext[kSlots - 1] = std::string(ext);
+        return kSlots - 1;
     }
     static constexpr std::size_t kSlots = 64;
     std::string m_path;
