@@ -29,12 +29,14 @@ std::span<const KeyBinding> keyBindings() {
 std::span<const MouseAction> mouseActions() {
     static constexpr MouseAction k[] = {
         {"Click", "select what is under the cursor (nothing: clear the selection)"},
+        {"Ctrl+click", "add the object under the cursor to the selection, or take it out (not with compare on)"},
         {"Shift+click", "focus the lens on the point under the cursor (the camera's focus point)"},
         {"Middle drag, or Alt+left drag", "orbit the camera about its look-at point"},
         {"Shift+middle drag", "pan"},
         {"Wheel", "zoom (dolly towards the look-at point); a pause ends one undo step"},
         {"Right button held", "fly: the mouse looks around, W A S D move, Q E down and up, Shift faster"},
         {"Ctrl+left drag (compare on)", "move the snapshot / live divider"},
+        {"Ctrl+click or Shift+click in the outliner", "add an object to the selection, or take it out"},
         {"Double-click in the outliner", "rename"},
     };
     return k;

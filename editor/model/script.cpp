@@ -57,6 +57,16 @@ const std::map<std::string, Signature>& commands() {
         {"add_material", {0, 0, ""}},         // Add > Material (a new one, used by nothing)
         {"mark", {0, 0, ""}},                 // remember where accumulation is (for expect_restarted)
         {"expect_restarted", {1, 1, ""}},     // yes | no: accumulation restarted since `mark`
+        {"select_add", {2, 2, ""}},           // select_add object NAME: as Ctrl+click (adds, or takes out)
+        {"expect_selected", {1, 1, "n"}},     // N objects are selected
+        {"assign_material", {1, 1, ""}},      // give every selected object this material (one undo step)
+        {"new_material", {0, 1, ""}},         // New material [preset] for the selected objects
+        {"make_unique", {0, 0, ""}},          // Make unique: a copy of the selection's shared material
+        {"apply_preset", {1, 1, ""}},         // the selected material (or the object's) takes a library preset
+        {"expect_material", {2, 2, ""}},      // expect_material OBJECT MATERIAL
+        {"preview_lighting", {1, 1, ""}},     // scene | studio: the material preview's lighting
+        {"wait_preview", {1, 2, "nn"}},       // until the material preview has N samples of the current material [timeout s]
+        {"write_preview", {1, 1, ""}},        // the material preview as PNG
         {"quit", {0, 0, ""}},
     };
     return table;

@@ -5,6 +5,7 @@
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/frame_driver.h"
+#include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
 #include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
@@ -403,6 +404,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             try {
                 renderFrame(*ui);
                 if (ui->denoiser) ui->denoiser->tick(*ui);
+                ui->preview->tick(*ui);   // a few ms for the material preview, when one is shown
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -428,6 +430,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         std::string recentError;
         ui->recent.save(ui->recentListPath, &recentError);
         ui->denoiser.reset();   // joins the worker; deletes its texture while GL is current
+        ui->preview.reset();    // its renderer and display, while GL is current
         ui->display.reset();
         ui->renderer.reset();
         ImGui_ImplOpenGL3_Shutdown();
@@ -452,7 +455,9 @@ bool chordPressed(const Chord& chord) {
     return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 
-EditorUi::EditorUi() : driver(std::make_unique<FrameDriver>()), meshImports(std::make_unique<MeshImports>()) {}
+EditorUi::EditorUi()
+    : preview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
+      meshImports(std::make_unique<MeshImports>()) {}
 EditorUi::~EditorUi() = default;
 
 // ---- Actions shared by the panels ---------------------------------------------------------------

@@ -20,6 +20,7 @@ struct GLFWwindow;
 namespace caustic::editor {
 
 class FrameDriver;
+class MaterialPreview;
 class MeshImports;
 class ViewportDenoiser;
 
@@ -68,6 +69,8 @@ struct EditorUi {
     // shows; editor/model/render_session.h).
     RenderSession session;
     std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
+    // The material preview ball (material_preview.h): rendered only while a material is shown.
+    std::unique_ptr<MaterialPreview> preview;
 
     // Lookdev.
     bool compare = false;

@@ -2,7 +2,9 @@
 
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
+#include "editor/model/lookdev.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
@@ -161,7 +163,70 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (kind == EntityKind::None) { fail(ui, line, "unknown kind '" + a[0] + "'"); return true; }
         const EntityRef ref = findEntity(s.scene, kind, a.size() > 1 ? a[1] : "");
         if (!ref) { fail(ui, line, "no " + a[0] + " called '" + (a.size() > 1 ? a[1] : "") + "'"); return true; }
-        s.selection = ref;
+        s.select(ref);
+        return true;
+    }
+    if (op == "select_add") {   // as Ctrl+click in the viewport (or Ctrl/Shift+click in the outliner)
+        const EntityRef ref = findEntity(s.scene, kindFromWord(a[0]), a[1]);
+        if (!ref) { fail(ui, line, "no " + a[0] + " called '" + a[1] + "'"); return true; }
+        s.select(ref, EditorState::SelectMode::Toggle);
+        return true;
+    }
+    if (op == "expect_selected") {
+        const std::size_t n = s.selectedObjects().size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " selected objects, have " + std::to_string(n));
+        return true;
+    }
+    if (op == "assign_material" || op == "new_material" || op == "make_unique") {
+        // The inspector's actions on the selected objects (editor/model/lookdev.h).
+        std::string why;
+        std::unique_ptr<Command> c;
+        if (op == "assign_material") c = makeAssignMaterial(s, s.selectedObjects(), a[0], &why);
+        else if (op == "make_unique") c = makeMakeUnique(s, s.selectedObjects(), &why);
+        else {
+            const Material* preset = a.empty() ? nullptr : findLibraryMaterial(a[0]);
+            if (!a.empty() && !preset) { fail(ui, line, "no preset called '" + a[0] + "'"); return true; }
+            c = makeNewMaterialFor(s, s.selectedObjects(), preset, &why);
+        }
+        if (!c || !s.apply(std::move(c), &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "apply_preset") {
+        const Material* preset = findLibraryMaterial(a[0]);
+        if (!preset) { fail(ui, line, "no preset called '" + a[0] + "'"); return true; }
+        int index = -1;
+        if (s.selection.kind == EntityKind::Material) index = s.selection.index;
+        else if (s.selection.kind == EntityKind::Object)
+            index = findEntity(s.scene, EntityKind::Material, s.scene.objects[size_t(s.selection.index)].material).index;
+        if (index < 0) { fail(ui, line, "no material is selected"); return true; }
+        std::string why;
+        if (!s.apply(makeApplyPreset(s, index, *preset), &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "expect_material") {
+        const EntityRef ref = findEntity(s.scene, EntityKind::Object, a[0]);
+        if (!ref) { fail(ui, line, "no object called '" + a[0] + "'"); return true; }
+        const std::string& has = s.scene.objects[size_t(ref.index)].material;
+        if (has != a[1]) fail(ui, line, "object '" + a[0] + "' has material '" + has + "'");
+        return true;
+    }
+    if (op == "preview_lighting") {
+        if (a[0] != "scene" && a[0] != "studio") { fail(ui, line, "expected scene or studio"); return true; }
+        ui.preview->lighting = a[0] == "scene" ? PreviewLighting::Scene : PreviewLighting::Studio;
+        return true;
+    }
+    if (op == "wait_preview") {
+        // The inspector asks for the preview while it shows a material (this frame, before us).
+        if (!ui.preview->requested()) { fail(ui, line, "the inspector shows no material (select a material or an object)"); return true; }
+        if (!ui.preview->error().empty()) { fail(ui, line, "the preview failed: " + ui.preview->error()); return true; }
+        const bool done = ui.preview->current() && ui.preview->samples() >= static_cast<int>(num(a[0]));
+        return waitFor(ui, line, done, a.size() > 1 ? num(a[1]) : kScriptWaitSeconds, "the material preview did not converge");
+    }
+    if (op == "write_preview") {
+        std::string why;
+        if (!ui.preview->writeImage(resolve(a[0]), ui, &why)) fail(ui, line, why);
         return true;
     }
     if (op == "translate") {

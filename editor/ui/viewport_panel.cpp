@@ -124,6 +124,40 @@ void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     dl->PopClipRect();
 }
 
+// With several objects selected, each one's bounding box over the image (the active one
+// brighter), so a Ctrl+click's effect shows where it was made.
+void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    const std::vector<int> selected = ui.state.selectedObjects();
+    if (selected.size() < 2) return;
+    const Scene& scene = ui.state.scene;
+    const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
+                               viewMatrix(scene.camera);
+    const MeshBoundsLookup meshBounds = meshBoundsLookup(ui);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    for (int i : selected) {
+        const auto b = entityBounds(scene, {EntityKind::Object, i}, meshBounds);
+        if (!b) continue;
+        const bool active = ui.state.selection == EntityRef{EntityKind::Object, i};
+        const ImU32 colour = active ? IM_COL32(255, 150, 40, 255) : IM_COL32(255, 150, 40, 150);
+        glm::vec3 corner[8];
+        for (int k = 0; k < 8; ++k)
+            corner[k] = {(k & 1) ? b->second.x : b->first.x, (k & 2) ? b->second.y : b->first.y,
+                         (k & 4) ? b->second.z : b->first.z};
+        for (int k = 0; k < 8; ++k)
+            for (int bit : {1, 2, 4}) {
+                if (k & bit) continue;
+                const glm::vec4 a = viewProj * glm::vec4(corner[k], 1.0f), c = viewProj * glm::vec4(corner[k | bit], 1.0f);
+                if (a.w <= 1e-6f || c.w <= 1e-6f) continue;   // behind the camera
+                auto screen = [&](const glm::vec4& v) {
+                    return ImVec2(pos.x + (v.x / v.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - v.y / v.w * 0.5f) * size.y);
+                };
+                dl->AddLine(screen(a), screen(c), colour, active ? 2.0f : 1.0f);
+            }
+    }
+    dl->PopClipRect();
+}
+
 void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     glm::mat4 m;
     const bool usingBefore = ui.gizmoWasUsing;
@@ -273,12 +307,15 @@ void drawViewportPanel(EditorUi& ui) {
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
 
     drawLightOutlines(ui, pos, size);
+    drawSelectedBounds(ui, pos, size);
     drawGizmo(ui, pos, size);
 
     ImGuiIO& io = ImGui::GetIO();
     const bool gizmoBusy = ImGuizmo::IsOver() || ImGuizmo::IsUsing();
     // Clicks (not drags) select what is under the cursor; Shift+click focuses the lens there.
-    if (hovered && !gizmoBusy && !io.KeyAlt && !io.KeyCtrl && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+    // Ctrl+click adds an object to the selection or takes it out (not with compare on, where
+    // Ctrl+drag moves the divider).
+    if (hovered && !gizmoBusy && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
         const Ray ray = cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel);
@@ -297,8 +334,10 @@ void drawViewportPanel(EditorUi& ui) {
                 cam.focusPoint = ray.origin + hit->distance * ray.direction;
                 ui.state.apply(makeSetCamera(ui.state, cam));
             }
+        } else if (io.KeyCtrl) {
+            if (hit) ui.state.select(hit->ref, EditorState::SelectMode::Toggle);
         } else {
-            ui.state.selection = hit ? hit->ref : EntityRef{};
+            ui.state.select(hit ? hit->ref : EntityRef{});
         }
     }
     if (hovered && !gizmoBusy) navigate(ui, size);

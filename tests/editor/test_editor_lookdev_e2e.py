@@ -1,0 +1,113 @@
+"""The real editor under Xvfb with Mesa (issue 15, lookdev): multi-selection (Ctrl+click's
+toggle), one material assigned to every selected object in one undo step, New material from the
+preset library and Make unique, and the material preview ball: a second, small film rendered by
+the same integrator that shows the selected material (matte white, then gold) on a sphere over a
+checker floor, following the edit. The inspector is screenshotted with the preview open.
+
+Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
+"""
+import os
+import shutil
+import unittest
+
+from test_editor_e2e import CORNELL, EditorSessionCase, run_editor
+
+SCRIPT = """
+wait_samples 1
+select object "small box"
+select_add object "large box"
+expect_selected 2
+assign_material red
+expect_material "small box" red
+expect_material "large box" red
+expect_material floor white
+expect_undo_steps 1
+undo
+expect_material "small box" white
+expect_material "large box" white
+expect_selected 2
+redo
+# New material from the library for both boxes: one step more.
+new_material gold
+expect_material "small box" gold
+expect_material "large box" gold
+expect_count materials 4
+expect_undo_steps 2
+# Ctrl+click on a selected one takes it out.
+select_add object "small box"
+expect_selected 1
+# Make unique: the floor gets its own copy of the white the walls share.
+select object floor
+make_unique
+expect_material floor "white 2"
+expect_material back white
+expect_count materials 5
+expect_undo_steps 3
+save saved.json
+# The preview ball, of the floor's material (matte white), then the same material as gold.
+preview_lighting studio
+select material "white 2"
+wait_preview 8
+write_preview preview-white.png
+apply_preset gold
+wait_preview 8
+write_preview preview-gold.png
+screenshot inspector.png
+quit
+"""
+
+
+def mean_rgb(rows, x0, y0, x1, y1):
+    n, acc = 0, [0.0, 0.0, 0.0]
+    for y in range(y0, y1):
+        for x in range(x0, x1):
+            for c in range(3):
+                acc[c] += rows[y][x][c]
+            n += 1
+    return [a / n for a in acc]
+
+
+class EditorLookdev(EditorSessionCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-lookdev-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(SCRIPT)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_saved_materials(self):
+        scene = self.load("saved.json")
+        by_name = {o["name"]: o["material"] for o in scene["objects"]}
+        self.assertEqual(by_name["small box"], "gold")
+        self.assertEqual(by_name["large box"], "gold")
+        self.assertEqual(by_name["floor"], "white 2")
+        self.assertEqual(by_name["back"], "white")
+        materials = {m["name"]: m for m in scene["materials"]}
+        self.assertEqual(materials["gold"]["type"], "conductor")
+        self.assertEqual(materials["gold"]["metal"], "gold")
+        white, copy = dict(materials["white"]), dict(materials["white 2"])
+        white.pop("name"), copy.pop("name")
+        self.assertEqual(white, copy)
+
+    def test_3_preview_shows_the_material_and_follows_the_edit(self):
+        white = self.image("preview-white.png")
+        gold = self.image("preview-gold.png")
+        self.assertEqual((len(white), len(white[0])), (128, 128))
+        # The ball fills the middle of the image.
+        w = mean_rgb(white, 54, 44, 74, 64)
+        g = mean_rgb(gold, 54, 44, 74, 64)
+        self.assertGreater(sum(w), 60, w)                # lit
+        self.assertLess(abs(w[0] - w[2]), 0.15 * w[0] + 4, w)   # white is neutral
+        self.assertGreater(g[0], 1.3 * g[2] + 4, g)      # gold: red well above blue
+        # The checker floor (the bottom rows): alternating light and dark tiles.
+        row = white[120]
+        lum = [sum(p) for p in row]
+        self.assertGreater(max(lum) - min(lum), 120, lum)
+
+
+if __name__ == "__main__":
+    unittest.main()
