@@ -7,7 +7,9 @@
 #include "editor/model/viewport_math.h"
 #include "renderer/camera.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/asset_picker.h"
 #include "editor/ui/material_preview.h"
+#include "editor/ui/mesh_import.h"
 #include "editor/ui/param_widgets.h"
 #include "editor/model/lookdev.h"
 #include "editor/ui/viewport_denoise.h"
@@ -220,6 +222,10 @@ void objectInspector(EditorUi& ui, int index) {
                 if (s.scene.objects[static_cast<size_t>(index)].shape == Shape::Mesh) {
                     ImGui::SameLine();
                     if (ImGui::SmallButton("Replace...")) openFileBrowser(ui, FileBrowserState::Mode::MeshFile);
+                    ImGui::SameLine();
+                    // The scene's and the assets folder's model files; imported in the background.
+                    if (const auto picked = assetPickerButton(ui, "mesh-file", AssetKind::Mesh))
+                        ui.meshImports->setObjectFile(ui, index, picked->absolute);
                 }
                 return true;
             default: return false;

@@ -4,7 +4,9 @@
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
+#include "editor/model/asset_files.h"
 #include "editor/model/lookdev.h"
+#include "editor/model/scene_paths.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
@@ -223,6 +225,36 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (!ui.preview->error().empty()) { fail(ui, line, "the preview failed: " + ui.preview->error()); return true; }
         const bool done = ui.preview->current() && ui.preview->samples() >= static_cast<int>(num(a[0]));
         return waitFor(ui, line, done, a.size() > 1 ? num(a[1]) : kScriptWaitSeconds, "the material preview did not converge");
+    }
+    if (op == "pick_file" || op == "expect_picker_lists") {
+        // The listing the inspector's "..." shows (asset_files.h) and the path a pick stores.
+        const bool env = a[0] == "environment";
+        const AssetKind kind = env ? AssetKind::EnvironmentMap : AssetKind::Texture;
+        if (!env && a[0] != "albedo_texture" && a[0] != "normal_texture" && a[0] != "roughness_texture") {
+            fail(ui, line, "unknown slot '" + a[0] + "'");
+            return true;
+        }
+        const std::string folder = sceneFolderOf(s.path);
+        const std::vector<AssetFile> files = listAssetFiles(kind, folder, assetsFolderFor(folder));
+        const AssetFile* found = nullptr;
+        for (const AssetFile& f : files)
+            if (f.display == a[1]) found = &f;
+        if (!found) { fail(ui, line, "the picker does not list '" + a[1] + "' (" + std::to_string(files.size()) + " files)"); return true; }
+        if (op == "expect_picker_lists") return true;
+        std::string why;
+        if (env) {
+            Environment e = s.scene.environment;
+            e.type = EnvironmentType::Map;
+            e.file = found->stored;
+            if (!s.apply(makeSetEnvironment(s, e), &why)) fail(ui, line, why);
+        } else {
+            if (s.selection.kind != EntityKind::Material) { fail(ui, line, "no material is selected"); return true; }
+            Material m = s.scene.materials[size_t(s.selection.index)];
+            (a[0] == "albedo_texture" ? m.albedoTexture : a[0] == "normal_texture" ? m.normalTexture : m.roughnessTexture) = found->stored;
+            if (!s.apply(makeSetMaterial(s, s.selection.index, m), &why)) fail(ui, line, why);
+        }
+        markEdit();
+        return true;
     }
     if (op == "write_preview") {
         std::string why;

@@ -10,7 +10,7 @@ import os
 import shutil
 import unittest
 
-from test_editor_e2e import CORNELL, EditorSessionCase, run_editor
+from test_editor_e2e import CORNELL, SOURCE_DIR, EditorSessionCase, run_editor
 
 SCRIPT = """
 wait_samples 1
@@ -107,6 +107,51 @@ class EditorLookdev(EditorSessionCase):
         row = white[120]
         lum = [sum(p) for p in row]
         self.assertGreater(max(lum) - min(lum), 120, lum)
+
+
+PICKER_SCRIPT = """
+wait_samples 1
+expect_picker_lists albedo_texture local.png
+expect_picker_lists albedo_texture tex/checker.png
+expect_picker_lists environment sky.hdr
+select material white
+pick_file albedo_texture tex/checker.png
+pick_file environment sky.hdr
+wait_samples 1
+save saved.json
+quit
+"""
+
+
+class EditorFilePicker(EditorSessionCase):
+    """The inspector's file picker: the scene's folder and the assets folder beside it (as
+    scenes/ and assets/ in this repository), and paths stored relative to the scene."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-picker-")
+        scenes, assets = os.path.join(cls.tmp, "scenes"), os.path.join(cls.tmp, "assets")
+        os.makedirs(os.path.join(assets, "tex"))
+        os.makedirs(scenes)
+        shutil.copy(CORNELL, os.path.join(scenes, "scene.json"))
+        tile = os.path.join(SOURCE_DIR, "assets", "tiles", "albedo.png")
+        shutil.copy(tile, os.path.join(assets, "tex", "checker.png"))
+        shutil.copy(tile, os.path.join(scenes, "local.png"))
+        shutil.copy(os.path.join(SOURCE_DIR, "assets", "sky.hdr"), os.path.join(assets, "sky.hdr"))
+        with open(os.path.join(scenes, "script.txt"), "w") as f:
+            f.write(PICKER_SCRIPT)
+        cls.editor = run_editor(scenes, "script.txt", os.path.join(scenes, "scene.json"),
+                                extra_env={"CAUSTIC_ASSETS_DIR": ""})
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_paths_are_relative_to_the_scene(self):
+        scene = self.load(os.path.join("scenes", "saved.json"))
+        white = [m for m in scene["materials"] if m["name"] == "white"][0]
+        self.assertEqual(white["albedo_texture"], "../assets/tex/checker.png")
+        self.assertEqual(scene["environment"]["file"], "../assets/sky.hdr")
+        self.assertTrue(os.path.exists(os.path.join(self.tmp, "scenes", white["albedo_texture"])))
 
 
 if __name__ == "__main__":
