@@ -69,6 +69,12 @@ const std::map<std::string, Signature>& commands() {
         {"write_preview", {1, 1, ""}},        // the material preview as PNG
         {"pick_file", {2, 2, ""}},            // pick_file SLOT NAME: the file picker's entry NAME for a slot (albedo_texture, normal_texture, roughness_texture of the selected material; environment)
         {"expect_picker_lists", {2, 2, ""}},  // expect_picker_lists SLOT NAME: the picker for SLOT lists NAME
+        {"set_focus", {1, 1, "n"}},           // the camera's focal distance (the focus point cleared): one edit
+        {"expect_focus_overlay", {1, 1, "n"}},   // the focus overlay is shown with at least N cells marked (0: shown)
+        {"expect_no_focus_overlay", {0, 0, ""}},
+        {"store_view", {1, 1, ""}},           // store the camera as a saved view NAME
+        {"recall_view", {1, 1, ""}},          // recall saved view NAME (one undo step)
+        {"expect_views", {1, 1, "n"}},        // the scene has N saved camera views
         {"quit", {0, 0, ""}},
     };
     return table;

@@ -324,6 +324,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         ui->recentListPath = (fs::path(configDir) / "recent.txt").string();
         ui->recent.load(ui->recentListPath);
         ui->autosave = Autosave::in(configDir);
+
         static std::string iniPath;   // ImGui keeps the pointer
         iniPath = (fs::path(configDir) / "layout.ini").string();
 
@@ -353,6 +354,13 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 exitCode = 1;
                 ui->quit = true;
             }
+        }
+        // Saved camera views (camera_views.h), in the config folder; like the autosave, a script
+        // touches them only with $CAUSTIC_EDITOR_HOME set (offersRecovery says so).
+        if (ui->driver->offersRecovery()) {
+            ui->viewsPath = (fs::path(configDir) / "views.json").string();
+            if (std::string viewsError; !ui->views.load(ui->viewsPath, &viewsError))
+                notify(*ui, "the saved camera views could not be read (they are ignored): " + viewsError, true);
         }
         // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
         if (ui->autosave.exists() && ui->driver->offersRecovery()) {
@@ -491,16 +499,50 @@ bool openFile(EditorUi& ui, const std::string& file) {
 
 bool saveFile(EditorUi& ui, const std::string& file) {
     std::string error;
+    const std::string before = ui.state.path;
     if (!ui.state.saveAs(file, &error)) {
         showError(ui, "could not save; nothing was overwritten.\n" + error);
         return false;
     }
+    ui.views.carry(before, file);   // the saved camera views go with the scene to its new path
+    if (!ui.viewsPath.empty() && !ui.views.of(file).empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
     ui.recent.add(fs::absolute(file).lexically_normal().string());
     std::string ignored;
     ui.recent.save(ui.recentListPath, &ignored);
     ui.autosave.remove();
     notify(ui, "saved " + file);
     return true;
+}
+
+void storeCameraView(EditorUi& ui, const std::string& name) {
+    ui.views.store(ui.state.path, name, ui.state.scene.camera);
+    std::string error;
+    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
+    else
+        notify(ui, "stored camera view '" + name + "'");
+}
+
+bool recallCameraView(EditorUi& ui, const std::string& name) {
+    const CameraView* v = ui.views.find(ui.state.path, name);
+    if (!v) {
+        notify(ui, "no camera view '" + name + "'", true);
+        return false;
+    }
+    std::string why;
+    if (!ui.state.apply(makeSetCamera(ui.state, v->camera), &why)) {
+        notify(ui, why, true);
+        return false;
+    }
+    return true;
+}
+
+void deleteCameraView(EditorUi& ui, const std::string& name) {
+    ui.views.remove(ui.state.path, name);
+    std::string error;
+    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
 }
 
 void saveOrSaveAs(EditorUi& ui) {

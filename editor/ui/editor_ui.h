@@ -3,6 +3,7 @@
 // menu_bar.cpp, file_browser.cpp); editor_app.cpp owns the window and the frame loop.
 #pragma once
 
+#include "editor/model/camera_views.h"
 #include "editor/model/editor_state.h"
 #include "editor/model/render_session.h"
 #include "editor/model/status.h"
@@ -50,6 +51,8 @@ struct EditorUi {
     RecentFiles recent;
     std::string recentListPath;
     Autosave autosave;
+    CameraViews views;                // saved camera views (camera_views.h), in <config>/views.json
+    std::string viewsPath;
     double lastAutosave = 0.0;
     std::uint64_t autosaveWrites = 0;   // autosaves written this session (scripts wait on it)
 
@@ -61,6 +64,10 @@ struct EditorUi {
     bool gizmoWasUsing = false;
     bool navigating = false;          // a camera drag is in progress
     double lastWheel = -1.0;          // wheel zoom steps merge until a pause
+    // The focus-plane overlay (focus_overlay.h): shown until this time (after a focus edit), and
+    // the cells it marked in the last frame (scripts check it).
+    double focusOverlayUntil = -1.0;
+    int focusOverlayCells = -1;       // -1: not shown
     bool viewportHovered = false;
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;
@@ -113,6 +120,11 @@ struct Chord;
 bool chordPressed(const Chord& chord);
 
 // Actions shared by menus, shortcuts and scripts.
+// Saved camera views of the current scene: store the camera under `name`, recall one (one undo
+// step), delete one; the views file is written after each change (a failure is shown).
+void storeCameraView(EditorUi& ui, const std::string& name);
+bool recallCameraView(EditorUi& ui, const std::string& name);
+void deleteCameraView(EditorUi& ui, const std::string& name);
 void notify(EditorUi& ui, const std::string& message, bool isError = false);
 void showError(EditorUi& ui, const std::string& message);   // modal + status bar
 bool openFile(EditorUi& ui, const std::string& file);        // keeps the current scene on failure

@@ -306,6 +306,31 @@ void cameraInspector(EditorUi& ui) {
         s.selection = {EntityKind::Camera, -1};
         frameSelection(ui);
     }
+    // Saved views (camera_views.h): the editor's own, by scene file, not in the scene.
+    ImGui::SeparatorText("Saved views");
+    static char s_viewName[128] = "";
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);
+    ImGui::InputTextWithHint("##viewname", ui.views.nextName(s.path).c_str(), s_viewName, sizeof s_viewName);
+    ImGui::SameLine();
+    if (ImGui::Button("Store view")) {
+        storeCameraView(ui, s_viewName[0] ? std::string(s_viewName) : ui.views.nextName(s.path));
+        s_viewName[0] = '\0';
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("keeps this camera under the name (kept by the editor for this scene file, not saved in the scene)");
+    std::string remove;
+    for (const CameraView& v : ui.views.of(s.path)) {
+        ImGui::PushID(v.name.c_str());
+        if (ImGui::SmallButton("Recall")) recallCameraView(ui, v.name);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x")) remove = v.name;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("forget this view");
+        ImGui::SameLine();
+        ImGui::TextUnformatted(v.name.c_str());
+        ImGui::PopID();
+    }
+    if (!remove.empty()) deleteCameraView(ui, remove);
+    if (ui.views.of(s.path).empty()) ImGui::TextDisabled("none yet%s", s.path.empty() ? " (an untitled scene's last until it closes)" : "");
 }
 
 void renderInspector(EditorUi& ui) {

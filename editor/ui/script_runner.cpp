@@ -256,6 +256,41 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         markEdit();
         return true;
     }
+    if (op == "set_focus") {
+        Camera c = s.scene.camera;
+        c.focalDistance = num(a[0]);
+        c.focusPoint.reset();
+        std::string why;
+        if (!s.apply(makeSetCamera(s, c), &why)) fail(ui, line, why);
+        markEdit();
+        m_waitFrames = 1;   // the overlay is drawn by the next frame's viewport
+        ++m_next;
+        return false;
+    }
+    if (op == "expect_focus_overlay") {
+        if (ui.focusOverlayCells < static_cast<int>(num(a[0])))
+            fail(ui, line, ui.focusOverlayCells < 0 ? std::string("the focus overlay is not shown")
+                                                    : "the focus overlay marks " + std::to_string(ui.focusOverlayCells) + " cells");
+        return true;
+    }
+    if (op == "expect_no_focus_overlay") {
+        if (ui.focusOverlayCells >= 0) fail(ui, line, "the focus overlay is shown");
+        return true;
+    }
+    if (op == "store_view") {
+        storeCameraView(ui, a[0]);
+        return true;
+    }
+    if (op == "recall_view") {
+        if (!recallCameraView(ui, a[0])) fail(ui, line, ui.lastMessage);
+        markEdit();
+        return true;
+    }
+    if (op == "expect_views") {
+        const std::size_t n = ui.views.of(s.path).size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
+        return true;
+    }
     if (op == "write_preview") {
         std::string why;
         if (!ui.preview->writeImage(resolve(a[0]), ui, &why)) fail(ui, line, why);

@@ -4,6 +4,7 @@
 // WASD/QE; frame the selection: F). Mouse and keys reach the viewport only when it is hovered
 // and ImGui has no text field active.
 #include "editor/model/viewport_math.h"
+#include "editor/model/focus_overlay.h"
 #include "editor/model/keymap.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
@@ -18,6 +19,8 @@
 #include <algorithm>
 #include <optional>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 
 namespace caustic::editor {
 namespace {
@@ -155,6 +158,46 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
                 dl->AddLine(screen(a), screen(c), colour, active ? 2.0f : 1.0f);
             }
     }
+    dl->PopClipRect();
+}
+
+// The focus-plane overlay: for 1.5 s after any edit of the focus (the inspector's fields, the
+// f-stop, Shift+click, an undo), the parts of the scene on the plane of focus are tinted, found
+// by CPU ray casts on a grid (focus_overlay.h), with the distance written beside them.
+void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    static Camera s_last;
+    static std::uint64_t s_generation = ~std::uint64_t(0);
+    const Scene& scene = ui.state.scene;
+    const double t = ImGui::GetTime();
+    if (s_generation == ui.state.generation() && focusEdited(s_last, scene.camera)) ui.focusOverlayUntil = t + 1.5;
+    s_last = scene.camera;
+    s_generation = ui.state.generation();
+    if (t > ui.focusOverlayUntil) {
+        ui.focusOverlayCells = -1;
+        return;
+    }
+    const int cols = 96, rows = std::max(1, int(std::lround(96.0f * size.y / std::max(1.0f, size.x))));
+    std::function<std::optional<float>(const Ray&)> meshHit;
+    if (ui.renderer) {
+        const CompiledScene& c = ui.renderer->compiled();
+        meshHit = [&c](const Ray& r) -> std::optional<float> {
+            const RayHit h = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{r.origin, r.direction});
+            return h.hit() ? std::optional<float>(h.t) : std::nullopt;
+        };
+    }
+    const std::vector<FocusCell> cells = inFocusCells(scene, cols, rows, 0.02f, meshHit);
+    ui.focusOverlayCells = int(cells.size());
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    const float cw = size.x / float(cols), ch = size.y / float(rows);
+    for (const FocusCell& c : cells) {
+        const ImVec2 a(pos.x + float(c.x) * cw, pos.y + float(c.y) * ch);
+        dl->AddRectFilled(a, ImVec2(a.x + cw, a.y + ch), IM_COL32(60, 255, 120, 90));
+    }
+    const double aspect = double(scene.render.width) / double(scene.render.height);
+    char text[96];
+    std::snprintf(text, sizeof text, "plane of focus: %.3g (green: in focus)", focusDistance(scene.camera, aspect));
+    dl->AddText(ImVec2(pos.x + 6.0f, pos.y + 22.0f), IM_COL32(60, 255, 120, 255), text);
     dl->PopClipRect();
 }
 
@@ -308,6 +351,7 @@ void drawViewportPanel(EditorUi& ui) {
 
     drawLightOutlines(ui, pos, size);
     drawSelectedBounds(ui, pos, size);
+    drawFocusOverlay(ui, pos, size);
     drawGizmo(ui, pos, size);
 
     ImGuiIO& io = ImGui::GetIO();

@@ -80,3 +80,50 @@ TEST_CASE("asset kinds by extension", "[editor][files]") {
     CHECK(isAssetFile(AssetKind::Mesh, "m.gltf"));
     CHECK_FALSE(isAssetFile(AssetKind::Mesh, "m.png"));
 }
+
+#include "editor/model/camera_views.h"
+
+TEST_CASE("saved camera views: stored by scene file, kept across sessions, carried by Save As", "[editor][camera]") {
+    const fs::path root = fs::temp_directory_path() / ("caustic-views-" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    fs::create_directories(root);
+    const std::string file = (root / "views.json").string();
+    const std::string a = (root / "a.json").string(), b = (root / "sub" / "b.json").string();
+    caustic::Camera wide, close;
+    close.position = {1.0f, 2.0f, 3.0f};
+    close.focusPoint = glm::vec3(0.5f, 0.0f, 0.0f);
+    close.apertureRadius = 0.05f;
+    close.blades = 6;
+    CameraViews v;
+    std::string error;
+    REQUIRE(v.load(file, &error));   // no file yet: no views
+    CHECK(v.nextName(a) == "view 1");
+    v.store(a, "wide", wide);
+    v.store(a, "close", wide);
+    v.store(a, "close", close);      // replaces
+    CHECK(v.of(a).size() == 2);
+    CHECK(v.find(a, "close")->camera == close);
+    CHECK(v.of(b).empty());
+    CHECK(v.of((root / "." / "a.json").string()).size() == 2);   // the same file however it is written
+    REQUIRE(v.save(file, &error));
+    CameraViews again;
+    REQUIRE(again.load(file, &error));
+    CHECK(again.of(a) == v.of(a));
+    again.carry(a, b);
+    CHECK(again.of(b) == v.of(a));
+    CHECK(again.remove(a, "wide"));
+    CHECK_FALSE(again.remove(a, "wide"));
+    CHECK(again.of(a).size() == 1);
+    CHECK(again.of(b).size() == 2);
+    // A broken file is reported and changes nothing; a camera the reader would refuse is skipped.
+    { std::ofstream(file) << "{ not json"; }
+    CHECK_FALSE(again.load(file, &error));
+    CHECK(error.find("views.json") != std::string::npos);
+    CHECK(again.of(b).size() == 2);
+    { std::ofstream(file) << R"({"scenes": {")" << a << R"(": [{"name": "bad", "camera": {"position": [0,0,0], "look_at": [0,0,0], "up": [0,1,0], "fov": 40}}, {"name": "ok", "camera": {"position": [0,0,5], "look_at": [0,0,0], "up": [0,1,0], "fov": 40}}]}})"; }
+    CameraViews third;
+    REQUIRE(third.load(file, &error));
+    REQUIRE(third.of(a).size() == 1);
+    CHECK(third.of(a)[0].name == "ok");
+    fs::remove_all(root);
+}

@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -246,4 +248,45 @@ TEST_CASE("the preview ball's scene: the material on a sphere over a checker flo
     // The preview scene is one the loader takes (so the renderer can compile it).
     const SceneLoadResult reread = parseScene(sceneToJson(studio), "preview");
     CHECK(reread.error.empty());
+}
+
+#include "editor/model/focus_overlay.h"
+
+TEST_CASE("the focus overlay marks what lies on the plane of focus", "[editor][camera]") {
+    Scene scene;
+    scene.render.width = 200;
+    scene.render.height = 100;
+    scene.camera.position = {0.0f, 0.0f, 5.0f};
+    scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
+    Object ball;
+    ball.name = "ball";   // the unit sphere: its front at depth 4
+    scene.objects.push_back(ball);
+    scene.camera.focalDistance = 4.0f;
+    const auto near = inFocusCells(scene, 40, 20, 0.03f);
+    REQUIRE_FALSE(near.empty());
+    for (const FocusCell& c : near) {   // all near the image's centre, where the ball's front is
+        CHECK(std::abs(c.x - 20) <= 6);
+        CHECK(std::abs(c.y - 10) <= 6);
+    }
+    CHECK(std::find(near.begin(), near.end(), FocusCell{20, 10}) != near.end());
+    // Focused behind the ball: nothing is on the plane.
+    scene.camera.focalDistance = 8.0f;
+    CHECK(inFocusCells(scene, 40, 20, 0.03f).empty());
+    // A hit the shapes lack (a mesh, from the editor) counts.
+    CHECK_FALSE(inFocusCells(scene, 40, 20, 0.03f, [](const caustic::editor::Ray& r) {
+                    return std::optional<float>(8.0f / r.direction.z * -1.0f);
+                }).empty());
+    // The focus point overrides the distance; 0 means the look-at point's.
+    scene.camera.focusPoint = glm::vec3(0.0f, 0.0f, 1.0f);
+    CHECK(focusDistance(scene.camera, 2.0) == Approx(4.0));
+    scene.camera.focusPoint.reset();
+    scene.camera.focalDistance = 0.0f;
+    CHECK(focusDistance(scene.camera, 2.0) == Approx(5.0));
+    Camera moved = scene.camera;
+    CHECK_FALSE(focusEdited(scene.camera, moved));
+    moved.apertureRadius = 0.1f;
+    CHECK(focusEdited(scene.camera, moved));
+    moved = scene.camera;
+    moved.position.x = 1.0f;
+    CHECK_FALSE(focusEdited(scene.camera, moved));   // a move is no focus edit
 }
