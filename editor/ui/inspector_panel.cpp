@@ -232,8 +232,7 @@ void objectInspector(EditorUi& ui, int index) {
         }
     });
     e.commit(e.changed ? makeSetObject(s, index, o) : nullptr);
-    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (const Material* m = s.scene.findMaterial(o.material); m && ImGui::TreeNode("Material parameters")) {
+    if (const Material* m = s.scene.findMaterial(o.material); m && ImGui::TreeNode("Material parameters and preview")) {
         if (materialUsers(s.scene, m->name) > 1) ImGui::TextDisabled("(edits the shared material '%s')", m->name.c_str());
         materialParams(ui, findEntity(s.scene, EntityKind::Material, m->name).index, false);
         ImGui::TreePop();

@@ -6,6 +6,7 @@ checker floor, following the edit. The inspector is screenshotted with the previ
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
+import json
 import os
 import shutil
 import unittest
@@ -53,6 +54,20 @@ apply_preset gold
 wait_preview 8
 write_preview preview-gold.png
 screenshot inspector.png
+# Saved camera views: store, move away, recall (one undo step) gives the camera back.
+select camera
+expect_no_focus_overlay
+store_view front
+orbit 30 10
+recall_view front
+expect_views 1
+save camera.json
+# The focus-plane overlay: focused on the back wall (4.9 from the camera), it marks much of it.
+set_focus 4.9
+expect_focus_overlay 200
+screenshot focus.png
+set_focus 40
+expect_focus_overlay 0
 quit
 """
 
@@ -107,6 +122,18 @@ class EditorLookdev(EditorSessionCase):
         row = white[120]
         lum = [sum(p) for p in row]
         self.assertGreater(max(lum) - min(lum), 120, lum)
+
+    def test_4_recalled_view_is_the_stored_camera_and_is_kept(self):
+        with open(CORNELL) as f:
+            original = json.load(f)["camera"]
+        camera = self.load("camera.json")["camera"]
+        for key in ("position", "look_at", "up"):
+            for a, b in zip(camera[key], original[key]):
+                self.assertAlmostEqual(a, b, places=4)
+        views = self.load(os.path.join("home", "views.json"))["scenes"]
+        (scene, stored), = views.items()
+        self.assertEqual(os.path.basename(scene), "scene.json")
+        self.assertEqual([v["name"] for v in stored], ["front"])
 
 
 PICKER_SCRIPT = """
