@@ -69,6 +69,7 @@ public:
     std::string undoName() const { return m_done.empty() ? "" : m_done.back().command->name(); }
     std::string redoName() const { return m_undone.empty() ? "" : m_undone.back().command->name(); }
     void clear();
+    void discardRedo() { m_undone.clear(); }   // a cancelled modal transform leaves nothing to redo
     void markClean() { m_clean = topSerial(); }
     void markUnclean() { m_clean = ~std::uint64_t(0); }  // e.g. a recovered autosave
     bool isClean() const { return m_clean == topSerial(); }

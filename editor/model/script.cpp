@@ -75,6 +75,12 @@ const std::map<std::string, Signature>& commands() {
         {"store_view", {1, 1, ""}},           // store the camera as a saved view NAME
         {"recall_view", {1, 1, ""}},          // recall saved view NAME (one undo step)
         {"expect_views", {1, 1, "n"}},        // the scene has N saved camera views
+        {"keymap", {1, 1, ""}},               // default | blender: View > Key map
+        {"mouse_move", {2, 2, "nn"}},         // move the mouse by (dx dy) pixels over the viewport (from its centre the first time)
+        {"mouse_click", {1, 1, ""}},          // left | right: click where the mouse is
+        {"expect_hidden", {1, 1, "n"}},       // N objects are hidden in the viewport
+        {"expect_rendered_objects", {1, 1, "n"}},   // the viewport's renderer has N objects
+        {"expect_modal", {1, 1, ""}},         // yes | no: a G / R / S transform is in progress
         {"quit", {0, 0, ""}},
     };
     return table;

@@ -161,7 +161,7 @@ void drawModals(EditorUi& ui) {
 void handleShortcuts(EditorUi& ui) {
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantTextInput) return;
-    for (const KeyBinding& b : keyBindings()) {
+    for (const KeyBinding& b : keyBindings(ui.keymap)) {
         if (b.scope != KeyScope::Global || !chordPressed(b.chord)) continue;
         std::string why;
         switch (b.action) {
@@ -194,21 +194,29 @@ void drawShortcutsWindow(EditorUi& ui) {
     if (!ui.showShortcuts) return;
     ImGui::SetNextWindowSize(ImVec2(640.0f, 480.0f), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Keyboard and mouse", &ui.showShortcuts)) {
+        int style = static_cast<int>(ui.keymap);
+        ImGui::TextUnformatted("Key map:");
+        ImGui::SameLine();
+        if (ImGui::RadioButton("Default", &style, 0)) ui.keymap = KeymapStyle::Default;
+        ImGui::SameLine();
+        if (ImGui::RadioButton("Blender", &style, 1)) ui.keymap = KeymapStyle::Blender;
+        ImGui::SameLine();
+        ImGui::TextDisabled("(also View > Key map)");
         if (ImGui::BeginTable("keys", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp)) {
             ImGui::TableSetupColumn("Keys");
             ImGui::TableSetupColumn("Where");
             ImGui::TableSetupColumn("What");
             ImGui::TableHeadersRow();
-            for (const KeyBinding& b : keyBindings()) {
+            for (const KeyBinding& b : keyBindings(ui.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextUnformatted(chordText(b.chord).c_str());
                 ImGui::TableNextColumn();
-                ImGui::TextUnformatted(b.scope == KeyScope::Global ? "anywhere" : "viewport");
+                ImGui::TextUnformatted(b.scope == KeyScope::Global ? "anywhere" : b.scope == KeyScope::Viewport ? "viewport" : "during G R S");
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(b.what.size()), b.what.data());
             }
-            for (const MouseAction& m : mouseActions()) {
+            for (const MouseAction& m : mouseActions(ui.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(m.input.size()), m.input.data());
@@ -233,6 +241,8 @@ void renderFrame(EditorUi& ui) {
     ui.session.outputSize = ui.renderToFile.has_value() || ui.driver->wantsOutputSize();
     // Idle pacing (render_session.h) for a person at the keyboard; scripts measure frames.
     ui.session.idlePacing = ui.driver->mayWaitForInput();
+    // Hidden objects (H) are left out of the viewport only: Render to file renders them.
+    ui.session.hidden = ui.renderToFile ? std::vector<std::string>{} : ui.hidden;
     const ImGuiIO& io = ImGui::GetIO();
     if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f || io.MouseWheel != 0.0f || ImGui::IsAnyMouseDown() ||
         io.InputQueueCharacters.Size > 0 || io.KeyCtrl || io.KeyShift || io.KeyAlt || ImGui::IsAnyItemActive())
@@ -270,6 +280,24 @@ void autosaveTick(EditorUi& ui) {
     std::string error;
     if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) notify(ui, "autosave failed: " + error, true);
     else ++ui.autosaveWrites;
+}
+
+// The UI scale (View > UI scale): the window's content scale (HiDPI), or the chosen factor; the
+// style's sizes are scaled from the base style each time it changes, the fonts by FontScaleDpi.
+void applyUiScale(EditorUi& ui) {
+    float scale = ui.uiScaleChoice;
+    if (scale <= 0.0f) {
+        float sx = 1.0f, sy = 1.0f;
+        glfwGetWindowContentScale(ui.window, &sx, &sy);
+        scale = std::clamp(std::max(sx, sy), 0.5f, 4.0f);
+    }
+    if (scale == ui.uiScaleApplied) return;
+    static ImGuiStyle base = ImGui::GetStyle();   // applyStyle's, before any scaling
+    ImGuiStyle& style = ImGui::GetStyle();
+    style = base;
+    style.ScaleAllSizes(scale);
+    style.FontScaleDpi = scale;
+    ui.uiScaleApplied = scale;
 }
 
 void applyStyle() {
@@ -381,6 +409,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 guardUnsaved(*ui, [u = ui.get()] { u->quit = true; });
             }
             const double uiStart = now();
+            applyUiScale(*ui);
             try {
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
@@ -453,13 +482,17 @@ int runEditor(const std::optional<std::string>& sceneFile) {
 // A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
 bool chordPressed(const Chord& chord) {
     const ImGuiIO& io = ImGui::GetIO();
-    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift) return false;
+    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift || io.KeyAlt != chord.alt) return false;
     ImGuiKey key = ImGuiKey_None;
     const std::string_view k = chord.key;
     if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
     else if (k.size() >= 2 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos)
         key = static_cast<ImGuiKey>(ImGuiKey_F1 + (std::stoi(std::string(k.substr(1))) - 1));
     else if (k == "Delete") key = ImGuiKey_Delete;
+    else if (k == "Escape") key = ImGuiKey_Escape;
+    else if (k == "Enter") return ImGui::IsKeyPressed(ImGuiKey_Enter, false) || ImGui::IsKeyPressed(ImGuiKey_KeypadEnter, false);
+    else if (k.size() == 7 && k.substr(0, 6) == "Numpad" && k[6] >= '0' && k[6] <= '9')
+        key = static_cast<ImGuiKey>(ImGuiKey_Keypad0 + (k[6] - '0'));
     return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 

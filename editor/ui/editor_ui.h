@@ -5,6 +5,8 @@
 
 #include "editor/model/camera_views.h"
 #include "editor/model/editor_state.h"
+#include "editor/model/keymap.h"
+#include "editor/model/modal_transform.h"
 #include "editor/model/render_session.h"
 #include "editor/model/status.h"
 #include "editor/ui/display.h"
@@ -68,6 +70,22 @@ struct EditorUi {
     // the cells it marked in the last frame (scripts check it).
     double focusOverlayUntil = -1.0;
     int focusOverlayCells = -1;       // -1: not shown
+    // The key map (View > Key map) and the Blender map's modal transform (G / R / S) in progress.
+    KeymapStyle keymap = KeymapStyle::Default;
+    struct Modal {
+        bool active = false;
+        ModalStart start;
+        ModalAxis axis = ModalAxis::Free;
+        EntityRef ref;
+        Light light;            // a light's value when it started
+        bool applied = false;   // a step went to the history (undone on cancel)
+        std::size_t undoAtStart = 0;
+    } modal;
+    std::vector<std::string> hidden;   // objects hidden in the viewport (H; view state, not saved)
+    float viewportImage[4] = {0, 0, 1, 1};   // the viewport image's screen x, y, width, height
+    // View > UI scale: 0 follows the window's content scale (HiDPI), else this factor.
+    float uiScaleChoice = 0.0f;
+    float uiScaleApplied = -1.0f;
     bool viewportHovered = false;
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;

@@ -7,6 +7,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace caustic::editor {
@@ -63,7 +64,9 @@ void entityRow(EditorUi& ui, EntityRef ref, const char* icon) {
             g_rename.ref = {};
         }
     } else {
-        const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name);
+        const bool hidden = ref.kind == EntityKind::Object && std::find(ui.hidden.begin(), ui.hidden.end(), name) != ui.hidden.end();
+        const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name) +
+                                  (hidden ? "  (hidden)" : "");
         if (ImGui::Selectable(label.c_str(), ui.state.isSelected(ref), ImGuiSelectableFlags_AllowDoubleClick)) {
             // Ctrl or Shift+click adds an object to the selection or takes it out (EditorState::select).
             const ImGuiIO& io = ImGui::GetIO();

@@ -221,9 +221,25 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     }
     if (op == "wait_preview") {
         // The inspector asks for the preview while it shows a material (this frame, before us).
-        if (!ui.preview->requested()) { fail(ui, line, "the inspector shows no material (select a material or an object)"); return true; }
+        // A selection made on this frame shows in the inspector from the next one.
+        if (!ui.preview->requested()) {
+            if (++m_previewMissing > 5) {
+                m_previewMissing = 0;
+                fail(ui, line, "the inspector shows no material (select a material, or an object with its material open)");
+                return true;
+            }
+            return false;
+        }
+        m_previewMissing = 0;
+        // The request this line sees must come from a frame after it started (an edit on the
+        // line before shows in the inspector, and so in the request, from the next frame).
+        if (m_previewLine != m_next) {
+            m_previewLine = m_next;
+            return false;
+        }
         if (!ui.preview->error().empty()) { fail(ui, line, "the preview failed: " + ui.preview->error()); return true; }
         const bool done = ui.preview->current() && ui.preview->samples() >= static_cast<int>(num(a[0]));
+        if (done) m_previewLine = static_cast<size_t>(-1);
         return waitFor(ui, line, done, a.size() > 1 ? num(a[1]) : kScriptWaitSeconds, "the material preview did not converge");
     }
     if (op == "pick_file" || op == "expect_picker_lists") {
@@ -289,6 +305,39 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     if (op == "expect_views") {
         const std::size_t n = ui.views.of(s.path).size();
         if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
+        return true;
+    }
+    if (op == "keymap") {
+        if (a[0] != "default" && a[0] != "blender") { fail(ui, line, "expected default or blender"); return true; }
+        ui.keymap = a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;
+        return true;
+    }
+    if (op == "mouse_move" || op == "mouse_click") {
+        // Through ImGui's input queue, as GLFW's callbacks feed it.
+        ImGuiIO& io = ImGui::GetIO();
+        if (op == "mouse_move") {
+            ImVec2 p = io.MousePos;
+            const float* v = ui.viewportImage;
+            if (!ImGui::IsMousePosValid(&p) || p.x < v[0] || p.y < v[1] || p.x > v[0] + v[2] || p.y > v[1] + v[3])
+                p = ImVec2(v[0] + v[2] * 0.5f + 0.25f, v[1] + v[3] * 0.5f + 0.25f);
+            io.AddMousePosEvent(p.x + num(a[0]), p.y + num(a[1]));
+        } else {
+            const int button = a[0] == "right" ? ImGuiMouseButton_Right : ImGuiMouseButton_Left;
+            io.AddMouseButtonEvent(button, true);
+            io.AddMouseButtonEvent(button, false);
+        }
+        m_waitFrames = 2;
+        ++m_next;
+        return false;
+    }
+    if (op == "expect_hidden" || op == "expect_rendered_objects") {
+        const std::size_t n = op == "expect_hidden" ? ui.hidden.size()
+                              : ui.session.renderedObjects.empty() ? s.scene.objects.size() : ui.session.renderedObjects.size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + ", have " + std::to_string(n));
+        return true;
+    }
+    if (op == "expect_modal") {
+        if (ui.modal.active != (a[0] == "yes")) fail(ui, line, ui.modal.active ? "a transform is in progress" : "no transform is in progress");
         return true;
     }
     if (op == "write_preview") {
@@ -470,11 +519,25 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     }
     if (op == "key") {   // through ImGui's input queue, as GLFW's key callback feeds it
         static const std::pair<const char*, ImGuiKey> keys[] = {
-            {"Delete", ImGuiKey_Delete}, {"F", ImGuiKey_F}, {"W", ImGuiKey_W}, {"E", ImGuiKey_E}, {"R", ImGuiKey_R}, {"F6", ImGuiKey_F6}};
-        const auto k = std::find_if(std::begin(keys), std::end(keys), [&](const auto& e) { return a[0] == e.first; });
-        if (k == std::end(keys)) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
-        ImGui::GetIO().AddKeyEvent(k->second, true);
-        ImGui::GetIO().AddKeyEvent(k->second, false);   // trickled: down next frame, up the one after
+            {"Delete", ImGuiKey_Delete}, {"F6", ImGuiKey_F6}, {"Escape", ImGuiKey_Escape}, {"Enter", ImGuiKey_Enter},
+            {"Numpad1", ImGuiKey_Keypad1}, {"Numpad3", ImGuiKey_Keypad3}, {"Numpad7", ImGuiKey_Keypad7}};
+        // Shift+, Ctrl+, Alt+ prefixes hold the modifier around the key.
+        std::string name = a[0];
+        std::vector<ImGuiKey> mods;
+        for (const auto& [prefix, mod] : {std::pair{"Shift+", ImGuiMod_Shift}, std::pair{"Ctrl+", ImGuiMod_Ctrl}, std::pair{"Alt+", ImGuiMod_Alt}})
+            if (name.rfind(prefix, 0) == 0) {
+                mods.push_back(mod);
+                name = name.substr(std::string(prefix).size());
+            }
+        ImGuiKey key = ImGuiKey_None;
+        if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (name[0] - 'A'));
+        for (const auto& [n, k] : keys)
+            if (name == n) key = k;
+        if (key == ImGuiKey_None) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
+        for (ImGuiKey m : mods) ImGui::GetIO().AddKeyEvent(m, true);
+        ImGui::GetIO().AddKeyEvent(key, true);
+        ImGui::GetIO().AddKeyEvent(key, false);   // trickled: down next frame, up the one after
+        for (ImGuiKey m : mods) ImGui::GetIO().AddKeyEvent(m, false);
         m_waitFrames = 2;
         ++m_next;
         markEdit();

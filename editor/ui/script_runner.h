@@ -43,6 +43,8 @@ private:
     bool m_outputSize = true;       // `viewport output` (the default) or `viewport panel`
     bool m_pressRecover = false;    // `recover`: the prompt's "Recover" button takes it next frame
     int m_waitFrames = 0;
+    int m_previewMissing = 0;
+    size_t m_previewLine = static_cast<size_t>(-1);   // wait_preview: the line that has waited a frame       // wait_preview: frames without a material in the inspector
     int m_dragStepsLeft = 0;
     std::uint64_t m_markedGeneration = 0;     // `mark`: accumulation's generation then (expect_restarted)
     bool m_renderStarted = false;

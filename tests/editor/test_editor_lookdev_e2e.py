@@ -131,9 +131,9 @@ class EditorLookdev(EditorSessionCase):
             for a, b in zip(camera[key], original[key]):
                 self.assertAlmostEqual(a, b, places=4)
         views = self.load(os.path.join("home", "views.json"))["scenes"]
-        (scene, stored), = views.items()
-        self.assertEqual(os.path.basename(scene), "scene.json")
-        self.assertEqual([v["name"] for v in stored], ["front"])
+        by_file = {os.path.basename(k): [v["name"] for v in stored] for k, stored in views.items()}
+        self.assertEqual(by_file["scene.json"], ["front"])
+        self.assertEqual(by_file["camera.json"], ["front"])   # Save As carried them
 
 
 PICKER_SCRIPT = """
