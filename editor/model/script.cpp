@@ -75,6 +75,9 @@ const std::map<std::string, Signature>& commands() {
         {"store_view", {1, 1, ""}},           // store the camera as a saved view NAME
         {"recall_view", {1, 1, ""}},          // recall saved view NAME (one undo step)
         {"expect_views", {1, 1, "n"}},        // the scene has N saved camera views
+        {"record_sizes", {0, 0, ""}},         // the report's viewport_sizes start afresh
+        {"window_size", {2, 2, "nn"}},        // resize the window (W H)
+        {"idle", {1, 1, ""}},                 // on | off: idle pacing (off in scripts unless asked: they measure frames)
         {"keymap", {1, 1, ""}},               // default | blender: View > Key map
         {"mouse_move", {2, 2, "nn"}},         // move the mouse by (dx dy) pixels over the viewport (from its centre the first time)
         {"mouse_click", {1, 1, ""}},          // left | right: click where the mouse is

@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -307,6 +308,20 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
         return true;
     }
+    if (op == "record_sizes") {   // the viewport sizes the report lists start from here
+        m_sizes.clear();
+        return true;
+    }
+    if (op == "window_size") {   // as the user resizing the window
+        glfwSetWindowSize(ui.window, static_cast<int>(num(a[0])), static_cast<int>(num(a[1])));
+        m_waitFrames = 3;
+        ++m_next;
+        return false;
+    }
+    if (op == "idle") {   // on: idle pacing as for a person who stopped touching the mouse (benchmarks)
+        m_idle = a[0] == "on";
+        return true;
+    }
     if (op == "keymap") {
         if (a[0] != "default" && a[0] != "blender") { fail(ui, line, "expected default or blender"); return true; }
         ui.keymap = a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;
@@ -473,6 +488,20 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"frame_ms_median_during_open\": " << percentile(m_openFrameMs, 0.5)
           << ",\n  \"frame_ms_max_during_open\": " << percentile(m_openFrameMs, 1.0)
           << ",\n  \"open_seconds\": " << list(ui.meshImports->openSeconds())
+          << ",\n  \"viewport_sizes\": " << [&] {
+                 std::ostringstream o;
+                 o << "[";
+                 for (size_t i = 0; i < m_sizes.size(); ++i)
+                     o << (i ? ", " : "") << "[" << m_sizes[i][0] << ", " << m_sizes[i][1] << ", " << m_sizes[i][2] << ", "
+                       << m_sizes[i][3] << "]";
+                 o << "]";
+                 return o.str();
+             }()
+          << ",\n  \"viewport_resolution\": [" << ui.session.viewportResolution(s.scene).x << ", "
+          << ui.session.viewportResolution(s.scene).y << "]"
+          << ",\n  \"samples\": " << (ui.renderer ? ui.renderer->samplesDone() : 0)
+          << ",\n  \"render_elapsed_seconds\": " << ui.session.sampleRate.elapsedSeconds()
+          << ",\n  \"idle_pacing\": " << (m_idle ? "true" : "false")
           << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
         std::string error;
         if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
@@ -727,6 +756,16 @@ void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
 
 void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     m_allFrameMs.push_back(frameSeconds * 1e3);
+    // The viewport's render size, divisor and samples, whenever one of the first two changes
+    // (`record_sizes` starts the list afresh): the refinement after an edit, panel resizes.
+    if (ui.session.sceneUploaded) {
+        const std::array<int, 4> now{ui.session.renderedSize.x, ui.session.renderedSize.y, ui.session.previewDivisor,
+                                     ui.renderer ? ui.renderer->samplesDone() : 0};
+        if (m_sizes.empty() || m_sizes.back()[0] != now[0] || m_sizes.back()[1] != now[1] || m_sizes.back()[2] != now[2])
+            m_sizes.push_back(now);
+        else
+            m_sizes.back()[3] = now[3];   // the samples the size reached before it changed
+    }
     if (ui.meshImports->pending()) {
         m_importFrameMs.push_back(frameSeconds * 1e3);
         if (ui.session.renderedThisFrame) ++m_importRenderingFrames;

@@ -181,5 +181,100 @@ class EditorFilePicker(EditorSessionCase):
         self.assertTrue(os.path.exists(os.path.join(self.tmp, "scenes", white["albedo_texture"])))
 
 
+BLENDER_SCRIPT = """
+wait_samples 1
+keymap blender
+select object "small box"
+focus viewport
+mouse_move 0 0
+# G, the mouse 60 pixels right, Enter: one undo step.
+key G
+expect_modal yes
+mouse_move 60 0
+key Enter
+expect_modal no
+expect_undo_steps 1
+save grabbed.json
+# G then Esc: nothing changes, no step.
+key G
+mouse_move 40 0
+key Escape
+expect_modal no
+expect_undo_steps 1
+save cancelled.json
+# G, Y (the y axis only), the mouse up and sideways, a click confirms.
+key G
+key Y
+mouse_move 30 -50
+mouse_click left
+expect_undo_steps 2
+save constrained.json
+# Shift+D: a copy, grabbed; a right click cancels the move and keeps the copy.
+key Shift+D
+expect_count objects {m}
+expect_modal yes
+mouse_move 50 0
+mouse_click right
+expect_modal no
+expect_undo_steps 3
+# H hides the selection in the viewport only; Alt+H shows it again.
+select object "large box"
+key H
+expect_hidden 1
+wait_samples 1
+expect_rendered_objects {n}
+key Alt+H
+expect_hidden 0
+wait_samples 1
+expect_rendered_objects {m}
+# Numpad 7: the view from the top.
+key Numpad7
+save top.json
+screenshot blender.png
+quit
+"""
+
+
+class EditorBlenderKeys(EditorSessionCase):
+    """The Blender-style key map driven by keys and mouse events through ImGui's input queue."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-blender-")
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(CORNELL) as f:
+            cls.original = json.load(f)
+        n = len(cls.original["objects"])
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(BLENDER_SCRIPT.format(n=n, m=n + 1))
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def box(self, name):
+        return [o for o in self.load(name)["objects"] if o["name"] == "small box"][0]["transform"]["translate"]
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_grab_moves_right_and_escape_cancels(self):
+        before = [o for o in self.original["objects"] if o["name"] == "small box"][0]["transform"]["translate"]
+        grabbed = self.box("grabbed.json")
+        self.assertGreater(grabbed[0], before[0] + 0.05)   # screen right is +x from this camera
+        self.assertAlmostEqual(grabbed[1], before[1], places=4)
+        self.assertAlmostEqual(grabbed[2], before[2], places=4)
+        self.assertEqual(self.box("cancelled.json"), grabbed)
+
+    def test_3_axis_constraint(self):
+        grabbed, constrained = self.box("grabbed.json"), self.box("constrained.json")
+        self.assertAlmostEqual(constrained[0], grabbed[0], places=4)
+        self.assertGreater(constrained[1], grabbed[1] + 0.05)   # up the screen is +y
+        self.assertAlmostEqual(constrained[2], grabbed[2], places=4)
+
+    def test_4_numpad_top_view(self):
+        camera = self.load("top.json")["camera"]
+        self.assertAlmostEqual(camera["position"][0], 0.0, places=3)
+        self.assertAlmostEqual(camera["position"][2], 0.0, places=3)
+        self.assertAlmostEqual(camera["position"][1], 3.9, places=3)
+
+
 if __name__ == "__main__":
     unittest.main()
