@@ -110,15 +110,16 @@ const Material* findLibraryMaterial(std::string_view name) {
 }
 
 std::string_view materialTypeArtistName(MaterialType type) {
+    // Short enough for the inspector's field; the menu adds the model's own name.
     switch (type) {
-        case MaterialType::Diffuse: return "Matte (Lambert diffuse)";
-        case MaterialType::OrenNayar: return "Rough matte: plaster, clay (Oren-Nayar)";
-        case MaterialType::Eon: return "Rough matte, energy-preserving (EON)";
-        case MaterialType::Mirror: return "Perfect mirror";
-        case MaterialType::Transmission: return "Clear refraction, no reflection (transmission)";
-        case MaterialType::Dielectric: return "Glass, water, gems (dielectric)";
-        case MaterialType::Conductor: return "Metal (conductor)";
-        case MaterialType::Surface: return "Plastic, paint, coated (layered surface)";
+        case MaterialType::Diffuse: return "Matte";
+        case MaterialType::OrenNayar: return "Rough matte";
+        case MaterialType::Eon: return "Rough matte, EON";
+        case MaterialType::Mirror: return "Mirror";
+        case MaterialType::Transmission: return "Clear refraction";
+        case MaterialType::Dielectric: return "Glass, water, gems";
+        case MaterialType::Conductor: return "Metal";
+        case MaterialType::Surface: return "Plastic, paint";
     }
     return "?";
 }

@@ -26,8 +26,9 @@ struct LibraryMaterial {
 std::span<const LibraryMaterial> materialLibrary();
 const Material* findLibraryMaterial(std::string_view name);   // null when none has that name
 
-// What an artist calls a material model, for the inspector's type menu ("Metal (conductor)",
-// "Glass, water, gems (dielectric)"); the file format's names stay the schema's.
+// What an artist calls a material model, for the inspector's type menu ("Metal", "Glass, water,
+// gems", "Plastic, paint": the layered surface); the menu shows the schema's label beside it and
+// the file format's names stay the schema's.
 std::string_view materialTypeArtistName(MaterialType type);
 
 // Gives every object of `objects` (indices) the material `material`: one undo step ("Assign

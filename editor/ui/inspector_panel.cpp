@@ -111,9 +111,11 @@ void materialParams(EditorUi& ui, int index, bool renamable) {
             traceWidget(p.key, p.kind, 0, static_cast<double>(choices.size()) - 1);
             const int current = p.getEnum(value);
             if (ImGui::BeginCombo(std::string(p.label).c_str(),
-                                  std::string(materialTypeArtistName(static_cast<MaterialType>(current))).c_str())) {
+                                  std::string(materialTypeArtistName(static_cast<MaterialType>(current))).c_str(),
+                                  ImGuiComboFlags_HeightLarge)) {
                 for (const EnumChoice& c : choices) {
-                    const std::string label(materialTypeArtistName(static_cast<MaterialType>(c.value)));
+                    const std::string label = std::string(materialTypeArtistName(static_cast<MaterialType>(c.value))) + "  (" +
+                                              std::string(c.label) + ")";
                     if (ImGui::Selectable(label.c_str(), c.value == current) && c.value != current) {
                         p.setEnum(value, c.value);
                         e.changed = e.seal = true;
@@ -180,8 +182,7 @@ void objectMaterialButtons(EditorUi& ui, int index) {
     const std::string& name = s.scene.objects[static_cast<size_t>(index)].material;
     if (!name.empty()) {
         const int users = materialUsers(s.scene, name);
-        ImGui::SameLine();
-        ImGui::TextDisabled(users == 1 ? "(this object only)" : "(shared by %d objects)", users);
+        ImGui::TextDisabled(users == 1 ? "material of this object only" : "material shared by %d objects", users);
     }
 }
 

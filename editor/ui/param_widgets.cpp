@@ -234,7 +234,7 @@ void transformWidgets(Edit& e, Transform* t) {
         return;
     }
     e.track(ImGui::DragFloat3("Translate", &t->translate.x, 0.01f, 0.0f, 0.0f, "%.3f"));
-    e.track(ImGui::DragFloat3("Rotate", &t->rotate.x, 0.5f, 0.0f, 0.0f, "%.1f deg"));
+    e.track(ImGui::DragFloat3("Rotate (deg)", &t->rotate.x, 0.5f, 0.0f, 0.0f, "%.1f"));
     e.track(ImGui::DragFloat3("Scale", &t->scale.x, 0.005f, 0.0f, 0.0f, "%.3f"));
 }
 

@@ -308,6 +308,10 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
         return true;
     }
+    if (op == "show_help") {   // Help > Keyboard and mouse (screenshots)
+        ui.showShortcuts = a[0] == "on";
+        return true;
+    }
     if (op == "record_sizes") {   // the viewport sizes the report lists start from here
         m_sizes.clear();
         return true;

@@ -140,14 +140,23 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     ImDrawList* dl = ImGui::GetWindowDrawList();
     dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
     for (int i : selected) {
-        const auto b = entityBounds(scene, {EntityKind::Object, i}, meshBounds);
-        if (!b) continue;
+        // The object's own box under its transform (a turned box is outlined turned): the
+        // canonical shape's [-1, 1]^3 (a quad's z = 0), a mesh's imported bounds.
+        const Object& o = scene.objects[size_t(i)];
+        std::pair<glm::vec3, glm::vec3> local{glm::vec3(-1.0f), glm::vec3(1.0f)};
+        if (o.shape == Shape::Quad) local.first.z = local.second.z = 0.0f;
+        if (o.shape == Shape::Mesh) {
+            const auto mb = meshBounds ? meshBounds(o) : std::nullopt;
+            if (!mb) continue;
+            local = *mb;
+        }
+        const glm::mat4 toWorld = o.transform.toMatrix();
         const bool active = ui.state.selection == EntityRef{EntityKind::Object, i};
         const ImU32 colour = active ? IM_COL32(255, 150, 40, 255) : IM_COL32(255, 150, 40, 150);
         glm::vec3 corner[8];
         for (int k = 0; k < 8; ++k)
-            corner[k] = {(k & 1) ? b->second.x : b->first.x, (k & 2) ? b->second.y : b->first.y,
-                         (k & 4) ? b->second.z : b->first.z};
+            corner[k] = glm::vec3(toWorld * glm::vec4((k & 1) ? local.second.x : local.first.x, (k & 2) ? local.second.y : local.first.y,
+                                                      (k & 4) ? local.second.z : local.first.z, 1.0f));
         for (int k = 0; k < 8; ++k)
             for (int bit : {1, 2, 4}) {
                 if (k & bit) continue;

@@ -132,8 +132,10 @@ class EditorLookdev(EditorSessionCase):
                 self.assertAlmostEqual(a, b, places=4)
         views = self.load(os.path.join("home", "views.json"))["scenes"]
         by_file = {os.path.basename(k): [v["name"] for v in stored] for k, stored in views.items()}
-        self.assertEqual(by_file["scene.json"], ["front"])
-        self.assertEqual(by_file["camera.json"], ["front"])   # Save As carried them
+        # Stored while the scene was saved.json (the script saved it as that earlier), then
+        # carried to camera.json by the Save As after it.
+        self.assertEqual(by_file["saved.json"], ["front"])
+        self.assertEqual(by_file["camera.json"], ["front"])
 
 
 PICKER_SCRIPT = """
