@@ -192,7 +192,7 @@ void handleShortcuts(EditorUi& ui) {
 // Help > Keyboard and mouse: the key map and the mouse actions, as the code uses them.
 void drawShortcutsWindow(EditorUi& ui) {
     if (!ui.showShortcuts) return;
-    ImGui::SetNextWindowSize(ImVec2(640.0f, 480.0f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(ImGui::GetFontSize() * 62.0f, ImGui::GetFontSize() * 40.0f), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Keyboard and mouse", &ui.showShortcuts)) {
         int style = static_cast<int>(ui.keymap);
         ImGui::TextUnformatted("Key map:");
@@ -203,9 +203,11 @@ void drawShortcutsWindow(EditorUi& ui) {
         ImGui::SameLine();
         ImGui::TextDisabled("(also View > Key map)");
         if (ImGui::BeginTable("keys", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp)) {
-            ImGui::TableSetupColumn("Keys");
-            ImGui::TableSetupColumn("Where");
-            ImGui::TableSetupColumn("What");
+            // The keys and the place narrow, the description takes the rest (no wrapping of short lines).
+            const float em = ImGui::GetFontSize();
+            ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, em * 11.0f);
+            ImGui::TableSetupColumn("Where", ImGuiTableColumnFlags_WidthFixed, em * 7.5f);
+            ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
             ImGui::TableHeadersRow();
             for (const KeyBinding& b : keyBindings(ui.keymap)) {
                 ImGui::TableNextRow();

@@ -85,6 +85,8 @@ void previewSection(EditorUi& ui, const Material& m) {
         ImGui::SetTooltip("the scene's environment (a studio light when it has none)");
     if (ImGui::RadioButton("Studio", &lighting, 1)) p.lighting = PreviewLighting::Studio;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("a key light and an even grey fill");
+    if (p.lighting == PreviewLighting::Scene && ui.state.scene.environment.type == EnvironmentType::None)
+        ImGui::TextDisabled("(no environment:\n a studio light)");
     ImGui::TextDisabled("%d / %d spp", p.samples(), MaterialPreview::kSamples);
     ImGui::EndGroup();
     if (!p.error().empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "preview: %s", p.error().c_str());

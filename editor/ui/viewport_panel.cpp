@@ -459,7 +459,7 @@ void drawViewportPanel(EditorUi& ui) {
     drawLightOutlines(ui, pos, size);
     drawSelectedBounds(ui, pos, size);
     drawFocusOverlay(ui, pos, size);
-    drawGizmo(ui, pos, size);
+    if (!ui.modal.active) drawGizmo(ui, pos, size);   // G / R / S drive the selection meanwhile
 
     ImGuiIO& io = ImGui::GetIO();
     ui.viewportImage[0] = pos.x;
