@@ -75,6 +75,8 @@ const std::map<std::string, Signature>& commands() {
         {"store_view", {1, 1, ""}},           // store the camera as a saved view NAME
         {"recall_view", {1, 1, ""}},          // recall saved view NAME (one undo step)
         {"expect_views", {1, 1, "n"}},        // the scene has N saved camera views
+        {"ui_scale", {1, 1, "n"}},            // View > UI scale: a factor, 0 to follow the monitor
+        {"expect_font_size", {1, 1, "n"}},    // the UI's font size in pixels
         {"show_help", {1, 1, ""}},            // on | off: the Help > Keyboard and mouse window
         {"record_sizes", {0, 0, ""}},         // the report's viewport_sizes start afresh
         {"window_size", {2, 2, "nn"}},        // resize the window (W H)

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -306,6 +307,15 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     if (op == "expect_views") {
         const std::size_t n = ui.views.of(s.path).size();
         if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
+        return true;
+    }
+    if (op == "ui_scale") {   // View > UI scale (0: follow the monitor)
+        ui.uiScaleChoice = num(a[0]);
+        return true;
+    }
+    if (op == "expect_font_size") {   // the UI's font size in pixels, within half a pixel
+        const float size = ImGui::GetFontSize();
+        if (std::abs(size - num(a[0])) > 0.5f) fail(ui, line, "the font size is " + std::to_string(size));
         return true;
     }
     if (op == "show_help") {   // Help > Keyboard and mouse (screenshots)

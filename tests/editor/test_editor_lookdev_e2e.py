@@ -233,6 +233,12 @@ expect_rendered_objects {m}
 key Numpad7
 save top.json
 screenshot blender.png
+# View > UI scale: the monitor's (1 under Xvfb: ImGui's 13-pixel font), then 200%.
+expect_font_size 13
+ui_scale 2
+frames 2
+expect_font_size 26
+screenshot scaled.png
 quit
 """
 
