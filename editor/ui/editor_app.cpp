@@ -403,7 +403,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         double frameStart = now();
         while (!ui->quit) {
             // Converged and idle: sleep until input instead of spinning.
-            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene);
+            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene) || ui->preview->converging();
             if (!busy && ui->driver->mayWaitForInput() && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
             if (glfwWindowShouldClose(window)) {

@@ -42,6 +42,7 @@ std::uint32_t previewDirty(const Scene& a, const Scene& b) {
 
 void MaterialPreview::tick(EditorUi& ui) {
     const bool requested = std::exchange(m_requested, false);
+    m_shownLastFrame = requested;
     if (!requested || !m_wanted || m_createFailed) return;
     std::string error;
     if (!m_renderer) {
@@ -74,6 +75,10 @@ void MaterialPreview::tick(EditorUi& ui) {
     if (!m_shown) return;
     if (m_renderer->samplesDone() < kSamples) m_renderer->renderFor(kBudgetSeconds, kSamples - m_renderer->samplesDone());
     m_display->update(m_renderer->accumulationTexture(), kSize, kSize, ui.state.view.toneMap, ui.state.view.exposure);
+}
+
+bool MaterialPreview::converging() const {
+    return m_shownLastFrame && m_renderer && m_shown && m_error.empty() && m_renderer->samplesDone() < kSamples;
 }
 
 bool MaterialPreview::writeImage(const std::string& file, const EditorUi& ui, std::string* error) const {

@@ -41,6 +41,8 @@ public:
     int samples() const;               // of the current preview scene
     bool current() const;              // the image is of the last requested material and lighting
     bool requested() const { return m_requested; }
+    // Shown last frame and still short of its samples: the frame loop must not sleep for input.
+    bool converging() const;
     const std::string& error() const { return m_error; }   // why the last preview scene failed ("" if not)
     // The preview as PNG, tone mapped as the viewport's images (scripts, tests).
     bool writeImage(const std::string& file, const EditorUi& ui, std::string* error) const;
@@ -52,6 +54,7 @@ private:
     std::optional<Scene> m_shown;      // what the renderer has
     std::optional<Scene> m_failedFor;  // the scene the renderer last refused (not retried)
     bool m_requested = false;
+    bool m_shownLastFrame = false;     // requested at the last tick
     bool m_createFailed = false;
     std::string m_error;
 };

@@ -28,7 +28,7 @@ glm::vec3 turned(const Transform& t, glm::vec3 v) { return glm::vec3(t.toMatrix(
 
 }  // namespace
 
-TEST_CASE("the Blender key map binds G R S, Shift+D, H, Alt+H and the numpad views; no chord twice", "[editor][keys]") {
+TEST_CASE("the Blender key map binds G R S, Shift+D, H, Alt+H and the numpad views, no chord twice", "[editor][keys]") {
     std::set<std::string> actions;
     for (KeymapStyle style : {KeymapStyle::Default, KeymapStyle::Blender}) {
         std::set<std::pair<std::string, int>> chords;
@@ -51,7 +51,7 @@ TEST_CASE("the Blender key map binds G R S, Shift+D, H, Alt+H and the numpad vie
     CHECK(mouseActions(KeymapStyle::Blender).size() > mouseActions(KeymapStyle::Default).size());
 }
 
-TEST_CASE("G moves with the mouse and keeps the object under the cursor; X Y Z constrain it", "[editor][keys]") {
+TEST_CASE("G moves with the mouse and keeps the object under the cursor, X Y Z constrain it", "[editor][keys]") {
     const ModalStart s = startAtCentre(ModalKind::Grab, {250.0f, 250.0f});
     const Transform t = modalTransform(s, ModalAxis::Free, {350.0f, 250.0f});
     CHECK(t.translate.x > 0.1f);
@@ -70,7 +70,7 @@ TEST_CASE("G moves with the mouse and keeps the object under the cursor; X Y Z c
     CHECK(modalTransform(s, ModalAxis::Free, s.mouse).translate == s.transform.translate);
 }
 
-TEST_CASE("R turns about the view axis by the angle the mouse sweeps; S scales by its distance", "[editor][keys]") {
+TEST_CASE("R turns about the view axis by the angle the mouse sweeps, S scales by its distance", "[editor][keys]") {
     // From right of the object's image to below it: a quarter turn clockwise on screen.
     const ModalStart r = startAtCentre(ModalKind::Rotate, {350.0f, 250.0f});
     const Transform q = modalTransform(r, ModalAxis::Free, {250.0f, 350.0f});

@@ -46,7 +46,7 @@ std::vector<std::string> materialsOf(const EditorState& st) {
 
 }  // namespace
 
-TEST_CASE("Ctrl/Shift+click selects several objects; a plain click or another selection ends it", "[editor][lookdev]") {
+TEST_CASE("Ctrl/Shift+click selects several objects, a plain click or another selection ends it", "[editor][lookdev]") {
     EditorState st = fourSpheres();
     st.select(obj(1));
     st.select(obj(3), EditorState::SelectMode::Toggle);
@@ -111,7 +111,7 @@ TEST_CASE("a material is assigned to every selected object in one undo step", "[
     CHECK_FALSE(makeAssignMaterial(st, {9}, "red", &why));
 }
 
-TEST_CASE("New material gives the selected objects a fresh material; undo removes it", "[editor][lookdev]") {
+TEST_CASE("New material gives the selected objects a fresh material, undo removes it", "[editor][lookdev]") {
     EditorState st = fourSpheres();
     std::string why;
     auto c = makeNewMaterialFor(st, {1, 2}, findLibraryMaterial("gold"), &why);
