@@ -56,8 +56,14 @@ void buildDefaultLayout(ImGuiID dockspace, ImVec2 size) {
     ImGui::DockBuilderAddNode(dockspace, ImGuiDockNodeFlags_DockSpace);
     ImGui::DockBuilderSetNodeSize(dockspace, size);
     ImGuiID centre = dockspace;
-    ImGuiID left = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Left, 0.20f, nullptr, &centre);
-    ImGuiID right = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Right, 0.27f, nullptr, &centre);
+    // Side panels wide enough for their labels at the UI's font size (View > UI scale), within
+    // limits that leave the viewport most of the window.
+    // At 100% (ImGui's 13-pixel font) a fifth and 27% of the rest, as always; more at a larger scale.
+    const float scale = std::max(1.0f, ImGui::GetFontSize() / 13.0f);
+    const float leftRatio = std::min(0.20f * scale, 0.30f);
+    const float rightRatio = std::min(0.27f * scale, 0.45f);
+    ImGuiID left = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Left, leftRatio, nullptr, &centre);
+    ImGuiID right = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Right, rightRatio, nullptr, &centre);
     ImGui::DockBuilderDockWindow("Outliner", left);
     ImGui::DockBuilderDockWindow("Inspector", right);
     ImGui::DockBuilderDockWindow("Viewport", centre);

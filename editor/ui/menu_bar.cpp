@@ -86,7 +86,10 @@ void drawMenuBar(EditorUi& ui) {
             // 0: the window's content scale (glfwGetWindowContentScale: HiDPI monitors).
             for (const auto& [label, f] : {std::pair{"Follow the monitor", 0.0f}, std::pair{"100%", 1.0f}, std::pair{"125%", 1.25f},
                                            std::pair{"150%", 1.5f}, std::pair{"200%", 2.0f}})
-                if (ImGui::MenuItem(label, nullptr, ui.uiScaleChoice == f)) ui.uiScaleChoice = f;
+                if (ImGui::MenuItem(label, nullptr, ui.uiScaleChoice == f)) {
+                    ui.uiScaleChoice = f;
+                    ui.resetLayout = true;   // the panels laid out again for the new size of their labels
+                }
             ImGui::EndMenu();
         }
         if (!ui.hidden.empty() && ImGui::MenuItem("Show hidden objects", "Alt+H (Blender keys)")) ui.hidden.clear();

@@ -311,6 +311,7 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     }
     if (op == "ui_scale") {   // View > UI scale (0: follow the monitor)
         ui.uiScaleChoice = num(a[0]);
+        ui.resetLayout = true;   // as the menu does
         return true;
     }
     if (op == "expect_font_size") {   // the UI's font size in pixels, within half a pixel
