@@ -306,6 +306,40 @@ void RemoveCommand<T>::rebasePaths(const std::string& from, const std::string& t
 template <class T>
 std::string RemoveCommand<T>::name() const { return "Delete " + describe(m_value); }
 
+// ---- CompoundCommand ------------------------------------------------------------------------------
+
+void CompoundCommand::execute(EditorState& state) {
+    for (auto& c : m_steps) c->execute(state);
+    state.setSelection(m_active, m_selected);
+}
+
+void CompoundCommand::undo(EditorState& state) {
+    for (auto it = m_steps.rbegin(); it != m_steps.rend(); ++it) (*it)->undo(state);
+    state.setSelection(m_active, m_selected);
+}
+
+std::uint32_t CompoundCommand::dirty() const {
+    std::uint32_t d = kDirtyNone;
+    for (const auto& c : m_steps) d |= c->dirty();
+    return d;
+}
+
+std::string CompoundCommand::check() const {
+    for (const auto& c : m_steps)
+        if (std::string why = c->check(); !why.empty()) return why;
+    return {};
+}
+
+bool CompoundCommand::changesNothing() const {
+    for (const auto& c : m_steps)
+        if (!c->changesNothing()) return false;
+    return true;
+}
+
+void CompoundCommand::rebasePaths(const std::string& from, const std::string& to) {
+    for (auto& c : m_steps) c->rebasePaths(from, to);
+}
+
 template class SetCommand<Object>;
 template class SetCommand<Light>;
 template class SetCommand<Material>;

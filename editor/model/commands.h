@@ -69,6 +69,7 @@ public:
     std::string undoName() const { return m_done.empty() ? "" : m_done.back().command->name(); }
     std::string redoName() const { return m_undone.empty() ? "" : m_undone.back().command->name(); }
     void clear();
+    void discardRedo() { m_undone.clear(); }   // a cancelled modal transform leaves nothing to redo
     void markClean() { m_clean = topSerial(); }
     void markUnclean() { m_clean = ~std::uint64_t(0); }  // e.g. a recovered autosave
     bool isClean() const { return m_clean == topSerial(); }
@@ -147,6 +148,30 @@ public:
 private:
     int m_index;
     T m_value;
+};
+
+// Several edits as one undo step (assign a material to every selected object; a new material and
+// the objects given it): executed in order, undone in reverse. After either, the selection is put
+// back as it was when the step was made (`active` and the selected objects), since the steps
+// inside each select what they changed.
+class CompoundCommand final : public Command {
+public:
+    CompoundCommand(std::string name, std::vector<std::unique_ptr<Command>> steps, EntityRef active,
+                    std::vector<int> selectedObjects)
+        : m_name(std::move(name)), m_steps(std::move(steps)), m_active(active), m_selected(std::move(selectedObjects)) {}
+    void execute(EditorState& state) override;
+    void undo(EditorState& state) override;
+    std::uint32_t dirty() const override;
+    std::string name() const override { return m_name; }
+    std::string check() const override;
+    bool changesNothing() const override;
+    void rebasePaths(const std::string& fromFolder, const std::string& toFolder) override;
+
+private:
+    std::string m_name;
+    std::vector<std::unique_ptr<Command>> m_steps;
+    EntityRef m_active;
+    std::vector<int> m_selected;
 };
 
 // What a change of one entity dirties (name-only changes dirty nothing).

@@ -71,7 +71,25 @@ public:
     // The selected entity still exists (indices change under deletes); clears it when it does not.
     void validateSelection();
 
+    // Multi-selection of objects (Ctrl/Shift+click in the viewport and the outliner): `selection`
+    // is the active one (the inspector's and the gizmo's), and other objects may be selected with
+    // it. The others belong to the active selection they were made with: any other assignment of
+    // `selection` (a plain click, an undo that selects what it changed back, an insert) ends the
+    // multi-selection, so it can never outlive what it was made for.
+    enum class SelectMode { Replace, Toggle };
+    // Replace: only `ref`. Toggle (objects, while an object is active): adds `ref` and makes it the
+    // active one, or, if it was selected, removes it (the next remaining one becomes active).
+    void select(EntityRef ref, SelectMode mode = SelectMode::Replace);
+    // Every selected object's index, ascending (the active one included); empty when the active
+    // selection is no object.
+    std::vector<int> selectedObjects() const;
+    bool isSelected(EntityRef ref) const;
+    // Sets the active selection and the other selected objects (commands that restore a selection).
+    void setSelection(EntityRef active, const std::vector<int>& objects);
+
 private:
+    std::vector<int> m_otherObjects;   // selected with m_otherFor (the active selection then)
+    EntityRef m_otherFor;
     std::uint32_t m_dirty = kDirtyAll;
     std::uint64_t m_generation = 0;
 };

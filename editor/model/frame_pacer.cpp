@@ -15,7 +15,7 @@ void FramePacer::record(int samples, long long pixels, double seconds) {
 
 int FramePacer::previewDivisor(long long pixels, double budgetSeconds) const {
     if (!measured()) return 1;
-    for (int d = 1; d < kMaxDivisor; ++d)
+    for (int d = 1; d < kMaxDivisor; d *= 2)
         if (secondsPerSample(pixels) / double(d * d) <= budgetSeconds) return d;
     return kMaxDivisor;
 }

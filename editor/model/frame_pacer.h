@@ -15,8 +15,9 @@ public:
     bool measured() const { return m_secondsPerSamplePixel > 0.0; }
     double secondsPerSample(long long pixels) const { return m_secondsPerSamplePixel * double(pixels); }
 
-    // The smallest divisor d (1 = full resolution) for which one sample of the image shrunk by
-    // d in each direction fits in budgetSeconds.
+    // The smallest divisor d of 1, 2, 4, 8 (1 = full resolution) for which one sample of the image
+    // shrunk by d in each direction fits in budgetSeconds. Powers of two, so that the refinement
+    // after an edit, which halves it, goes 1/8 -> 1/4 -> 1/2 -> 1 (render_session.cpp).
     int previewDivisor(long long pixels, double budgetSeconds) const;
 
 private:

@@ -13,16 +13,27 @@ namespace caustic::editor {
 enum class Action {
     Undo, Redo, RedoAlt, Save, SaveAs, Open, Duplicate, Delete, ReloadShaders, DenoiseNow,
     FrameSelection, GizmoTranslate, GizmoRotate, GizmoScale, GizmoLocal,
+    // The Blender-style key map (KeymapStyle::Blender).
+    ModalGrab, ModalRotate, ModalScale, DuplicateMove, Hide, UnhideAll,
+    ViewFront, ViewBack, ViewRight, ViewLeft, ViewTop, ViewBottom,
+    // While a modal transform runs (KeyScope::Modal).
+    ConstrainX, ConstrainY, ConstrainZ, ModalConfirm, ModalCancel,
 };
 
-// Where a key works: anywhere (unless a text field has the keys), or with the viewport hovered
-// or focused (and the fly mode's right button up).
-enum class KeyScope { Global, Viewport };
+// Where a key works: anywhere (unless a text field has the keys), with the viewport hovered
+// or focused (and the fly mode's right button up), or while a modal transform (G, R, S) runs.
+enum class KeyScope { Global, Viewport, Modal };
+
+// Which key map is active (View > Key map): the editor's own (gizmo keys W E R T), or one a
+// Blender user's hands know (G R S modal transforms with X Y Z constraints, Shift+D, H, numpad
+// views). The global keys (undo, save, Del, ...) are the same in both.
+enum class KeymapStyle { Default, Blender };
 
 struct Chord {
-    std::string_view key;  // "Z", "Delete", "F5", ...
+    std::string_view key;  // "Z", "Delete", "F5", "Numpad1", "Escape", "Enter", ...
     bool ctrl = false;
     bool shift = false;
+    bool alt = false;
 };
 
 struct KeyBinding {
@@ -32,14 +43,15 @@ struct KeyBinding {
     std::string_view what;  // for the help
 };
 
-std::span<const KeyBinding> keyBindings();
+// The bindings of a key map: the global keys, then the style's viewport (and modal) keys.
+std::span<const KeyBinding> keyBindings(KeymapStyle style = KeymapStyle::Default);
 
 // Mouse and modifier actions the viewport and the panels interpret directly (for the help only).
 struct MouseAction {
     std::string_view input;
     std::string_view what;
 };
-std::span<const MouseAction> mouseActions();
+std::span<const MouseAction> mouseActions(KeymapStyle style = KeymapStyle::Default);
 
 // "Ctrl+Shift+Z".
 std::string chordText(const Chord& chord);

@@ -1,5 +1,7 @@
 #include "editor/model/render_session.h"
 
+#include "editor/model/modal_transform.h"
+
 #include "renderer/renderer.h"
 
 #include <algorithm>
@@ -67,8 +69,11 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     divisor = std::max(1, divisor);
     const glm::ivec2 size = glm::max(full / divisor, glm::ivec2(1));
     if ((divisor != previewDivisor || size != renderedSize) && !holding) dirty |= kDirtySettings;
+    if (hidden != m_appliedHidden && !holding) dirty |= kDirtyGeometry;   // objects left out or back
     if (dirty != kDirtyNone || !sceneUploaded) {
-        Scene scene = state.scene;
+        Scene scene = hidden.empty() ? state.scene : withoutHidden(state.scene, hidden, &renderedObjects);
+        if (hidden.empty()) renderedObjects.clear();
+        m_appliedHidden = hidden;
         scene.render.width = size.x;
         scene.render.height = size.y;
         std::string error;

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace caustic {
 class Renderer;
@@ -103,6 +104,11 @@ public:
     // shown only for the generation it was read from.
     std::uint64_t accumulationGeneration = 0;
     std::uint32_t heldDirty = 0;      // scene updates waiting for meshes to import again
+    // Objects hidden in the viewport (the Blender key map's H), by name: left out of what the
+    // renderer gets (modal_transform.h withoutHidden); a change recompiles. renderedObjects[i] is
+    // the scene's index of the renderer's object i (empty: the same indices), for picking.
+    std::vector<std::string> hidden;
+    std::vector<int> renderedObjects;
 
 private:
     int m_panelWidth = 0, m_panelHeight = 0;
@@ -111,6 +117,7 @@ private:
     double m_lastCounterRead = 0.0;
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
     std::optional<std::uint64_t> m_displayedWholeImageOf;
+    std::vector<std::string> m_appliedHidden;
     std::uint32_t m_deferredDirty = 0;  // unseen material edits, handed over with the next real update
 };
 

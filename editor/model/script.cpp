@@ -57,6 +57,36 @@ const std::map<std::string, Signature>& commands() {
         {"add_material", {0, 0, ""}},         // Add > Material (a new one, used by nothing)
         {"mark", {0, 0, ""}},                 // remember where accumulation is (for expect_restarted)
         {"expect_restarted", {1, 1, ""}},     // yes | no: accumulation restarted since `mark`
+        {"select_add", {2, 2, ""}},           // select_add object NAME: as Ctrl+click (adds, or takes out)
+        {"expect_selected", {1, 1, "n"}},     // N objects are selected
+        {"assign_material", {1, 1, ""}},      // give every selected object this material (one undo step)
+        {"new_material", {0, 1, ""}},         // New material [preset] for the selected objects
+        {"make_unique", {0, 0, ""}},          // Make unique: a copy of the selection's shared material
+        {"apply_preset", {1, 1, ""}},         // the selected material (or the object's) takes a library preset
+        {"expect_material", {2, 2, ""}},      // expect_material OBJECT MATERIAL
+        {"preview_lighting", {1, 1, ""}},     // scene | studio: the material preview's lighting
+        {"wait_preview", {1, 2, "nn"}},       // until the material preview has N samples of the current material [timeout s]
+        {"write_preview", {1, 1, ""}},        // the material preview as PNG
+        {"pick_file", {2, 2, ""}},            // pick_file SLOT NAME: the file picker's entry NAME for a slot (albedo_texture, normal_texture, roughness_texture of the selected material; environment)
+        {"expect_picker_lists", {2, 2, ""}},  // expect_picker_lists SLOT NAME: the picker for SLOT lists NAME
+        {"set_focus", {1, 1, "n"}},           // the camera's focal distance (the focus point cleared): one edit
+        {"expect_focus_overlay", {1, 1, "n"}},   // the focus overlay is shown with at least N cells marked (0: shown)
+        {"expect_no_focus_overlay", {0, 0, ""}},
+        {"store_view", {1, 1, ""}},           // store the camera as a saved view NAME
+        {"recall_view", {1, 1, ""}},          // recall saved view NAME (one undo step)
+        {"expect_views", {1, 1, "n"}},        // the scene has N saved camera views
+        {"ui_scale", {1, 1, "n"}},            // View > UI scale: a factor, 0 to follow the monitor
+        {"expect_font_size", {1, 1, "n"}},    // the UI's font size in pixels
+        {"show_help", {1, 1, ""}},            // on | off: the Help > Keyboard and mouse window
+        {"record_sizes", {0, 0, ""}},         // the report's viewport_sizes start afresh
+        {"window_size", {2, 2, "nn"}},        // resize the window (W H)
+        {"idle", {1, 1, ""}},                 // on | off: idle pacing (off in scripts unless asked: they measure frames)
+        {"keymap", {1, 1, ""}},               // default | blender: View > Key map
+        {"mouse_move", {2, 2, "nn"}},         // move the mouse by (dx dy) pixels over the viewport (from its centre the first time)
+        {"mouse_click", {1, 1, ""}},          // left | right: click where the mouse is
+        {"expect_hidden", {1, 1, "n"}},       // N objects are hidden in the viewport
+        {"expect_rendered_objects", {1, 1, "n"}},   // the viewport's renderer has N objects
+        {"expect_modal", {1, 1, ""}},         // yes | no: a G / R / S transform is in progress
         {"quit", {0, 0, ""}},
     };
     return table;

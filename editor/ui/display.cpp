@@ -20,15 +20,21 @@ std::unique_ptr<Display> Display::create(const std::string& shaderDir, std::stri
 }
 
 Display::~Display() {
-    const unsigned textures[2] = {m_texture, m_snapshot};
-    glDeleteTextures(2, textures);
+    const unsigned textures[3] = {m_texture, m_snapshot, m_retired};
+    glDeleteTextures(3, textures);
     glDeleteProgram(m_program);
 }
 
 void Display::update(unsigned accumulationTexture, int width, int height, ToneMap op, float exposureEv) {
     if (!accumulationTexture || width <= 0 || height <= 0) return;
+    // The texture replaced at the last resize: this frame's UI no longer draws it.
+    if (m_retired) glDeleteTextures(1, &m_retired);
+    m_retired = 0;
     if (width != m_width || height != m_height) {
-        if (m_texture) glDeleteTextures(1, &m_texture);
+        // The UI drew this frame's image with the current texture before this update; deleting it
+        // now would free its name for the next texture made this frame (ImGui's font atlas grows
+        // on demand), and the viewport would show that instead for a frame. It goes next frame.
+        m_retired = m_texture;
         glCreateTextures(GL_TEXTURE_2D, 1, &m_texture);
         glTextureStorage2D(m_texture, 1, GL_RGBA8, width, height);
         // Nearest when magnified: a reduced-resolution preview shows its pixels honestly, and 1:1

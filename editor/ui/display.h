@@ -29,6 +29,7 @@ public:
 private:
     Display() = default;
     unsigned m_program = 0, m_texture = 0, m_snapshot = 0;
+    unsigned m_retired = 0;   // the texture before the last resize, deleted at the next update
     int m_width = 0, m_height = 0;
 };
 

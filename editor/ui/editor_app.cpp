@@ -5,6 +5,7 @@
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/frame_driver.h"
+#include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
 #include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
@@ -55,8 +56,14 @@ void buildDefaultLayout(ImGuiID dockspace, ImVec2 size) {
     ImGui::DockBuilderAddNode(dockspace, ImGuiDockNodeFlags_DockSpace);
     ImGui::DockBuilderSetNodeSize(dockspace, size);
     ImGuiID centre = dockspace;
-    ImGuiID left = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Left, 0.20f, nullptr, &centre);
-    ImGuiID right = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Right, 0.27f, nullptr, &centre);
+    // Side panels wide enough for their labels at the UI's font size (View > UI scale), within
+    // limits that leave the viewport most of the window.
+    // At 100% (ImGui's 13-pixel font) a fifth and 27% of the rest, as always; more at a larger scale.
+    const float scale = std::max(1.0f, ImGui::GetFontSize() / 13.0f);
+    const float leftRatio = std::min(0.20f * scale, 0.30f);
+    const float rightRatio = std::min(0.27f * scale, 0.45f);
+    ImGuiID left = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Left, leftRatio, nullptr, &centre);
+    ImGuiID right = ImGui::DockBuilderSplitNode(centre, ImGuiDir_Right, rightRatio, nullptr, &centre);
     ImGui::DockBuilderDockWindow("Outliner", left);
     ImGui::DockBuilderDockWindow("Inspector", right);
     ImGui::DockBuilderDockWindow("Viewport", centre);
@@ -160,7 +167,7 @@ void drawModals(EditorUi& ui) {
 void handleShortcuts(EditorUi& ui) {
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantTextInput) return;
-    for (const KeyBinding& b : keyBindings()) {
+    for (const KeyBinding& b : keyBindings(ui.keymap)) {
         if (b.scope != KeyScope::Global || !chordPressed(b.chord)) continue;
         std::string why;
         switch (b.action) {
@@ -191,23 +198,33 @@ void handleShortcuts(EditorUi& ui) {
 // Help > Keyboard and mouse: the key map and the mouse actions, as the code uses them.
 void drawShortcutsWindow(EditorUi& ui) {
     if (!ui.showShortcuts) return;
-    ImGui::SetNextWindowSize(ImVec2(640.0f, 480.0f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(ImGui::GetFontSize() * 62.0f, ImGui::GetFontSize() * 40.0f), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Keyboard and mouse", &ui.showShortcuts)) {
+        int style = static_cast<int>(ui.keymap);
+        ImGui::TextUnformatted("Key map:");
+        ImGui::SameLine();
+        if (ImGui::RadioButton("Default", &style, 0)) ui.keymap = KeymapStyle::Default;
+        ImGui::SameLine();
+        if (ImGui::RadioButton("Blender", &style, 1)) ui.keymap = KeymapStyle::Blender;
+        ImGui::SameLine();
+        ImGui::TextDisabled("(also View > Key map)");
         if (ImGui::BeginTable("keys", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp)) {
-            ImGui::TableSetupColumn("Keys");
-            ImGui::TableSetupColumn("Where");
-            ImGui::TableSetupColumn("What");
+            // The keys and the place narrow, the description takes the rest (no wrapping of short lines).
+            const float em = ImGui::GetFontSize();
+            ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, em * 11.0f);
+            ImGui::TableSetupColumn("Where", ImGuiTableColumnFlags_WidthFixed, em * 7.5f);
+            ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
             ImGui::TableHeadersRow();
-            for (const KeyBinding& b : keyBindings()) {
+            for (const KeyBinding& b : keyBindings(ui.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextUnformatted(chordText(b.chord).c_str());
                 ImGui::TableNextColumn();
-                ImGui::TextUnformatted(b.scope == KeyScope::Global ? "anywhere" : "viewport");
+                ImGui::TextUnformatted(b.scope == KeyScope::Global ? "anywhere" : b.scope == KeyScope::Viewport ? "viewport" : "during G R S");
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(b.what.size()), b.what.data());
             }
-            for (const MouseAction& m : mouseActions()) {
+            for (const MouseAction& m : mouseActions(ui.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(m.input.size()), m.input.data());
@@ -232,6 +249,8 @@ void renderFrame(EditorUi& ui) {
     ui.session.outputSize = ui.renderToFile.has_value() || ui.driver->wantsOutputSize();
     // Idle pacing (render_session.h) for a person at the keyboard; scripts measure frames.
     ui.session.idlePacing = ui.driver->mayWaitForInput();
+    // Hidden objects (H) are left out of the viewport only: Render to file renders them.
+    ui.session.hidden = ui.renderToFile ? std::vector<std::string>{} : ui.hidden;
     const ImGuiIO& io = ImGui::GetIO();
     if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f || io.MouseWheel != 0.0f || ImGui::IsAnyMouseDown() ||
         io.InputQueueCharacters.Size > 0 || io.KeyCtrl || io.KeyShift || io.KeyAlt || ImGui::IsAnyItemActive())
@@ -269,6 +288,24 @@ void autosaveTick(EditorUi& ui) {
     std::string error;
     if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) notify(ui, "autosave failed: " + error, true);
     else ++ui.autosaveWrites;
+}
+
+// The UI scale (View > UI scale): the window's content scale (HiDPI), or the chosen factor; the
+// style's sizes are scaled from the base style each time it changes, the fonts by FontScaleDpi.
+void applyUiScale(EditorUi& ui) {
+    float scale = ui.uiScaleChoice;
+    if (scale <= 0.0f) {
+        float sx = 1.0f, sy = 1.0f;
+        glfwGetWindowContentScale(ui.window, &sx, &sy);
+        scale = std::clamp(std::max(sx, sy), 0.5f, 4.0f);
+    }
+    if (scale == ui.uiScaleApplied) return;
+    static ImGuiStyle base = ImGui::GetStyle();   // applyStyle's, before any scaling
+    ImGuiStyle& style = ImGui::GetStyle();
+    style = base;
+    style.ScaleAllSizes(scale);
+    style.FontScaleDpi = scale;
+    ui.uiScaleApplied = scale;
 }
 
 void applyStyle() {
@@ -323,6 +360,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         ui->recentListPath = (fs::path(configDir) / "recent.txt").string();
         ui->recent.load(ui->recentListPath);
         ui->autosave = Autosave::in(configDir);
+
         static std::string iniPath;   // ImGui keeps the pointer
         iniPath = (fs::path(configDir) / "layout.ini").string();
 
@@ -353,6 +391,13 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ui->quit = true;
             }
         }
+        // Saved camera views (camera_views.h), in the config folder; like the autosave, a script
+        // touches them only with $CAUSTIC_EDITOR_HOME set (offersRecovery says so).
+        if (ui->driver->offersRecovery()) {
+            ui->viewsPath = (fs::path(configDir) / "views.json").string();
+            if (std::string viewsError; !ui->views.load(ui->viewsPath, &viewsError))
+                notify(*ui, "the saved camera views could not be read (they are ignored): " + viewsError, true);
+        }
         // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
         if (ui->autosave.exists() && ui->driver->offersRecovery()) {
             ui->recovered = ui->autosave.read(&error);
@@ -364,7 +409,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         double frameStart = now();
         while (!ui->quit) {
             // Converged and idle: sleep until input instead of spinning.
-            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene);
+            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene) || ui->preview->converging();
             if (!busy && ui->driver->mayWaitForInput() && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
             if (glfwWindowShouldClose(window)) {
@@ -372,6 +417,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 guardUnsaved(*ui, [u = ui.get()] { u->quit = true; });
             }
             const double uiStart = now();
+            applyUiScale(*ui);
             try {
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
@@ -403,6 +449,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             try {
                 renderFrame(*ui);
                 if (ui->denoiser) ui->denoiser->tick(*ui);
+                ui->preview->tick(*ui);   // a few ms for the material preview, when one is shown
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -428,6 +475,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         std::string recentError;
         ui->recent.save(ui->recentListPath, &recentError);
         ui->denoiser.reset();   // joins the worker; deletes its texture while GL is current
+        ui->preview.reset();    // its renderer and display, while GL is current
         ui->display.reset();
         ui->renderer.reset();
         ImGui_ImplOpenGL3_Shutdown();
@@ -442,17 +490,23 @@ int runEditor(const std::optional<std::string>& sceneFile) {
 // A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
 bool chordPressed(const Chord& chord) {
     const ImGuiIO& io = ImGui::GetIO();
-    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift) return false;
+    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift || io.KeyAlt != chord.alt) return false;
     ImGuiKey key = ImGuiKey_None;
     const std::string_view k = chord.key;
     if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
     else if (k.size() >= 2 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos)
         key = static_cast<ImGuiKey>(ImGuiKey_F1 + (std::stoi(std::string(k.substr(1))) - 1));
     else if (k == "Delete") key = ImGuiKey_Delete;
+    else if (k == "Escape") key = ImGuiKey_Escape;
+    else if (k == "Enter") return ImGui::IsKeyPressed(ImGuiKey_Enter, false) || ImGui::IsKeyPressed(ImGuiKey_KeypadEnter, false);
+    else if (k.size() == 7 && k.substr(0, 6) == "Numpad" && k[6] >= '0' && k[6] <= '9')
+        key = static_cast<ImGuiKey>(ImGuiKey_Keypad0 + (k[6] - '0'));
     return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 
-EditorUi::EditorUi() : driver(std::make_unique<FrameDriver>()), meshImports(std::make_unique<MeshImports>()) {}
+EditorUi::EditorUi()
+    : preview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
+      meshImports(std::make_unique<MeshImports>()) {}
 EditorUi::~EditorUi() = default;
 
 // ---- Actions shared by the panels ---------------------------------------------------------------
@@ -486,16 +540,50 @@ bool openFile(EditorUi& ui, const std::string& file) {
 
 bool saveFile(EditorUi& ui, const std::string& file) {
     std::string error;
+    const std::string before = ui.state.path;
     if (!ui.state.saveAs(file, &error)) {
         showError(ui, "could not save; nothing was overwritten.\n" + error);
         return false;
     }
+    ui.views.carry(before, file);   // the saved camera views go with the scene to its new path
+    if (!ui.viewsPath.empty() && !ui.views.of(file).empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
     ui.recent.add(fs::absolute(file).lexically_normal().string());
     std::string ignored;
     ui.recent.save(ui.recentListPath, &ignored);
     ui.autosave.remove();
     notify(ui, "saved " + file);
     return true;
+}
+
+void storeCameraView(EditorUi& ui, const std::string& name) {
+    ui.views.store(ui.state.path, name, ui.state.scene.camera);
+    std::string error;
+    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
+    else
+        notify(ui, "stored camera view '" + name + "'");
+}
+
+bool recallCameraView(EditorUi& ui, const std::string& name) {
+    const CameraView* v = ui.views.find(ui.state.path, name);
+    if (!v) {
+        notify(ui, "no camera view '" + name + "'", true);
+        return false;
+    }
+    std::string why;
+    if (!ui.state.apply(makeSetCamera(ui.state, v->camera), &why)) {
+        notify(ui, why, true);
+        return false;
+    }
+    return true;
+}
+
+void deleteCameraView(EditorUi& ui, const std::string& name) {
+    ui.views.remove(ui.state.path, name);
+    std::string error;
+    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+        notify(ui, "could not save the camera views: " + error, true);
 }
 
 void saveOrSaveAs(EditorUi& ui) {

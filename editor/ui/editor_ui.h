@@ -3,7 +3,10 @@
 // menu_bar.cpp, file_browser.cpp); editor_app.cpp owns the window and the frame loop.
 #pragma once
 
+#include "editor/model/camera_views.h"
 #include "editor/model/editor_state.h"
+#include "editor/model/keymap.h"
+#include "editor/model/modal_transform.h"
 #include "editor/model/render_session.h"
 #include "editor/model/status.h"
 #include "editor/ui/display.h"
@@ -20,6 +23,7 @@ struct GLFWwindow;
 namespace caustic::editor {
 
 class FrameDriver;
+class MaterialPreview;
 class MeshImports;
 class ViewportDenoiser;
 
@@ -49,6 +53,8 @@ struct EditorUi {
     RecentFiles recent;
     std::string recentListPath;
     Autosave autosave;
+    CameraViews views;                // saved camera views (camera_views.h), in <config>/views.json
+    std::string viewsPath;
     double lastAutosave = 0.0;
     std::uint64_t autosaveWrites = 0;   // autosaves written this session (scripts wait on it)
 
@@ -60,6 +66,26 @@ struct EditorUi {
     bool gizmoWasUsing = false;
     bool navigating = false;          // a camera drag is in progress
     double lastWheel = -1.0;          // wheel zoom steps merge until a pause
+    // The focus-plane overlay (focus_overlay.h): shown until this time (after a focus edit), and
+    // the cells it marked in the last frame (scripts check it).
+    double focusOverlayUntil = -1.0;
+    int focusOverlayCells = -1;       // -1: not shown
+    // The key map (View > Key map) and the Blender map's modal transform (G / R / S) in progress.
+    KeymapStyle keymap = KeymapStyle::Default;
+    struct Modal {
+        bool active = false;
+        ModalStart start;
+        ModalAxis axis = ModalAxis::Free;
+        EntityRef ref;
+        Light light;            // a light's value when it started
+        bool applied = false;   // a step went to the history (undone on cancel)
+        std::size_t undoAtStart = 0;
+    } modal;
+    std::vector<std::string> hidden;   // objects hidden in the viewport (H; view state, not saved)
+    float viewportImage[4] = {0, 0, 1, 1};   // the viewport image's screen x, y, width, height
+    // View > UI scale: 0 follows the window's content scale (HiDPI), else this factor.
+    float uiScaleChoice = 0.0f;
+    float uiScaleApplied = -1.0f;
     bool viewportHovered = false;
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;
@@ -68,6 +94,8 @@ struct EditorUi {
     // shows; editor/model/render_session.h).
     RenderSession session;
     std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
+    // The material preview ball (material_preview.h): rendered only while a material is shown.
+    std::unique_ptr<MaterialPreview> preview;
 
     // Lookdev.
     bool compare = false;
@@ -110,6 +138,11 @@ struct Chord;
 bool chordPressed(const Chord& chord);
 
 // Actions shared by menus, shortcuts and scripts.
+// Saved camera views of the current scene: store the camera under `name`, recall one (one undo
+// step), delete one; the views file is written after each change (a failure is shown).
+void storeCameraView(EditorUi& ui, const std::string& name);
+bool recallCameraView(EditorUi& ui, const std::string& name);
+void deleteCameraView(EditorUi& ui, const std::string& name);
 void notify(EditorUi& ui, const std::string& message, bool isError = false);
 void showError(EditorUi& ui, const std::string& message);   // modal + status bar
 bool openFile(EditorUi& ui, const std::string& file);        // keeps the current scene on failure

@@ -7,7 +7,11 @@
 #include "editor/model/viewport_math.h"
 #include "renderer/camera.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/asset_picker.h"
+#include "editor/ui/material_preview.h"
+#include "editor/ui/mesh_import.h"
 #include "editor/ui/param_widgets.h"
+#include "editor/model/lookdev.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/denoise.h"
 
@@ -48,14 +52,82 @@ void nameField(EditorUi& ui, EntityRef ref) {
     }
 }
 
-// The material's parameters (its type's, from the schema). `ref` names it for renames; from the
-// object inspector (shared material) the name is shown, not edited.
+// The library's presets, grouped, as menu items; returns the one picked (null: none).
+const Material* presetMenuItems() {
+    const Material* picked = nullptr;
+    std::string_view group;
+    for (const LibraryMaterial& l : materialLibrary()) {
+        if (l.group != group) {
+            group = l.group;
+            ImGui::SeparatorText(std::string(group).c_str());
+        }
+        if (ImGui::Selectable(l.material.name.c_str())) picked = &l.material;
+    }
+    return picked;
+}
+
+// The preview ball (material_preview.h) and its lighting, above the material's parameters.
+void previewSection(EditorUi& ui, const Material& m) {
+    if (!ui.preview) return;
+    MaterialPreview& p = *ui.preview;
+    p.request(ui.state.scene, m);
+    const float side = static_cast<float>(MaterialPreview::kSize) * ImGui::GetFontSize() / 13.0f;
+    if (const unsigned tex = p.texture())
+        ImGui::Image(ImTextureRef(static_cast<ImTextureID>(tex)), ImVec2(side, side));
+    else
+        ImGui::Dummy(ImVec2(side, side));
+    ImGui::SameLine();
+    ImGui::BeginGroup();
+    ImGui::TextUnformatted("Preview");
+    int lighting = static_cast<int>(p.lighting);
+    if (ImGui::RadioButton("Scene light", &lighting, 0)) p.lighting = PreviewLighting::Scene;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("the scene's environment (a studio light when it has none)");
+    if (ImGui::RadioButton("Studio", &lighting, 1)) p.lighting = PreviewLighting::Studio;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("a key light and an even grey fill");
+    if (p.lighting == PreviewLighting::Scene && ui.state.scene.environment.type == EnvironmentType::None)
+        ImGui::TextDisabled("(no environment:\n a studio light)");
+    ImGui::TextDisabled("%d / %d spp", p.samples(), MaterialPreview::kSamples);
+    ImGui::EndGroup();
+    if (!p.error().empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "preview: %s", p.error().c_str());
+}
+
+// The material's parameters (its type's, from the schema), with the preview ball and the preset
+// library above them. From the object inspector (shared material) the name is shown, not edited.
 void materialParams(EditorUi& ui, int index, bool renamable) {
     EditorState& s = ui.state;
     Material m = s.scene.materials[static_cast<size_t>(index)];
+    previewSection(ui, m);
+    if (ImGui::BeginCombo("Preset", "apply a preset...", ImGuiComboFlags_HeightLarge)) {
+        if (const Material* preset = presetMenuItems()) s.apply(makeApplyPreset(s, index, *preset));
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("gives this material a preset's model and parameters (its name and objects stay)");
+    m = s.scene.materials[static_cast<size_t>(index)];
     const MaterialType before = m.type;
     Edit e{ui};
-    drawParams<Material>(e, m, [&](const Param<Material>& p, Material&) {
+    drawParams<Material>(e, m, [&](const Param<Material>& p, Material& value) {
+        if (p.kind == ParamKind::Enum && p.key == "type") {
+            // The models by what an artist calls them; the file's names in the tooltip.
+            const auto choices = p.choices();
+            traceWidget(p.key, p.kind, 0, static_cast<double>(choices.size()) - 1);
+            const int current = p.getEnum(value);
+            if (ImGui::BeginCombo(std::string(p.label).c_str(),
+                                  std::string(materialTypeArtistName(static_cast<MaterialType>(current))).c_str(),
+                                  ImGuiComboFlags_HeightLarge)) {
+                for (const EnumChoice& c : choices) {
+                    const std::string label = std::string(materialTypeArtistName(static_cast<MaterialType>(c.value))) + "  (" +
+                                              std::string(c.label) + ")";
+                    if (ImGui::Selectable(label.c_str(), c.value == current) && c.value != current) {
+                        p.setEnum(value, c.value);
+                        e.changed = e.seal = true;
+                    }
+                    if (ImGui::IsItemHovered()) ImGui::SetTooltip("\"%s\" in scene files: %s", c.name.data(), c.label.data());
+                }
+                ImGui::EndCombo();
+            }
+            return true;
+        }
         if (p.kind != ParamKind::Name) return false;
         if (renamable) nameField(ui, {EntityKind::Material, index});
         else traceWidget(p.key, p.kind);
@@ -77,9 +149,52 @@ void materialParams(EditorUi& ui, int index, bool renamable) {
     e.commit(e.changed ? makeSetMaterial(s, index, m) : nullptr);
 }
 
+// The object's material: New (from the library or the default), Make unique, and, with several
+// objects selected, an assignment that reaches all of them.
+void objectMaterialButtons(EditorUi& ui, int index) {
+    EditorState& s = ui.state;
+    std::vector<int> targets = s.selectedObjects();
+    if (targets.empty()) targets = {index};
+    if (ImGui::Button("New material")) ImGui::OpenPopup("new-material");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("a new material (the default or a preset) for the selected object%s", targets.size() > 1 ? "s" : "");
+    if (ImGui::BeginPopup("new-material")) {
+        std::string why;
+        if (ImGui::Selectable("Default material")) {
+            if (auto c = makeNewMaterialFor(s, targets, nullptr, &why)) s.apply(std::move(c));
+            else notify(ui, why, true);
+        }
+        if (const Material* preset = presetMenuItems()) {
+            if (auto c = makeNewMaterialFor(s, targets, preset, &why)) s.apply(std::move(c));
+            else notify(ui, why, true);
+        }
+        ImGui::EndPopup();
+    }
+    ImGui::SameLine();
+    std::string why;
+    const bool canUnique = makeMakeUnique(s, targets, &why) != nullptr;
+    ImGui::BeginDisabled(!canUnique);
+    if (ImGui::Button("Make unique")) {
+        if (auto c = makeMakeUnique(s, targets, &why)) s.apply(std::move(c));
+    }
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("%s", canUnique ? "a copy of the shared material for the selection alone, so edits reach no other object"
+                                          : why.c_str());
+    const std::string& name = s.scene.objects[static_cast<size_t>(index)].material;
+    if (!name.empty()) {
+        const int users = materialUsers(s.scene, name);
+        ImGui::TextDisabled(users == 1 ? "material of this object only" : "material shared by %d objects", users);
+    }
+}
+
 void objectInspector(EditorUi& ui, int index) {
     EditorState& s = ui.state;
     Object o = s.scene.objects[static_cast<size_t>(index)];
+    const std::vector<int> selected = s.selectedObjects();
+    if (selected.size() > 1)
+        ImGui::TextWrapped("%d objects selected (Ctrl+click adds or removes one); the material applies to all of them, "
+                           "the rest to '%s'.", int(selected.size()), o.name.c_str());
     Edit e{ui};
     drawParams<Object>(e, o, [&](const Param<Object>& p, Object& obj) {
         switch (p.kind) {
@@ -89,12 +204,19 @@ void objectInspector(EditorUi& ui, int index) {
                 if (ImGui::BeginCombo("Material", obj.material.empty() ? "(the file's own)" : obj.material.c_str())) {
                     for (const Material& m : s.scene.materials) {
                         if (ImGui::Selectable(m.name.c_str(), m.name == obj.material)) {
-                            obj.material = m.name;
-                            e.changed = e.seal = true;
+                            if (selected.size() > 1) {
+                                // Every selected object, one undo step.
+                                std::string why;
+                                if (auto c = makeAssignMaterial(s, selected, m.name, &why)) s.apply(std::move(c));
+                            } else {
+                                obj.material = m.name;
+                                e.changed = e.seal = true;
+                            }
                         }
                     }
                     ImGui::EndCombo();
                 }
+                objectMaterialButtons(ui, index);
                 return true;
             case ParamKind::File:
                 // Another file: imported in the background, applied when ready (mesh_import.h).
@@ -103,14 +225,18 @@ void objectInspector(EditorUi& ui, int index) {
                 if (s.scene.objects[static_cast<size_t>(index)].shape == Shape::Mesh) {
                     ImGui::SameLine();
                     if (ImGui::SmallButton("Replace...")) openFileBrowser(ui, FileBrowserState::Mode::MeshFile);
+                    ImGui::SameLine();
+                    // The scene's and the assets folder's model files; imported in the background.
+                    if (const auto picked = assetPickerButton(ui, "mesh-file", AssetKind::Mesh))
+                        ui.meshImports->setObjectFile(ui, index, picked->absolute);
                 }
                 return true;
             default: return false;
         }
     });
     e.commit(e.changed ? makeSetObject(s, index, o) : nullptr);
-    if (const Material* m = s.scene.findMaterial(o.material); m && ImGui::TreeNode("Material parameters")) {
-        ImGui::TextDisabled("(edits the shared material '%s')", m->name.c_str());
+    if (const Material* m = s.scene.findMaterial(o.material); m && ImGui::TreeNode("Material parameters and preview")) {
+        if (materialUsers(s.scene, m->name) > 1) ImGui::TextDisabled("(edits the shared material '%s')", m->name.c_str());
         materialParams(ui, findEntity(s.scene, EntityKind::Material, m->name).index, false);
         ImGui::TreePop();
     }
@@ -182,6 +308,31 @@ void cameraInspector(EditorUi& ui) {
         s.selection = {EntityKind::Camera, -1};
         frameSelection(ui);
     }
+    // Saved views (camera_views.h): the editor's own, by scene file, not in the scene.
+    ImGui::SeparatorText("Saved views");
+    static char s_viewName[128] = "";
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);
+    ImGui::InputTextWithHint("##viewname", ui.views.nextName(s.path).c_str(), s_viewName, sizeof s_viewName);
+    ImGui::SameLine();
+    if (ImGui::Button("Store view")) {
+        storeCameraView(ui, s_viewName[0] ? std::string(s_viewName) : ui.views.nextName(s.path));
+        s_viewName[0] = '\0';
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("keeps this camera under the name (kept by the editor for this scene file, not saved in the scene)");
+    std::string remove;
+    for (const CameraView& v : ui.views.of(s.path)) {
+        ImGui::PushID(v.name.c_str());
+        if (ImGui::SmallButton("Recall")) recallCameraView(ui, v.name);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x")) remove = v.name;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("forget this view");
+        ImGui::SameLine();
+        ImGui::TextUnformatted(v.name.c_str());
+        ImGui::PopID();
+    }
+    if (!remove.empty()) deleteCameraView(ui, remove);
+    if (ui.views.of(s.path).empty()) ImGui::TextDisabled("none yet%s", s.path.empty() ? " (an untitled scene's last until it closes)" : "");
 }
 
 void renderInspector(EditorUi& ui) {

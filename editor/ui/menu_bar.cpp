@@ -76,6 +76,23 @@ void drawMenuBar(EditorUi& ui) {
             ImGui::MenuItem("Show denoised", nullptr, &ui.denoiser->settings.showDenoised);
         }
         ImGui::Separator();
+        if (ImGui::BeginMenu("Key map")) {
+            if (ImGui::MenuItem("Default (W E R gizmo)", nullptr, ui.keymap == KeymapStyle::Default)) ui.keymap = KeymapStyle::Default;
+            if (ImGui::MenuItem("Blender (G R S, Shift+D, H, numpad)", nullptr, ui.keymap == KeymapStyle::Blender))
+                ui.keymap = KeymapStyle::Blender;
+            ImGui::EndMenu();
+        }
+        if (ImGui::BeginMenu("UI scale")) {
+            // 0: the window's content scale (glfwGetWindowContentScale: HiDPI monitors).
+            for (const auto& [label, f] : {std::pair{"Follow the monitor", 0.0f}, std::pair{"100%", 1.0f}, std::pair{"125%", 1.25f},
+                                           std::pair{"150%", 1.5f}, std::pair{"200%", 2.0f}})
+                if (ImGui::MenuItem(label, nullptr, ui.uiScaleChoice == f)) {
+                    ui.uiScaleChoice = f;
+                    ui.resetLayout = true;   // the panels laid out again for the new size of their labels
+                }
+            ImGui::EndMenu();
+        }
+        if (!ui.hidden.empty() && ImGui::MenuItem("Show hidden objects", "Alt+H (Blender keys)")) ui.hidden.clear();
         if (ImGui::MenuItem("Reset layout")) ui.resetLayout = true;
         ImGui::EndMenu();
     }

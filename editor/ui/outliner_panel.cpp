@@ -3,10 +3,11 @@
 // materials.
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
-#include "renderer/gpu_materials.h"
+#include "editor/model/lookdev.h"
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace caustic::editor {
@@ -29,7 +30,7 @@ void beginRename(const EditorUi& ui, EntityRef ref) {
 
 void contextMenu(EditorUi& ui, EntityRef ref) {
     if (!ImGui::BeginPopupContextItem()) return;
-    ui.state.selection = ref;
+    if (!ui.state.isSelected(ref)) ui.state.select(ref);   // a right-click in a multi-selection keeps it
     if (ImGui::MenuItem("Rename")) beginRename(ui, ref);
     if (ImGui::MenuItem("Duplicate", "Ctrl+D")) {
         std::string why;
@@ -63,9 +64,13 @@ void entityRow(EditorUi& ui, EntityRef ref, const char* icon) {
             g_rename.ref = {};
         }
     } else {
-        const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name);
-        if (ImGui::Selectable(label.c_str(), ui.state.selection == ref, ImGuiSelectableFlags_AllowDoubleClick)) {
-            ui.state.selection = ref;
+        const bool hidden = ref.kind == EntityKind::Object && std::find(ui.hidden.begin(), ui.hidden.end(), name) != ui.hidden.end();
+        const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name) +
+                                  (hidden ? "  (hidden)" : "");
+        if (ImGui::Selectable(label.c_str(), ui.state.isSelected(ref), ImGuiSelectableFlags_AllowDoubleClick)) {
+            // Ctrl or Shift+click adds an object to the selection or takes it out (EditorState::select).
+            const ImGuiIO& io = ImGui::GetIO();
+            ui.state.select(ref, io.KeyCtrl || io.KeyShift ? EditorState::SelectMode::Toggle : EditorState::SelectMode::Replace);
             if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left) && ref.index >= 0) beginRename(ui, ref);
         }
         if (ref.index >= 0) contextMenu(ui, ref);
@@ -87,8 +92,15 @@ void addMenu(EditorUi& ui) {
         ImGui::Separator();
         if (ImGui::MenuItem("Material")) ui.state.apply(makeAddMaterial(ui.state));
         if (ImGui::BeginMenu("Material preset")) {
-            for (const Material& preset : materialPresets())
-                if (ImGui::MenuItem(preset.name.c_str())) ui.state.apply(makeAddMaterial(ui.state, &preset));
+            // The library (editor/model/lookdev.h), by group.
+            std::string_view group;
+            for (const LibraryMaterial& l : materialLibrary()) {
+                if (l.group != group) {
+                    group = l.group;
+                    ImGui::SeparatorText(std::string(group).c_str());
+                }
+                if (ImGui::MenuItem(l.material.name.c_str())) ui.state.apply(makeAddMaterial(ui.state, &l.material));
+            }
             ImGui::EndMenu();
         }
         ImGui::Separator();

@@ -1,6 +1,8 @@
 // Inspector widgets from the scene schema (param_widgets.h).
 #include "editor/ui/param_widgets.h"
 
+#include "editor/ui/asset_picker.h"
+
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
 
@@ -184,13 +186,25 @@ void fileWidget(Edit& e, const Param<T>& p, std::string* value) {
     std::strncpy(buffer, value->c_str(), sizeof buffer - 1);
     buffer[sizeof buffer - 1] = '\0';
     const std::string label(p.label);
-    if (ImGui::InputTextWithHint(label.c_str(), p.nonEmpty ? "(none)" : "", buffer, sizeof buffer,
+    // The picker's "..." sits between the field and its label.
+    const float full = ImGui::CalcItemWidth();
+    ImGui::SetNextItemWidth(std::max(1.0f, full - assetPickerButtonWidth() - ImGui::GetStyle().ItemInnerSpacing.x));
+    const std::string fieldId = "##" + label;
+    if (ImGui::InputTextWithHint(fieldId.c_str(), p.nonEmpty ? "(none)" : "", buffer, sizeof buffer,
                                  ImGuiInputTextFlags_EnterReturnsTrue) &&
         *value != buffer) {
         *value = buffer;
         e.changed = e.seal = true;
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("relative to the scene file; Enter applies%s", p.nonEmpty ? ", empty removes it" : "");
+    ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+    const AssetKind kind = std::is_same_v<T, Environment> ? AssetKind::EnvironmentMap : AssetKind::Texture;
+    if (const std::optional<AssetFile> picked = assetPickerButton(e.ui, label.c_str(), kind); picked && picked->stored != *value) {
+        *value = picked->stored;
+        e.changed = e.seal = true;
+    }
+    ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+    ImGui::TextUnformatted(label.c_str());
 }
 
 }  // namespace
@@ -220,7 +234,7 @@ void transformWidgets(Edit& e, Transform* t) {
         return;
     }
     e.track(ImGui::DragFloat3("Translate", &t->translate.x, 0.01f, 0.0f, 0.0f, "%.3f"));
-    e.track(ImGui::DragFloat3("Rotate", &t->rotate.x, 0.5f, 0.0f, 0.0f, "%.1f deg"));
+    e.track(ImGui::DragFloat3("Rotate (deg)", &t->rotate.x, 0.5f, 0.0f, 0.0f, "%.1f"));
     e.track(ImGui::DragFloat3("Scale", &t->scale.x, 0.005f, 0.0f, 0.0f, "%.3f"));
 }
 

@@ -2,7 +2,11 @@
 
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
+#include "editor/model/asset_files.h"
+#include "editor/model/lookdev.h"
+#include "editor/model/scene_paths.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
@@ -13,6 +17,8 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -161,7 +167,212 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (kind == EntityKind::None) { fail(ui, line, "unknown kind '" + a[0] + "'"); return true; }
         const EntityRef ref = findEntity(s.scene, kind, a.size() > 1 ? a[1] : "");
         if (!ref) { fail(ui, line, "no " + a[0] + " called '" + (a.size() > 1 ? a[1] : "") + "'"); return true; }
-        s.selection = ref;
+        s.select(ref);
+        return true;
+    }
+    if (op == "select_add") {   // as Ctrl+click in the viewport (or Ctrl/Shift+click in the outliner)
+        const EntityRef ref = findEntity(s.scene, kindFromWord(a[0]), a[1]);
+        if (!ref) { fail(ui, line, "no " + a[0] + " called '" + a[1] + "'"); return true; }
+        s.select(ref, EditorState::SelectMode::Toggle);
+        return true;
+    }
+    if (op == "expect_selected") {
+        const std::size_t n = s.selectedObjects().size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " selected objects, have " + std::to_string(n));
+        return true;
+    }
+    if (op == "assign_material" || op == "new_material" || op == "make_unique") {
+        // The inspector's actions on the selected objects (editor/model/lookdev.h).
+        std::string why;
+        std::unique_ptr<Command> c;
+        if (op == "assign_material") c = makeAssignMaterial(s, s.selectedObjects(), a[0], &why);
+        else if (op == "make_unique") c = makeMakeUnique(s, s.selectedObjects(), &why);
+        else {
+            const Material* preset = a.empty() ? nullptr : findLibraryMaterial(a[0]);
+            if (!a.empty() && !preset) { fail(ui, line, "no preset called '" + a[0] + "'"); return true; }
+            c = makeNewMaterialFor(s, s.selectedObjects(), preset, &why);
+        }
+        if (!c || !s.apply(std::move(c), &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "apply_preset") {
+        const Material* preset = findLibraryMaterial(a[0]);
+        if (!preset) { fail(ui, line, "no preset called '" + a[0] + "'"); return true; }
+        int index = -1;
+        if (s.selection.kind == EntityKind::Material) index = s.selection.index;
+        else if (s.selection.kind == EntityKind::Object)
+            index = findEntity(s.scene, EntityKind::Material, s.scene.objects[size_t(s.selection.index)].material).index;
+        if (index < 0) { fail(ui, line, "no material is selected"); return true; }
+        std::string why;
+        if (!s.apply(makeApplyPreset(s, index, *preset), &why)) fail(ui, line, why);
+        markEdit();
+        return true;
+    }
+    if (op == "expect_material") {
+        const EntityRef ref = findEntity(s.scene, EntityKind::Object, a[0]);
+        if (!ref) { fail(ui, line, "no object called '" + a[0] + "'"); return true; }
+        const std::string& has = s.scene.objects[size_t(ref.index)].material;
+        if (has != a[1]) fail(ui, line, "object '" + a[0] + "' has material '" + has + "'");
+        return true;
+    }
+    if (op == "preview_lighting") {
+        if (a[0] != "scene" && a[0] != "studio") { fail(ui, line, "expected scene or studio"); return true; }
+        ui.preview->lighting = a[0] == "scene" ? PreviewLighting::Scene : PreviewLighting::Studio;
+        return true;
+    }
+    if (op == "wait_preview") {
+        // The inspector asks for the preview while it shows a material (this frame, before us).
+        // A selection made on this frame shows in the inspector from the next one.
+        if (!ui.preview->requested()) {
+            if (++m_previewMissing > 5) {
+                m_previewMissing = 0;
+                fail(ui, line, "the inspector shows no material (select a material, or an object with its material open)");
+                return true;
+            }
+            return false;
+        }
+        m_previewMissing = 0;
+        // The request this line sees must come from a frame after it started (an edit on the
+        // line before shows in the inspector, and so in the request, from the next frame).
+        if (m_previewLine != m_next) {
+            m_previewLine = m_next;
+            return false;
+        }
+        if (!ui.preview->error().empty()) { fail(ui, line, "the preview failed: " + ui.preview->error()); return true; }
+        const bool done = ui.preview->current() && ui.preview->samples() >= static_cast<int>(num(a[0]));
+        if (done) m_previewLine = static_cast<size_t>(-1);
+        return waitFor(ui, line, done, a.size() > 1 ? num(a[1]) : kScriptWaitSeconds, "the material preview did not converge");
+    }
+    if (op == "pick_file" || op == "expect_picker_lists") {
+        // The listing the inspector's "..." shows (asset_files.h) and the path a pick stores.
+        const bool env = a[0] == "environment";
+        const AssetKind kind = env ? AssetKind::EnvironmentMap : AssetKind::Texture;
+        if (!env && a[0] != "albedo_texture" && a[0] != "normal_texture" && a[0] != "roughness_texture") {
+            fail(ui, line, "unknown slot '" + a[0] + "'");
+            return true;
+        }
+        const std::string folder = sceneFolderOf(s.path);
+        const std::vector<AssetFile> files = listAssetFiles(kind, folder, assetsFolderFor(folder));
+        const AssetFile* found = nullptr;
+        for (const AssetFile& f : files)
+            if (f.display == a[1]) found = &f;
+        if (!found) { fail(ui, line, "the picker does not list '" + a[1] + "' (" + std::to_string(files.size()) + " files)"); return true; }
+        if (op == "expect_picker_lists") return true;
+        std::string why;
+        if (env) {
+            Environment e = s.scene.environment;
+            e.type = EnvironmentType::Map;
+            e.file = found->stored;
+            if (!s.apply(makeSetEnvironment(s, e), &why)) fail(ui, line, why);
+        } else {
+            if (s.selection.kind != EntityKind::Material) { fail(ui, line, "no material is selected"); return true; }
+            Material m = s.scene.materials[size_t(s.selection.index)];
+            (a[0] == "albedo_texture" ? m.albedoTexture : a[0] == "normal_texture" ? m.normalTexture : m.roughnessTexture) = found->stored;
+            if (!s.apply(makeSetMaterial(s, s.selection.index, m), &why)) fail(ui, line, why);
+        }
+        markEdit();
+        return true;
+    }
+    if (op == "set_focus") {
+        Camera c = s.scene.camera;
+        c.focalDistance = num(a[0]);
+        c.focusPoint.reset();
+        std::string why;
+        if (!s.apply(makeSetCamera(s, c), &why)) fail(ui, line, why);
+        markEdit();
+        m_waitFrames = 1;   // the overlay is drawn by the next frame's viewport
+        ++m_next;
+        return false;
+    }
+    if (op == "expect_focus_overlay") {
+        if (ui.focusOverlayCells < static_cast<int>(num(a[0])))
+            fail(ui, line, ui.focusOverlayCells < 0 ? std::string("the focus overlay is not shown")
+                                                    : "the focus overlay marks " + std::to_string(ui.focusOverlayCells) + " cells");
+        return true;
+    }
+    if (op == "expect_no_focus_overlay") {
+        if (ui.focusOverlayCells >= 0) fail(ui, line, "the focus overlay is shown");
+        return true;
+    }
+    if (op == "store_view") {
+        storeCameraView(ui, a[0]);
+        return true;
+    }
+    if (op == "recall_view") {
+        if (!recallCameraView(ui, a[0])) fail(ui, line, ui.lastMessage);
+        markEdit();
+        return true;
+    }
+    if (op == "expect_views") {
+        const std::size_t n = ui.views.of(s.path).size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + " views, have " + std::to_string(n));
+        return true;
+    }
+    if (op == "ui_scale") {   // View > UI scale (0: follow the monitor)
+        ui.uiScaleChoice = num(a[0]);
+        ui.resetLayout = true;   // as the menu does
+        return true;
+    }
+    if (op == "expect_font_size") {   // the UI's font size in pixels, within half a pixel
+        const float size = ImGui::GetFontSize();
+        if (std::abs(size - num(a[0])) > 0.5f) fail(ui, line, "the font size is " + std::to_string(size));
+        return true;
+    }
+    if (op == "show_help") {   // Help > Keyboard and mouse (screenshots)
+        ui.showShortcuts = a[0] == "on";
+        return true;
+    }
+    if (op == "record_sizes") {   // the viewport sizes the report lists start from here
+        m_sizes.clear();
+        return true;
+    }
+    if (op == "window_size") {   // as the user resizing the window
+        glfwSetWindowSize(ui.window, static_cast<int>(num(a[0])), static_cast<int>(num(a[1])));
+        m_waitFrames = 3;
+        ++m_next;
+        return false;
+    }
+    if (op == "idle") {   // on: idle pacing as for a person who stopped touching the mouse (benchmarks)
+        m_idle = a[0] == "on";
+        return true;
+    }
+    if (op == "keymap") {
+        if (a[0] != "default" && a[0] != "blender") { fail(ui, line, "expected default or blender"); return true; }
+        ui.keymap = a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;
+        return true;
+    }
+    if (op == "mouse_move" || op == "mouse_click") {
+        // Through ImGui's input queue, as GLFW's callbacks feed it.
+        ImGuiIO& io = ImGui::GetIO();
+        if (op == "mouse_move") {
+            ImVec2 p = io.MousePos;
+            const float* v = ui.viewportImage;
+            if (!ImGui::IsMousePosValid(&p) || p.x < v[0] || p.y < v[1] || p.x > v[0] + v[2] || p.y > v[1] + v[3])
+                p = ImVec2(v[0] + v[2] * 0.5f + 0.25f, v[1] + v[3] * 0.5f + 0.25f);
+            io.AddMousePosEvent(p.x + num(a[0]), p.y + num(a[1]));
+        } else {
+            const int button = a[0] == "right" ? ImGuiMouseButton_Right : ImGuiMouseButton_Left;
+            io.AddMouseButtonEvent(button, true);
+            io.AddMouseButtonEvent(button, false);
+        }
+        m_waitFrames = 2;
+        ++m_next;
+        return false;
+    }
+    if (op == "expect_hidden" || op == "expect_rendered_objects") {
+        const std::size_t n = op == "expect_hidden" ? ui.hidden.size()
+                              : ui.session.renderedObjects.empty() ? s.scene.objects.size() : ui.session.renderedObjects.size();
+        if (n != static_cast<std::size_t>(num(a[0]))) fail(ui, line, "expected " + a[0] + ", have " + std::to_string(n));
+        return true;
+    }
+    if (op == "expect_modal") {
+        if (ui.modal.active != (a[0] == "yes")) fail(ui, line, ui.modal.active ? "a transform is in progress" : "no transform is in progress");
+        return true;
+    }
+    if (op == "write_preview") {
+        std::string why;
+        if (!ui.preview->writeImage(resolve(a[0]), ui, &why)) fail(ui, line, why);
         return true;
     }
     if (op == "translate") {
@@ -292,6 +503,20 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
           << ",\n  \"frame_ms_median_during_open\": " << percentile(m_openFrameMs, 0.5)
           << ",\n  \"frame_ms_max_during_open\": " << percentile(m_openFrameMs, 1.0)
           << ",\n  \"open_seconds\": " << list(ui.meshImports->openSeconds())
+          << ",\n  \"viewport_sizes\": " << [&] {
+                 std::ostringstream o;
+                 o << "[";
+                 for (size_t i = 0; i < m_sizes.size(); ++i)
+                     o << (i ? ", " : "") << "[" << m_sizes[i][0] << ", " << m_sizes[i][1] << ", " << m_sizes[i][2] << ", "
+                       << m_sizes[i][3] << "]";
+                 o << "]";
+                 return o.str();
+             }()
+          << ",\n  \"viewport_resolution\": [" << ui.session.viewportResolution(s.scene).x << ", "
+          << ui.session.viewportResolution(s.scene).y << "]"
+          << ",\n  \"samples\": " << (ui.renderer ? ui.renderer->samplesDone() : 0)
+          << ",\n  \"render_elapsed_seconds\": " << ui.session.sampleRate.elapsedSeconds()
+          << ",\n  \"idle_pacing\": " << (m_idle ? "true" : "false")
           << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
         std::string error;
         if (!writeFileAtomically(resolve(a[0]), j.str(), &error)) fail(ui, line, error);
@@ -338,11 +563,25 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
     }
     if (op == "key") {   // through ImGui's input queue, as GLFW's key callback feeds it
         static const std::pair<const char*, ImGuiKey> keys[] = {
-            {"Delete", ImGuiKey_Delete}, {"F", ImGuiKey_F}, {"W", ImGuiKey_W}, {"E", ImGuiKey_E}, {"R", ImGuiKey_R}, {"F6", ImGuiKey_F6}};
-        const auto k = std::find_if(std::begin(keys), std::end(keys), [&](const auto& e) { return a[0] == e.first; });
-        if (k == std::end(keys)) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
-        ImGui::GetIO().AddKeyEvent(k->second, true);
-        ImGui::GetIO().AddKeyEvent(k->second, false);   // trickled: down next frame, up the one after
+            {"Delete", ImGuiKey_Delete}, {"F6", ImGuiKey_F6}, {"Escape", ImGuiKey_Escape}, {"Enter", ImGuiKey_Enter},
+            {"Numpad1", ImGuiKey_Keypad1}, {"Numpad3", ImGuiKey_Keypad3}, {"Numpad7", ImGuiKey_Keypad7}};
+        // Shift+, Ctrl+, Alt+ prefixes hold the modifier around the key.
+        std::string name = a[0];
+        std::vector<ImGuiKey> mods;
+        for (const auto& [prefix, mod] : {std::pair{"Shift+", ImGuiMod_Shift}, std::pair{"Ctrl+", ImGuiMod_Ctrl}, std::pair{"Alt+", ImGuiMod_Alt}})
+            if (name.rfind(prefix, 0) == 0) {
+                mods.push_back(mod);
+                name = name.substr(std::string(prefix).size());
+            }
+        ImGuiKey key = ImGuiKey_None;
+        if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (name[0] - 'A'));
+        for (const auto& [n, k] : keys)
+            if (name == n) key = k;
+        if (key == ImGuiKey_None) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
+        for (ImGuiKey m : mods) ImGui::GetIO().AddKeyEvent(m, true);
+        ImGui::GetIO().AddKeyEvent(key, true);
+        ImGui::GetIO().AddKeyEvent(key, false);   // trickled: down next frame, up the one after
+        for (ImGuiKey m : mods) ImGui::GetIO().AddKeyEvent(m, false);
         m_waitFrames = 2;
         ++m_next;
         markEdit();
@@ -532,6 +771,16 @@ void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
 
 void ScriptRunner::afterSwap(EditorUi& ui, double frameSeconds) {
     m_allFrameMs.push_back(frameSeconds * 1e3);
+    // The viewport's render size, divisor and samples, whenever one of the first two changes
+    // (`record_sizes` starts the list afresh): the refinement after an edit, panel resizes.
+    if (ui.session.sceneUploaded) {
+        const std::array<int, 4> now{ui.session.renderedSize.x, ui.session.renderedSize.y, ui.session.previewDivisor,
+                                     ui.renderer ? ui.renderer->samplesDone() : 0};
+        if (m_sizes.empty() || m_sizes.back()[0] != now[0] || m_sizes.back()[1] != now[1] || m_sizes.back()[2] != now[2])
+            m_sizes.push_back(now);
+        else
+            m_sizes.back()[3] = now[3];   // the samples the size reached before it changed
+    }
     if (ui.meshImports->pending()) {
         m_importFrameMs.push_back(frameSeconds * 1e3);
         if (ui.session.renderedThisFrame) ++m_importRenderingFrames;

@@ -6,6 +6,7 @@
 #include "editor/model/script.h"
 #include "editor/ui/frame_driver.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -21,7 +22,7 @@ public:
     void step(EditorUi& ui) override;                       // during the UI frame, before ImGui::Render
     void afterDraw(EditorUi& ui, int fbWidth, int fbHeight) override;   // the frame is drawn, not swapped
     void afterSwap(EditorUi& ui, double frameSeconds) override;
-    bool mayWaitForInput() const override { return false; }
+    bool mayWaitForInput() const override { return m_idle; }   // `idle on` (benchmarks)
     bool usesAutosave() const override { return m_autosave; }
     bool offersRecovery() const override;
     bool pressRecover() override { return std::exchange(m_pressRecover, false); }
@@ -39,10 +40,13 @@ private:
     std::vector<ScriptLine> m_lines;
     size_t m_next = 0;
     bool m_failed = false;
+    bool m_idle = false;            // `idle on`: the idle pacing of a session nobody touches
     bool m_autosave = false;        // `autosave on` (needs $CAUSTIC_EDITOR_HOME)
     bool m_outputSize = true;       // `viewport output` (the default) or `viewport panel`
     bool m_pressRecover = false;    // `recover`: the prompt's "Recover" button takes it next frame
     int m_waitFrames = 0;
+    int m_previewMissing = 0;
+    size_t m_previewLine = static_cast<size_t>(-1);   // wait_preview: the line that has waited a frame       // wait_preview: frames without a material in the inspector
     int m_dragStepsLeft = 0;
     std::uint64_t m_markedGeneration = 0;     // `mark`: accumulation's generation then (expect_restarted)
     bool m_renderStarted = false;
@@ -62,6 +66,7 @@ private:
     std::vector<double> m_overheadMs;         // rendering frames: all but the path tracing
     std::vector<double> m_editLatencyMs;      // edit -> end of the first frame showing it
     std::vector<int> m_samplesPerFrame;
+    std::vector<std::array<int, 4>> m_sizes;   // viewport: width, height, divisor, samples (report)
     double m_editTime = -1.0;
     bool m_editPending = false;
     // Mesh imports (import_mesh, wait_import): frames while an import was pending.

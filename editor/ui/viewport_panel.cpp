@@ -4,7 +4,9 @@
 // WASD/QE; frame the selection: F). Mouse and keys reach the viewport only when it is hovered
 // and ImGui has no text field active.
 #include "editor/model/viewport_math.h"
+#include "editor/model/focus_overlay.h"
 #include "editor/model/keymap.h"
+#include "editor/model/modal_transform.h"
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
 
@@ -18,6 +20,8 @@
 #include <algorithm>
 #include <optional>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 
 namespace caustic::editor {
 namespace {
@@ -122,6 +126,186 @@ void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         }
     }
     dl->PopClipRect();
+}
+
+// With several objects selected, each one's bounding box over the image (the active one
+// brighter), so a Ctrl+click's effect shows where it was made.
+void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    const std::vector<int> selected = ui.state.selectedObjects();
+    if (selected.size() < 2) return;
+    const Scene& scene = ui.state.scene;
+    const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
+                               viewMatrix(scene.camera);
+    const MeshBoundsLookup meshBounds = meshBoundsLookup(ui);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    for (int i : selected) {
+        // The object's own box under its transform (a turned box is outlined turned): the
+        // canonical shape's [-1, 1]^3 (a quad's z = 0), a mesh's imported bounds.
+        const Object& o = scene.objects[size_t(i)];
+        std::pair<glm::vec3, glm::vec3> local{glm::vec3(-1.0f), glm::vec3(1.0f)};
+        if (o.shape == Shape::Quad) local.first.z = local.second.z = 0.0f;
+        if (o.shape == Shape::Mesh) {
+            const auto mb = meshBounds ? meshBounds(o) : std::nullopt;
+            if (!mb) continue;
+            local = *mb;
+        }
+        const glm::mat4 toWorld = o.transform.toMatrix();
+        const bool active = ui.state.selection == EntityRef{EntityKind::Object, i};
+        const ImU32 colour = active ? IM_COL32(255, 150, 40, 255) : IM_COL32(255, 150, 40, 150);
+        glm::vec3 corner[8];
+        for (int k = 0; k < 8; ++k)
+            corner[k] = glm::vec3(toWorld * glm::vec4((k & 1) ? local.second.x : local.first.x, (k & 2) ? local.second.y : local.first.y,
+                                                      (k & 4) ? local.second.z : local.first.z, 1.0f));
+        for (int k = 0; k < 8; ++k)
+            for (int bit : {1, 2, 4}) {
+                if (k & bit) continue;
+                const glm::vec4 a = viewProj * glm::vec4(corner[k], 1.0f), c = viewProj * glm::vec4(corner[k | bit], 1.0f);
+                if (a.w <= 1e-6f || c.w <= 1e-6f) continue;   // behind the camera
+                auto screen = [&](const glm::vec4& v) {
+                    return ImVec2(pos.x + (v.x / v.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - v.y / v.w * 0.5f) * size.y);
+                };
+                dl->AddLine(screen(a), screen(c), colour, active ? 2.0f : 1.0f);
+            }
+    }
+    dl->PopClipRect();
+}
+
+// The focus-plane overlay: for 1.5 s after any edit of the focus (the inspector's fields, the
+// f-stop, Shift+click, an undo), the parts of the scene on the plane of focus are tinted, found
+// by CPU ray casts on a grid (focus_overlay.h), with the distance written beside them.
+void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    static Camera s_last;
+    static std::uint64_t s_generation = ~std::uint64_t(0);
+    const Scene& scene = ui.state.scene;
+    const double t = ImGui::GetTime();
+    if (s_generation == ui.state.generation() && focusEdited(s_last, scene.camera)) ui.focusOverlayUntil = t + 1.5;
+    s_last = scene.camera;
+    s_generation = ui.state.generation();
+    if (t > ui.focusOverlayUntil) {
+        ui.focusOverlayCells = -1;
+        return;
+    }
+    const int cols = 96, rows = std::max(1, int(std::lround(96.0f * size.y / std::max(1.0f, size.x))));
+    std::function<std::optional<float>(const Ray&)> meshHit;
+    if (ui.renderer) {
+        const CompiledScene& c = ui.renderer->compiled();
+        meshHit = [&c](const Ray& r) -> std::optional<float> {
+            const RayHit h = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{r.origin, r.direction});
+            return h.hit() ? std::optional<float>(h.t) : std::nullopt;
+        };
+    }
+    const std::vector<FocusCell> cells = inFocusCells(scene, cols, rows, 0.02f, meshHit);
+    ui.focusOverlayCells = int(cells.size());
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    const float cw = size.x / float(cols), ch = size.y / float(rows);
+    for (const FocusCell& c : cells) {
+        const ImVec2 a(pos.x + float(c.x) * cw, pos.y + float(c.y) * ch);
+        dl->AddRectFilled(a, ImVec2(a.x + cw, a.y + ch), IM_COL32(60, 255, 120, 90));
+    }
+    const double aspect = double(scene.render.width) / double(scene.render.height);
+    char text[96];
+    std::snprintf(text, sizeof text, "plane of focus: %.3g (green: in focus)", focusDistance(scene.camera, aspect));
+    dl->AddText(ImVec2(pos.x + 6.0f, pos.y + 22.0f), IM_COL32(60, 255, 120, 255), text);
+    dl->PopClipRect();
+}
+
+// ---- The Blender key map's modal transforms (modal_transform.h) ----------------------------------
+
+void startModal(EditorUi& ui, ModalKind kind, ImVec2 pos, ImVec2 size) {
+    EditorState& s = ui.state;
+    EditorUi::Modal m;
+    m.ref = s.selection;
+    if (s.selection.kind == EntityKind::Object) {
+        m.start.transform = s.scene.objects[size_t(s.selection.index)].transform;
+    } else if (s.selection.kind == EntityKind::Light) {
+        m.light = s.scene.lights[size_t(s.selection.index)];
+        m.start.transform = Transform{};
+        m.start.transform.matrix = lightGizmoMatrix(m.light);
+    } else {
+        notify(ui, "select an object or a light first", true);
+        return;
+    }
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    m.start.kind = kind;
+    m.start.mouse = {mouse.x - pos.x, mouse.y - pos.y};
+    m.start.viewport = {size.x, size.y};
+    m.start.camera = s.scene.camera;
+    m.start.width = s.scene.render.width;
+    m.start.height = s.scene.render.height;
+    m.active = true;
+    s.seal();
+    m.undoAtStart = s.history.undoCount();
+    ui.modal = m;
+}
+
+void endModal(EditorUi& ui, bool confirm) {
+    EditorState& s = ui.state;
+    s.seal();
+    if (!confirm && ui.modal.applied) {
+        s.undo();                  // back to where it started, and no redo step left behind
+        s.history.discardRedo();
+    }
+    ui.modal.active = false;
+    notify(ui, confirm ? (ui.modal.applied ? "transformed" : "nothing changed") : "transform cancelled");
+}
+
+void modalStep(EditorUi& ui, ImVec2 pos) {
+    EditorUi::Modal& m = ui.modal;
+    EditorState& s = ui.state;
+    if (!(s.selection == m.ref)) {   // the entity went (an undo, a delete): nothing to transform
+        m.active = false;
+        return;
+    }
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const Transform t = modalTransform(m.start, m.axis, {mouse.x - pos.x, mouse.y - pos.y});
+    std::string why;
+    bool ok = true;
+    if (m.ref.kind == EntityKind::Object) {
+        Object o = s.scene.objects[size_t(m.ref.index)];
+        if (o.transform == t) return;
+        o.transform = t;
+        ok = s.applyContinuous(makeSetObject(s, m.ref.index, o), &why);
+    } else {
+        const Light l = lightFromGizmo(m.light, t.toMatrix());
+        if (l == s.scene.lights[size_t(m.ref.index)]) return;
+        ok = s.applyContinuous(makeSetLight(s, m.ref.index, l), &why);
+    }
+    if (!ok) notify(ui, why, true);
+    m.applied = s.history.undoCount() > m.undoAtStart;
+}
+
+// The modal transform's keys and clicks (KeyScope::Modal): X Y Z, Enter / left click, Esc / right click.
+void modalInput(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    for (const KeyBinding& b : keyBindings(ui.keymap)) {
+        if (b.scope != KeyScope::Modal || !chordPressed(b.chord)) continue;
+        auto toggle = [&](ModalAxis a) { ui.modal.axis = ui.modal.axis == a ? ModalAxis::Free : a; };
+        switch (b.action) {
+            case Action::ConstrainX: toggle(ModalAxis::X); break;
+            case Action::ConstrainY: toggle(ModalAxis::Y); break;
+            case Action::ConstrainZ: toggle(ModalAxis::Z); break;
+            case Action::ModalConfirm: modalStep(ui, pos); endModal(ui, true); return;
+            case Action::ModalCancel: endModal(ui, false); return;
+            default: break;
+        }
+    }
+    if (ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+        endModal(ui, false);
+        return;
+    }
+    modalStep(ui, pos);
+    if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+        endModal(ui, true);
+        return;
+    }
+    static const char* const kinds[] = {"Grab", "Rotate", "Scale"};
+    static const char* const axes[] = {"free", "x axis", "y axis", "z axis"};
+    char text[128];
+    std::snprintf(text, sizeof text, "%s (%s): X Y Z constrain, click or Enter confirms, Esc or right click cancels",
+                  kinds[int(ui.modal.start.kind)], axes[int(ui.modal.axis)]);
+    ImGui::GetWindowDrawList()->AddText(ImVec2(pos.x + 6.0f, pos.y + 40.0f), IM_COL32(255, 220, 120, 255), text);
+    (void)size;
 }
 
 void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
@@ -273,23 +457,45 @@ void drawViewportPanel(EditorUi& ui) {
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
 
     drawLightOutlines(ui, pos, size);
-    drawGizmo(ui, pos, size);
+    drawSelectedBounds(ui, pos, size);
+    drawFocusOverlay(ui, pos, size);
+    if (!ui.modal.active) drawGizmo(ui, pos, size);   // G / R / S drive the selection meanwhile
 
     ImGuiIO& io = ImGui::GetIO();
+    ui.viewportImage[0] = pos.x;
+    ui.viewportImage[1] = pos.y;
+    ui.viewportImage[2] = size.x;
+    ui.viewportImage[3] = size.y;
+    if (ui.modal.active) {
+        // G / R / S: the mouse drives the transform; nothing else takes clicks meanwhile.
+        modalInput(ui, pos, size);
+        ImGui::End();
+        return;
+    }
     const bool gizmoBusy = ImGuizmo::IsOver() || ImGuizmo::IsUsing();
     // Clicks (not drags) select what is under the cursor; Shift+click focuses the lens there.
-    if (hovered && !gizmoBusy && !io.KeyAlt && !io.KeyCtrl && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+    // Ctrl+click adds an object to the selection or takes it out (not with compare on, where
+    // Ctrl+drag moves the divider).
+    if (hovered && !gizmoBusy && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
         const Ray ray = cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel);
-        std::optional<PickHit> hit = pick(ui.state.scene, ray);
+        // Hidden objects (H) cannot be picked: the scene without them, indices mapped back.
+        std::vector<int> shown;
+        std::optional<PickHit> hit = ui.hidden.empty() ? pick(ui.state.scene, ray)
+                                                       : pick(withoutHidden(ui.state.scene, ui.hidden, &shown), ray);
+        if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
         // Meshes: the renderer's own CPU copy of their BVHs (the canonical shapes know no
-        // triangles).
+        // triangles), whose objects are the renderer's (session.renderedObjects maps them).
         if (ui.renderer) {
             const CompiledScene& c = ui.renderer->compiled();
             const RayHit mh = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{ray.origin, ray.direction});
-            if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance))
-                hit = PickHit{{EntityKind::Object, static_cast<int>(c.instanceObject[mh.instance])}, mh.t};
+            if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance)) {
+                int object = static_cast<int>(c.instanceObject[mh.instance]);
+                const std::vector<int>& map = ui.session.renderedObjects;
+                if (!map.empty()) object = object < int(map.size()) ? map[size_t(object)] : -1;
+                if (object >= 0) hit = PickHit{{EntityKind::Object, object}, mh.t};
+            }
         }
         if (io.KeyShift) {
             if (hit) {
@@ -297,8 +503,10 @@ void drawViewportPanel(EditorUi& ui) {
                 cam.focusPoint = ray.origin + hit->distance * ray.direction;
                 ui.state.apply(makeSetCamera(ui.state, cam));
             }
+        } else if (io.KeyCtrl) {
+            if (hit) ui.state.select(hit->ref, EditorState::SelectMode::Toggle);
         } else {
-            ui.state.selection = hit ? hit->ref : EntityRef{};
+            ui.state.select(hit ? hit->ref : EntityRef{});
         }
     }
     if (hovered && !gizmoBusy) navigate(ui, size);
@@ -307,11 +515,39 @@ void drawViewportPanel(EditorUi& ui) {
         ui.state.seal();
         ui.navigating = false;
     }
-    if ((hovered || ImGui::IsWindowFocused()) && !io.WantTextInput && !ImGui::IsMouseDown(ImGuiMouseButton_Right) && !io.KeyCtrl) {
-        // The viewport's keys (editor/model/keymap.h, scope Viewport).
-        for (const KeyBinding& b : keyBindings()) {
+    if ((hovered || ImGui::IsWindowFocused()) && !io.WantTextInput && !ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
+        // The viewport's keys (editor/model/keymap.h, scope Viewport; chords match their
+        // modifiers exactly).
+        EditorState& s = ui.state;
+        auto view = [&](glm::vec3 from) { s.apply(makeSetCamera(s, axisView(s.scene.camera, from))); };
+        for (const KeyBinding& b : keyBindings(ui.keymap)) {
             if (b.scope != KeyScope::Viewport || !chordPressed(b.chord)) continue;
             switch (b.action) {
+                case Action::ModalGrab: startModal(ui, ModalKind::Grab, pos, size); break;
+                case Action::ModalRotate: startModal(ui, ModalKind::Rotate, pos, size); break;
+                case Action::ModalScale: startModal(ui, ModalKind::Scale, pos, size); break;
+                case Action::DuplicateMove: {
+                    std::string why;
+                    if (!s.selection || s.selection.index < 0) break;
+                    if (auto c = makeDuplicate(s, s.selection, &why); c && s.apply(std::move(c), &why))
+                        startModal(ui, ModalKind::Grab, pos, size);   // the copy is selected
+                    else notify(ui, why, true);
+                    break;
+                }
+                case Action::Hide:
+                    for (int i : s.selectedObjects()) {
+                        const std::string& name = s.scene.objects[size_t(i)].name;
+                        if (std::find(ui.hidden.begin(), ui.hidden.end(), name) == ui.hidden.end()) ui.hidden.push_back(name);
+                    }
+                    if (!s.selectedObjects().empty()) s.select({});
+                    break;
+                case Action::UnhideAll: ui.hidden.clear(); break;
+                case Action::ViewFront: view({0.0f, 0.0f, 1.0f}); break;
+                case Action::ViewBack: view({0.0f, 0.0f, -1.0f}); break;
+                case Action::ViewRight: view({1.0f, 0.0f, 0.0f}); break;
+                case Action::ViewLeft: view({-1.0f, 0.0f, 0.0f}); break;
+                case Action::ViewTop: view({0.0f, 1.0f, 0.0f}); break;
+                case Action::ViewBottom: view({0.0f, -1.0f, 0.0f}); break;
                 case Action::FrameSelection: frameSelection(ui); break;
                 case Action::GizmoTranslate: ui.gizmoOp = GizmoOp::Translate; break;
                 case Action::GizmoRotate: ui.gizmoOp = GizmoOp::Rotate; break;

@@ -5,11 +5,18 @@ translate, an orbit, each followed by rendering) and prints the script's report:
 while rendering (median, p95, max), all frames, and the time from each edit to the first frame
 that shows it. Figures go to docs/performance.md with the machine and its load.
 
-    tests/editor/editor_bench.py [--size N] [--scene FILE] [--bin build/caustic]
+With --converge N it measures convergence instead (issue 15): an idle editor (`idle on`: the
+pacing of a session nobody touches, which gives the path tracer 250 ms a frame) renders the scene
+to N spp at its output resolution, and batch mode (`caustic --scene ... --samples N`) renders the
+same; it prints both render times (the editor's from the render's start to N spp, batch mode's
+"N spp in X s", neither counting start-up) and their ratio (the goal: within 1.5x).
+
+    tests/editor/editor_bench.py [--size N] [--scene FILE] [--bin build/caustic] [--converge N]
 """
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -31,16 +38,27 @@ quit
 """
 
 
+CONVERGE_SCRIPT = """
+idle on
+wait_samples {n}
+report report.json
+quit
+"""
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.json"))
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "caustic"))
+    ap.add_argument("--converge", type=int, default=0, help="compare an idle editor's time to N spp with batch mode's")
     args = ap.parse_args()
     with open(args.scene) as f:
         scene = json.load(f)
     scene.setdefault("render", {})["width"] = args.size
     scene["render"]["height"] = args.size
+    if args.converge:
+        scene["render"]["samples"] = args.converge
     with tempfile.TemporaryDirectory(prefix="caustic-editor-bench-") as tmp:
         # Relative file names in the scene stay valid: write the copy beside the original.
         scene_file = os.path.join(os.path.dirname(os.path.abspath(args.scene)), f".editor-bench-{os.getpid()}.json")
@@ -48,17 +66,35 @@ def main():
             json.dump(scene, f)
         script = os.path.join(tmp, "script.txt")
         with open(script, "w") as f:
-            f.write(SCRIPT)
+            f.write(CONVERGE_SCRIPT.format(n=args.converge) if args.converge else SCRIPT)
         env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"))
+        batch = None
         try:
             run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", args.bin, scene_file],
-                                 env=env, capture_output=True, text=True, timeout=900)
+                                 env=env, capture_output=True, text=True, timeout=3600)
+            if args.converge:
+                batch = subprocess.run([args.bin, "--scene", scene_file, "--samples", str(args.converge),
+                                        "--output", os.path.join(tmp, "batch")],
+                                       env=dict(os.environ), capture_output=True, text=True, timeout=3600)
         finally:
             os.remove(scene_file)
         if run.returncode != 0:
             sys.exit(f"editor_bench: the editor failed ({run.returncode}):\n{run.stderr[-2000:]}")
         with open(os.path.join(tmp, "report.json")) as f:
             report = json.load(f)
+    if args.converge:
+        if batch.returncode != 0:
+            sys.exit(f"editor_bench: batch mode failed ({batch.returncode}):\n{batch.stderr[-2000:]}")
+        m = re.search(r"(\d+) spp in ([0-9.]+) s", batch.stderr)
+        if not m:
+            sys.exit("editor_bench: no 'N spp in X s' in batch mode's output:\n" + batch.stderr[-2000:])
+        editor_s, batch_s = report["render_elapsed_seconds"], float(m.group(2))
+        print(f"scene {os.path.basename(args.scene)} at {report['width']} x {report['height']}, {args.converge} spp")
+        print(f"editor (idle, {report['samples']} spp)  {editor_s:.2f} s")
+        print(f"batch ({m.group(1)} spp)          {batch_s:.2f} s")
+        print(f"editor / batch          {editor_s / batch_s:.2f}x (goal: 1.5x or less)")
+        print(f"load average            {os.getloadavg()[0]:.2f}")
+        return
     keys = ["width", "height", "rendering_frames", "frame_ms_median", "frame_ms_p95", "frame_ms_max",
             "all_frames_ms_median", "frame_overhead_ms_median", "samples_per_frame_mean", "edit_to_frame_ms_median", "edit_to_frame_ms"]
     for k in keys:

@@ -210,7 +210,9 @@ TEST_CASE("the frame pacer turns measured speed into a preview size", "[editor]"
     CHECK(p.previewDivisor(16 * 65536, 0.025) == 1);   // nothing measured yet
     p.record(2, 65536, 0.02);                     // 10 ms per sample at 256x256
     CHECK(p.previewDivisor(65536, 0.025) == 1);
-    CHECK(p.previewDivisor(16 * 65536, 0.025) == 3);   // 160 ms / 9 < 25 ms
+    CHECK(p.previewDivisor(16 * 65536, 0.025) == 4);   // 160 ms / 16 < 25 ms (a power of two: 3 would do)
+    CHECK(p.previewDivisor(4 * 65536, 0.025) == 2);    // 40 ms / 4 < 25 ms
+    CHECK(p.previewDivisor(1000 * 65536, 0.025) == 8); // at most 8
     p.record(1, 65536, 0.1);   // the scene became heavier: the estimate follows quickly
     CHECK(p.secondsPerSample(65536) > 0.05);
 }
