@@ -2,6 +2,7 @@
 
 #include "renderer/gpu_materials.h"
 #include "renderer/mesh_import.h"
+#include "renderer/scene_schema.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
@@ -185,6 +186,7 @@ struct Builder {
         if (primitive >= 0) {
             out.primitives[primitive].info.z = static_cast<std::uint32_t>(out.lights.size() + 1);
             l.info.z = static_cast<std::uint32_t>(primitive);
+            if (out.materials[out.primitives[primitive].info.y].textures.w != 0u) l.info.y |= LIGHT_FLAG_EMISSION_TEXTURE;
         }
         out.lights.push_back(l);
         out.lightPower.push_back(power);
@@ -292,6 +294,12 @@ struct Builder {
                      &g.textures.x) ||
             !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
             !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
+            return false;
+        const std::string emissionExt = std::filesystem::path(m.emissionTexture).extension().string();
+        const bool emissionHdr = emissionExt == ".hdr" || emissionExt == ".exr" || emissionExt == ".HDR" ||
+                                 emissionExt == ".EXR" || emissionExt == ".pfm";
+        if (!texture(m.emissionTexture, "emission_texture", emissionHdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
+                     &g.textures.w))
             return false;
         return true;
     }
@@ -445,8 +453,16 @@ struct Builder {
             meshMappingWarnings[blas].clear();  // once per file
         }
         gi.info = glm::uvec4(0, 0, fromFile ? meshMaterialBase[blas] : material, 0);  // offsets: finishGeometry
+        // Whether traversal must test the mesh's hits against an alpha mask (geometry/alpha_mask.glsl).
+        bool masked = false;
+        if (fromFile) {
+            for (size_t k = 0; k < meshMaterials[blas].size(); ++k)
+                masked = masked || (out.materials[meshMaterialBase[blas] + k].info.y & MAT_FLAG_ALPHA_MASK) != 0u;
+        } else {
+            masked = (out.materials[material].info.y & MAT_FLAG_ALPHA_MASK) != 0u;
+        }
         gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u,
-                              twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER);
+                              (twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER) | (masked ? PRIM_FLAG_ALPHA_MASK : 0u));
         out.instances.push_back(gi);
         const Aabb local = out.meshBvh.blases[blas].bvh.nodes.front().bounds();
         for (int c = 0; c < 8; ++c) {
@@ -510,7 +526,14 @@ struct Builder {
             const auto instance = static_cast<std::uint32_t>(out.instances.size() - 1);
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
             l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
-            l.info = glm::uvec4(LIGHT_MESH, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, instance, cdfOffset);
+            bool textured = false;  // some emitting triangle's material has an emission texture
+            for (std::uint32_t k = 0; k < b.triangles.size() && !textured; ++k) {
+                if (!(areas[k] > 0.0)) continue;
+                const std::uint32_t mat = fromFile ? meshMaterialBase[blas] + meshSlots[blas][meshBlas.triangleIds[k]] : material;
+                textured = out.materials[mat].textures.w != 0u;
+            }
+            l.info = glm::uvec4(LIGHT_MESH, (twoSided ? LIGHT_FLAG_TWO_SIDED : 0u) | (textured ? LIGHT_FLAG_EMISSION_TEXTURE : 0u),
+                                instance, cdfOffset);
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
             out.lightPower.push_back(static_cast<float>((twoSided ? 2.0 : 1.0) * std::numbers::pi * power));
@@ -660,6 +683,9 @@ struct Builder {
                 out.materials.push_back(copy);
                 mat = static_cast<std::uint32_t>(out.materials.size() - 1);
             }
+            if (o.shape != Shape::Mesh && it->alphaMode == AlphaMode::Mask)
+                out.warnings.push_back(where + ": material '" + it->name + "' has alpha_mode 'mask', which only "
+                                       "meshes honour: this " + std::string(enumName(o.shape)) + " is opaque");
             const bool emissive = glm::any(glm::greaterThan(emission, glm::vec3(0.0f)));
             const std::uint32_t primFlags = emissive && !twoSided ? PRIM_FLAG_ONE_SIDED_EMITTER : 0u;
             glm::mat4 m = o.transform.toMatrix();

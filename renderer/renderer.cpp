@@ -52,11 +52,13 @@ std::string glErrorsSince() {
 // light selection present, the traversal the scene gets, whether it has one light only.
 ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c) {
     std::uint32_t materials = 0, lights = 0, shapes = 0;
-    bool textures = false;
+    bool textures = false, alphaMask = false, emissionTextures = false;
     for (const gpu::GpuMaterial& m : c.materials) {
         materials |= 1u << (m.info.x & 31u);
-        textures = textures || m.textures.x != 0 || m.textures.y != 0 || m.textures.z != 0;
+        textures = textures || m.textures != glm::uvec4(0u);
+        emissionTextures = emissionTextures || m.textures.w != 0u;
     }
+    for (const gpu::GpuInstance& inst : c.instances) alphaMask = alphaMask || (inst.info2.w & PRIM_FLAG_ALPHA_MASK) != 0u;
     for (const gpu::GpuLight& l : c.lights) lights |= 1u << (l.info.x & 31u);
     for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
     if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
@@ -74,6 +76,8 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c)
             {"CAUSTIC_SAMPLERS", hex(1u << (frame.sampling.x & 31u))},
             {"CAUSTIC_LIGHT_SELECTIONS", hex(1u << (frame.sampling.y & 31u))},
             {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
+            {"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"},
+            {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
 }

@@ -459,7 +459,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
          "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor, surface)"},
         {"unknown material key", scene(R"("materials": [{"name": "w", "roughness": 0.5}])"),
          "materials[0].roughness", "unknown key for a 'diffuse' material (allowed: name, type, albedo, emission, albedo_texture, normal_texture, "
-         "normal_scale, roughness_texture)"},
+         "normal_scale, roughness_texture, emission_texture, alpha_mode)"},
         {"eta on a preset metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "gold", "eta": [1, 1, 1]}])"),
          "materials[0].eta", "only a 'custom' metal takes eta and k (this one is 'gold')"},
         {"unknown metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "brass"}])"),
