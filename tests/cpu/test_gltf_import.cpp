@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -177,4 +178,120 @@ TEST_CASE("broken embedded images and broken glTF JSON are reported by name, not
     CHECK_FALSE(readGltfInfo((dir / "cut.glb").string(), &info, &error));
     CHECK(error.find("cut.glb") != std::string::npos);
     fs::remove_all(dir);
+}
+
+TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the file says", "[cpu][mesh][gltf]") {
+    for (const char* name : {"leaf.gltf", "leaf.glb"}) {
+        INFO(name);
+        const std::string path = (kData / name).string();
+        const MeshImportResult r = importMeshFile(path);
+        REQUIRE(r.ok());
+        INFO(joined(r.warnings));
+        CHECK(joined(r.warnings).find("alphaMode") == std::string::npos);  // MASK is not an approximation
+        REQUIRE(r.materials.size() >= 1);
+        const ImportedMaterial& m = r.materials[0];
+        CHECK(m.alphaMode == 1);
+        CHECK(m.alphaCutoff == Approx(0.4f));
+        CHECK(m.opacity == Approx(0.8f));
+        // The RGBA texture keeps its alpha: 1 in columns 0, 1, 4, 5, 0 in the others.
+        const FileTextures files{path, &r.embedded, m.wrap};
+        ImageData base;
+        std::string error;
+        REQUIRE(readTextureImage(ImageReader{}, &files, m.baseColorTexture, &base, &error));
+        REQUIRE(base.channels == 4);
+        for (int x = 0; x < 8; ++x) CHECK(base.pixels[size_t(4 * x + 3)] == (x % 4 < 2 ? 1.0f : 0.0f));
+        // Mapped: a mask whose cutoff has the factor's alpha folded in (alpha x 0.8 < 0.4).
+        std::vector<std::string> unmapped;
+        const Material s = mapImportedMaterial(m, &unmapped);
+        CHECK(s.alphaMode == AlphaMode::Mask);
+        CHECK(s.alphaCutoff == Approx(0.5f));
+        CHECK(unmapped.empty());
+        // Compiled: the flag, the cutoff's bits, the albedo texture in RGBA, and the instance flag.
+        Scene scene;
+        Object o;
+        o.shape = Shape::Mesh;
+        o.file = path;
+        scene.objects.push_back(o);
+        CompiledScene c;
+        REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+        REQUIRE(c.materials.size() >= 1);
+        CHECK((c.materials[0].info.y & MAT_FLAG_ALPHA_MASK) != 0u);
+        CHECK(std::bit_cast<float>(c.materials[0].info.z) == 0.5f);
+        CHECK(c.materials[0].textures.x != 0u);
+        REQUIRE(c.instances.size() == 1);
+        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) != 0u);
+    }
+    for (const char* name : {"glow.gltf", "glow.glb"}) {
+        INFO(name);
+        const std::string path = (kData / name).string();
+        const MeshImportResult r = importMeshFile(path);
+        REQUIRE(r.ok());
+        REQUIRE(r.materials.size() >= 1);
+        const ImportedMaterial& m = r.materials[0];
+        CHECK(m.emission == glm::vec3(3.0f, 1.5f, 0.75f));  // emissiveFactor x emissive strength 3
+        REQUIRE(m.emissionTexture.size() > 1);
+        CHECK(m.emissionTexture[0] == '*');
+        CHECK(m.textureWrap(TextureSlot::Emission, 0) == kWrapClamp);
+        std::vector<std::string> unmapped;
+        const Material s = mapImportedMaterial(m, &unmapped);
+        CHECK(s.emissionTexture == m.emissionTexture);
+        CHECK(s.emission == m.emission);
+        CHECK(unmapped.empty());
+        Scene scene;
+        Object o;
+        o.shape = Shape::Mesh;
+        o.file = path;
+        scene.objects.push_back(o);
+        CompiledScene c;
+        std::string error;
+        REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+        REQUIRE(c.materials.size() >= 1);
+        REQUIRE(c.materials[0].textures.w != 0u);
+        const gpu::GpuTexture& t = c.textures[c.materials[0].textures.w - 1];
+        CHECK(t.info.y == 2u);
+        CHECK(((t.info.w >> 8) & 3u) == TEXTURE_WRAP_CLAMP);
+        REQUIRE(c.lights.size() == 1);
+        CHECK(c.lights[0].info.x == LIGHT_MESH);
+        CHECK((c.lights[0].info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u);
+        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) == 0u);
+    }
+}
+
+TEST_CASE("glTF alpha BLEND is a mask, reported once per file; a mask on an analytic shape is reported",
+          "[cpu][mesh][gltf]") {
+    const fs::path dir = fs::temp_directory_path() / ("caustic-gltf-blend-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::string text = bytesOf(kData / "leaf.gltf");
+    const size_t at = text.find("\"MASK\"");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, 6, "\"BLEND\"");
+    std::ofstream(dir / "blend.gltf") << text;
+    const MeshImportResult r = importMeshFile((dir / "blend.gltf").string());
+    REQUIRE(r.ok());
+    const std::string warnings = joined(r.warnings);
+    INFO(warnings);
+    CHECK(count(warnings, "alphaMode BLEND is rendered as MASK") == 1);
+    CHECK(warnings.find("blend.gltf") != std::string::npos);
+    REQUIRE(r.materials.size() >= 1);
+    CHECK(r.materials[0].alphaMode == 2);
+    CHECK(r.materials[0].alphaCutoff == 0.5f);  // the file's alphaCutoff 0.4 is MASK's alone
+    std::vector<std::string> unmapped;
+    const Material s = mapImportedMaterial(r.materials[0], &unmapped);
+    CHECK(s.alphaMode == AlphaMode::Mask);
+    CHECK(s.alphaCutoff == Approx(0.625f));  // 0.5 / the factor's alpha 0.8
+    fs::remove_all(dir);
+
+    Scene scene;
+    Material m;
+    m.name = "cut";
+    m.alphaMode = AlphaMode::Mask;
+    scene.materials.push_back(m);
+    Object quad;
+    quad.shape = Shape::Quad;
+    quad.material = "cut";
+    scene.objects.push_back(quad);
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+    CHECK(count(joined(c.warnings), "objects[0]: material 'cut' has alpha_mode 'mask', which only meshes honour") == 1);
 }
