@@ -205,7 +205,8 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
     if (in.alphaMode != 0) {
         m.alphaMode = AlphaMode::Mask;
         const float factor = std::clamp(in.opacity, 0.0f, 1.0f);
-        m.alphaCutoff = factor > 0.0f ? std::max(in.alphaCutoff, 0.0f) / factor : 2.0f;  // 2: every point (alpha <= 1)
+        // Above 1 every point is cut (alpha <= 1): 2 stands for that, and keeps a tiny factor finite.
+        m.alphaCutoff = factor > 0.0f ? std::min(std::max(in.alphaCutoff, 0.0f) / factor, 2.0f) : 2.0f;
     } else if (in.opacity < 1.0f) {
         unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
     }

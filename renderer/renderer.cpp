@@ -335,7 +335,9 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
                                          compiled.bvhNodes.data());
             }
             if (dirty & kDirtyMaterials) {
-                // Emission lives in the lights too (radiance, selection probabilities).
+                // Emission lives in the lights too (radiance, selection probabilities), and an
+                // alpha mask in the instances' flags (PRIM_FLAG_ALPHA_MASK).
+                uploadBuffer(m_geometry[2], compiled.instances);
                 uploadBuffer(m_lights, compiled.lights);
                 uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));

@@ -15,6 +15,7 @@
 //     scene material's emission_texture on a quad and a sphere (rect and sphere lights).
 #include "tests/gpu/gl_fixture.h"
 
+#include "renderer/dirty.h"
 #include "renderer/gpu_scene.h"
 
 #include <catch2/catch.hpp>
@@ -144,6 +145,45 @@ TEST_CASE("alpha cut-outs: camera rays pass where a glTF MASK leaf's alpha is be
     const Film solid = test::renderFilm(*renderer, opaque, 2);
     CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_ALPHA_MASK") == "0u");
     for (const glm::vec3& m : solid.mean) REQUIRE(m == glm::vec3(0.0f));
+}
+
+TEST_CASE("alpha cut-outs: a scene material's alpha_mode on a mesh, switched on by a material edit",
+          "[gpu][gltf][alpha]") {
+    // The leaf's mesh (its UVs carry the file's texture transform) with a scene material whose
+    // albedo texture is generated: the file's stripes of alpha 1 and 0, black. Opaque first; then
+    // Renderer::update with the material edit alone (what the editor sends) must cut the holes.
+    auto renderer = test::makeRenderer();
+    renderer->setImageReader([](const std::string& path, ImageData* out, std::string* error) {
+        if (fs::path(path).filename() != "stripes.png") {
+            *error = path + ": no such generated image";
+            return false;
+        }
+        out->width = out->height = 8;
+        out->channels = 4;
+        out->pixels.clear();
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) out->pixels.insert(out->pixels.end(), {0.0f, 0.0f, 0.0f, x % 4 < 2 ? 1.0f : 0.0f});
+        return true;
+    });
+    Scene s = facingScene(kData / "leaf.glb");
+    Material cut{"cut", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(0.0f)};
+    cut.albedoTexture = "stripes.png";
+    s.materials.push_back(cut);
+    s.objects[0].material = "cut";
+    const Film opaque = test::renderFilm(*renderer, s, 2);
+    for (const glm::vec3& m : opaque.mean) REQUIRE(m == glm::vec3(0.0f));
+    s.materials[0].alphaMode = AlphaMode::Mask;
+    std::string error;
+    REQUIRE(renderer->update(s, kDirtyMaterials, &error));
+    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_ALPHA_MASK") == "1u");
+    renderer->render(4);
+    const Film masked = renderer->readFilm();
+    double sum = 0.0;
+    for (int y = 0; y < masked.height; ++y)
+        for (int x = 0; x < masked.width; ++x)
+            sum += std::abs(double(masked.mean[masked.index(x, y)].g) - (x % 16 < 8 ? 0.0 : 1.0));
+    INFO("mean difference from the expected stripes " << sum / double(masked.mean.size()));
+    CHECK(sum / double(masked.mean.size()) < 1e-3);
 }
 
 TEST_CASE("alpha cut-outs: shadow rays and bounce rays pass the holes too", "[gpu][gltf][alpha][mis]") {
