@@ -200,6 +200,28 @@ struct Builder {
         return false;
     }
 
+    // What a material's emission texture does to its light's power, for light selection only: the
+    // texture's mean linear RGB at level 0 (1 without a texture), floored at 1e-3 so that a dark
+    // texture leaves the light selectable. The texture's mean, not the surface's (a UV layout may
+    // use part of it): an estimate, which costs noise where it is off, never bias (the sampled
+    // radiance is the texture's: lights/lights.glsl). Cached per material.
+    std::map<std::uint32_t, glm::vec3> emissionMeans;
+    glm::vec3 emissionTextureMean(std::uint32_t material) {
+        const std::uint32_t slot = out.materials[material].textures.w;
+        if (slot == 0) return glm::vec3(1.0f);
+        if (auto found = emissionMeans.find(material); found != emissionMeans.end()) return found->second;
+        const gpu::GpuTexture& t = out.textures[slot - 1];
+        const size_t n = size_t(t.info.y) * size_t(t.info.z);
+        glm::dvec3 sum(0.0);
+        for (size_t i = 0; i < n && t.info.x + i < out.texels.size(); ++i) {
+            const glm::uvec2 h = out.texels[t.info.x + i];
+            sum += glm::dvec3(glm::unpackHalf2x16(h.x).x, glm::unpackHalf2x16(h.x).y, glm::unpackHalf2x16(h.y).x);
+        }
+        const glm::vec3 mean = glm::max(glm::vec3(sum / double(std::max<size_t>(n, 1))), glm::vec3(1e-3f));
+        emissionMeans.emplace(material, mean);
+        return mean;
+    }
+
     bool addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided, const std::string& where) {
         const auto& p = out.primitives[prim];
         gpu::GpuLight l{};
@@ -218,9 +240,9 @@ struct Builder {
         const glm::vec3 n = glm::cross(u, v);
         bounds.axis = glm::length(n) > 0.0f ? n / glm::length(n) : glm::vec3(0, 0, 1);
         bounds.cosThetaO = twoSided ? -1.0f : 1.0f;
-        bounds.intensity = saturatedPower(areaD * luminance(radiance));
-        addLight(l, saturatedPower(kPi * areaD * luminance(radiance) * (twoSided ? 2.0 : 1.0)), static_cast<int>(prim),
-                 bounds);
+        const float y = luminance(radiance * emissionTextureMean(p.info.y));
+        bounds.intensity = saturatedPower(areaD * y);
+        addLight(l, saturatedPower(kPi * areaD * y * (twoSided ? 2.0 : 1.0)), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -244,8 +266,9 @@ struct Builder {
         LightBounds bounds;
         bounds.boundsMin = glm::vec3(m[3]) - sx;
         bounds.boundsMax = glm::vec3(m[3]) + sx;
-        bounds.intensity = saturatedPower(kPi * double(sx) * sx * luminance(radiance));
-        addLight(l, saturatedPower(kPi * 4.0 * kPi * double(sx) * sx * luminance(radiance)), static_cast<int>(prim), bounds);
+        const float y = luminance(radiance * emissionTextureMean(out.primitives[prim].info.y));
+        bounds.intensity = saturatedPower(kPi * double(sx) * sx * y);
+        addLight(l, saturatedPower(kPi * 4.0 * kPi * double(sx) * sx * y), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -511,7 +534,11 @@ struct Builder {
                     if (glm::length(n) > 0.0) normals.push_back(glm::normalize(n));
                 }
                 total += areas.back();
-                power += areas.back() * y;
+                if (areas.back() > 0.0) {
+                    const std::uint32_t mat =
+                        fromFile ? meshMaterialBase[blas] + meshSlots[blas][meshBlas.triangleIds[k]] : material;
+                    power += areas.back() * luminance(triangleEmission(k) * emissionTextureMean(mat));
+                }
             }
             if (!(total > 0.0)) {
                 *error = where + ": an emissive mesh needs a non-zero area";

@@ -389,11 +389,15 @@ std::span<const Param<Material>> schemaOf<Material>() {
                 "as glTF's `emissiveTexture` multiplies `emissiveFactor`; decoded from sRGB unless `.hdr` / `.exr`; "
                 "light sampling sees the same radiance as a ray that hits the surface (docs/materials.md)",
          .omitted = [](const M& m) { return m.emissionTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
-        enumParam<&M::alphaMode>("alpha_mode", "Alpha mode",
-                                 "`\"mask\"`: rays (camera, bounce and shadow rays) pass through the points where "
-                                 "`albedo_texture`'s alpha is below `alpha_cutoff`, as glTF's `alphaMode` `MASK` "
-                                 "(cut-out leaves, fences); meshes only (a sphere, quad or box stays opaque, with a "
-                                 "warning); `\"opaque\"` ignores the alpha"),
+        [] {
+            auto p = enumParam<&M::alphaMode>("alpha_mode", "Alpha mode",
+                                              "`\"mask\"`: rays (camera, bounce and shadow rays) pass through the points "
+                                              "where `albedo_texture`'s alpha is below `alpha_cutoff`, as glTF's "
+                                              "`alphaMode` `MASK` (cut-out leaves, fences); meshes only (a sphere, quad "
+                                              "or box stays opaque, with a warning); `\"opaque\"` ignores the alpha");
+            p.section = "Cut-outs";
+            return p;
+        }(),
         {.key = "alpha_cutoff", .label = "Alpha cutoff", .kind = ParamKind::Float, .member = &M::alphaCutoff,
          .range = atLeast(0),
          .doc = "with `alpha_mode` `\"mask\"`: a point whose alpha is below it is cut out (glTF's `alphaCutoff`; "

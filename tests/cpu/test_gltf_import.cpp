@@ -254,10 +254,18 @@ TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the 
         CHECK(c.lights[0].info.x == LIGHT_MESH);
         CHECK((c.lights[0].info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u);
         CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) == 0u);
+        // Light selection weighs the light by the texture's mean: the two texels' linear RGB
+        // averaged, times the factor, over the quad's area 4, both faces (a file's materials).
+        auto lin = [](double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+        const glm::dvec3 mean(0.5, 0.5 * (lin(128.0 / 255.0) + lin(64.0 / 255.0)), 0.5);
+        const glm::dvec3 radiance = glm::dvec3(3.0, 1.5, 0.75) * mean;
+        const double y = 0.2126 * radiance.r + 0.7152 * radiance.g + 0.0722 * radiance.b;
+        REQUIRE(c.lightPower.size() == 1);
+        CHECK(c.lightPower[0] == Approx(2.0 * 3.14159265358979 * 4.0 * y).epsilon(2e-3));
     }
 }
 
-TEST_CASE("glTF alpha BLEND is a mask, reported once per file; a mask on an analytic shape is reported",
+TEST_CASE("glTF alpha BLEND is a mask reported once per file, and a mask on an analytic shape is reported",
           "[cpu][mesh][gltf]") {
     const fs::path dir = fs::temp_directory_path() / ("caustic-gltf-blend-" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -294,4 +302,25 @@ TEST_CASE("glTF alpha BLEND is a mask, reported once per file; a mask on an anal
     std::string error;
     REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
     CHECK(count(joined(c.warnings), "objects[0]: material 'cut' has alpha_mode 'mask', which only meshes honour") == 1);
+}
+
+TEST_CASE("a missing emission texture is reported with its material, its key and its file", "[cpu][gltf]") {
+    Scene scene;
+    Material m{"sign", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(2.0f)};
+    m.emissionTexture = "no-such-sign.png";
+    scene.materials.push_back(m);
+    Object quad;
+    quad.shape = Shape::Quad;
+    quad.material = "sign";
+    scene.objects.push_back(quad);
+    const ImageReader missing = [](const std::string& path, ImageData*, std::string* error) {
+        *error = path + ": cannot open";
+        return false;
+    };
+    CompiledScene c;
+    std::string error;
+    CHECK_FALSE(compileScene(scene, missing, &c, &error));
+    INFO(error);
+    CHECK(error.find("materials[0].emission_texture (material 'sign')") != std::string::npos);
+    CHECK(error.find("no-such-sign.png: cannot open") != std::string::npos);
 }
