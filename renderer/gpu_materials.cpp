@@ -9,6 +9,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -101,7 +102,12 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
         break;
     }
     }
-    g.info = glm::uvec4(type, flags, 0, 0);
+    std::uint32_t cutoff = 0;
+    if (m.alphaMode == AlphaMode::Mask) {
+        flags |= MAT_FLAG_ALPHA_MASK;
+        cutoff = std::bit_cast<std::uint32_t>(std::max(m.alphaCutoff, 0.0f));
+    }
+    g.info = glm::uvec4(type, flags, cutoff, 0);
     return g;
 }
 
@@ -191,9 +197,19 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
         m.normalTexture = in.normalTexture;
         m.normalScale = std::max(in.normalScale, 0.0f);
     }
-    if (!in.emissionTexture.empty())
-        unmapped->push_back(who + "emission texture not mapped per texel (the emissive factor is used)");
-    if (in.opacity < 1.0f) unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
+    // glTF's emissiveTexture: times the emissive factor (x KHR_materials_emissive_strength).
+    if (!in.emissionTexture.empty()) m.emissionTexture = in.emissionTexture;
+    // alphaMode MASK (and BLEND, approximated by the importer as a mask): a point is cut out where
+    // the base colour's alpha, texture alpha x factor alpha, is below the cutoff, i.e. where the
+    // texture's alpha is below cutoff / factor (glTF 2.0 section 3.9.5).
+    if (in.alphaMode != 0) {
+        m.alphaMode = AlphaMode::Mask;
+        const float factor = std::clamp(in.opacity, 0.0f, 1.0f);
+        // Above 1 every point is cut (alpha <= 1): 2 stands for that, and keeps a tiny factor finite.
+        m.alphaCutoff = factor > 0.0f ? std::min(std::max(in.alphaCutoff, 0.0f) / factor, 2.0f) : 2.0f;
+    } else if (in.opacity < 1.0f) {
+        unmapped->push_back(who + "opacity " + std::to_string(in.opacity) + " not mapped (opaque)");
+    }
     return m;
 }
 

@@ -2,6 +2,7 @@
 
 #include "renderer/gpu_materials.h"
 #include "renderer/mesh_import.h"
+#include "renderer/scene_schema.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
@@ -185,6 +186,7 @@ struct Builder {
         if (primitive >= 0) {
             out.primitives[primitive].info.z = static_cast<std::uint32_t>(out.lights.size() + 1);
             l.info.z = static_cast<std::uint32_t>(primitive);
+            if (out.materials[out.primitives[primitive].info.y].textures.w != 0u) l.info.y |= LIGHT_FLAG_EMISSION_TEXTURE;
         }
         out.lights.push_back(l);
         out.lightPower.push_back(power);
@@ -196,6 +198,28 @@ struct Builder {
         *error = where + ": the emitter's area (" + formatShort(area) +
                  ") is outside what the renderer's 32-bit floats handle (1e-30 to 1e30 square units); scale it";
         return false;
+    }
+
+    // What a material's emission texture does to its light's power, for light selection only: the
+    // texture's mean linear RGB at level 0 (1 without a texture), floored at 1e-3 so that a dark
+    // texture leaves the light selectable. The texture's mean, not the surface's (a UV layout may
+    // use part of it): an estimate, which costs noise where it is off, never bias (the sampled
+    // radiance is the texture's: lights/lights.glsl). Cached per material.
+    std::map<std::uint32_t, glm::vec3> emissionMeans;
+    glm::vec3 emissionTextureMean(std::uint32_t material) {
+        const std::uint32_t slot = out.materials[material].textures.w;
+        if (slot == 0) return glm::vec3(1.0f);
+        if (auto found = emissionMeans.find(material); found != emissionMeans.end()) return found->second;
+        const gpu::GpuTexture& t = out.textures[slot - 1];
+        const size_t n = size_t(t.info.y) * size_t(t.info.z);
+        glm::dvec3 sum(0.0);
+        for (size_t i = 0; i < n && t.info.x + i < out.texels.size(); ++i) {
+            const glm::uvec2 h = out.texels[t.info.x + i];
+            sum += glm::dvec3(glm::unpackHalf2x16(h.x).x, glm::unpackHalf2x16(h.x).y, glm::unpackHalf2x16(h.y).x);
+        }
+        const glm::vec3 mean = glm::max(glm::vec3(sum / double(std::max<size_t>(n, 1))), glm::vec3(1e-3f));
+        emissionMeans.emplace(material, mean);
+        return mean;
     }
 
     bool addRectLight(std::uint32_t prim, glm::vec3 radiance, bool twoSided, const std::string& where) {
@@ -216,9 +240,9 @@ struct Builder {
         const glm::vec3 n = glm::cross(u, v);
         bounds.axis = glm::length(n) > 0.0f ? n / glm::length(n) : glm::vec3(0, 0, 1);
         bounds.cosThetaO = twoSided ? -1.0f : 1.0f;
-        bounds.intensity = saturatedPower(areaD * luminance(radiance));
-        addLight(l, saturatedPower(kPi * areaD * luminance(radiance) * (twoSided ? 2.0 : 1.0)), static_cast<int>(prim),
-                 bounds);
+        const float y = luminance(radiance * emissionTextureMean(p.info.y));
+        bounds.intensity = saturatedPower(areaD * y);
+        addLight(l, saturatedPower(kPi * areaD * y * (twoSided ? 2.0 : 1.0)), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -242,8 +266,9 @@ struct Builder {
         LightBounds bounds;
         bounds.boundsMin = glm::vec3(m[3]) - sx;
         bounds.boundsMax = glm::vec3(m[3]) + sx;
-        bounds.intensity = saturatedPower(kPi * double(sx) * sx * luminance(radiance));
-        addLight(l, saturatedPower(kPi * 4.0 * kPi * double(sx) * sx * luminance(radiance)), static_cast<int>(prim), bounds);
+        const float y = luminance(radiance * emissionTextureMean(out.primitives[prim].info.y));
+        bounds.intensity = saturatedPower(kPi * double(sx) * sx * y);
+        addLight(l, saturatedPower(kPi * 4.0 * kPi * double(sx) * sx * y), static_cast<int>(prim), bounds);
         return true;
     }
 
@@ -292,6 +317,12 @@ struct Builder {
                      &g.textures.x) ||
             !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
             !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))
+            return false;
+        const std::string emissionExt = std::filesystem::path(m.emissionTexture).extension().string();
+        const bool emissionHdr = emissionExt == ".hdr" || emissionExt == ".exr" || emissionExt == ".HDR" ||
+                                 emissionExt == ".EXR" || emissionExt == ".pfm";
+        if (!texture(m.emissionTexture, "emission_texture", emissionHdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
+                     &g.textures.w))
             return false;
         return true;
     }
@@ -445,8 +476,16 @@ struct Builder {
             meshMappingWarnings[blas].clear();  // once per file
         }
         gi.info = glm::uvec4(0, 0, fromFile ? meshMaterialBase[blas] : material, 0);  // offsets: finishGeometry
+        // Whether traversal must test the mesh's hits against an alpha mask (geometry/alpha_mask.glsl).
+        bool masked = false;
+        if (fromFile) {
+            for (size_t k = 0; k < meshMaterials[blas].size(); ++k)
+                masked = masked || (out.materials[meshMaterialBase[blas] + k].info.y & MAT_FLAG_ALPHA_MASK) != 0u;
+        } else {
+            masked = (out.materials[material].info.y & MAT_FLAG_ALPHA_MASK) != 0u;
+        }
         gi.info2 = glm::uvec4(meshVertexBase[blas], out.meshBvh.blases[blas].triangles.size(), fromFile ? 1u : 0u,
-                              twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER);
+                              (twoSided ? 0u : PRIM_FLAG_ONE_SIDED_EMITTER) | (masked ? PRIM_FLAG_ALPHA_MASK : 0u));
         out.instances.push_back(gi);
         const Aabb local = out.meshBvh.blases[blas].bvh.nodes.front().bounds();
         for (int c = 0; c < 8; ++c) {
@@ -495,7 +534,11 @@ struct Builder {
                     if (glm::length(n) > 0.0) normals.push_back(glm::normalize(n));
                 }
                 total += areas.back();
-                power += areas.back() * y;
+                if (areas.back() > 0.0) {
+                    const std::uint32_t mat =
+                        fromFile ? meshMaterialBase[blas] + meshSlots[blas][meshBlas.triangleIds[k]] : material;
+                    power += areas.back() * luminance(triangleEmission(k) * emissionTextureMean(mat));
+                }
             }
             if (!(total > 0.0)) {
                 *error = where + ": an emissive mesh needs a non-zero area";
@@ -510,7 +553,14 @@ struct Builder {
             const auto instance = static_cast<std::uint32_t>(out.instances.size() - 1);
             l.p0 = glm::vec4(static_cast<float>(total), 0, 0, 0);
             l.color = glm::vec4(static_cast<float>(power / total));  // mean luminance (informative)
-            l.info = glm::uvec4(LIGHT_MESH, twoSided ? LIGHT_FLAG_TWO_SIDED : 0u, instance, cdfOffset);
+            bool textured = false;  // some emitting triangle's material has an emission texture
+            for (std::uint32_t k = 0; k < b.triangles.size() && !textured; ++k) {
+                if (!(areas[k] > 0.0)) continue;
+                const std::uint32_t mat = fromFile ? meshMaterialBase[blas] + meshSlots[blas][meshBlas.triangleIds[k]] : material;
+                textured = out.materials[mat].textures.w != 0u;
+            }
+            l.info = glm::uvec4(LIGHT_MESH, (twoSided ? LIGHT_FLAG_TWO_SIDED : 0u) | (textured ? LIGHT_FLAG_EMISSION_TEXTURE : 0u),
+                                instance, cdfOffset);
             out.instances.back().info.w = static_cast<std::uint32_t>(out.lights.size() + 1);
             out.lights.push_back(l);
             out.lightPower.push_back(static_cast<float>((twoSided ? 2.0 : 1.0) * std::numbers::pi * power));
@@ -660,6 +710,9 @@ struct Builder {
                 out.materials.push_back(copy);
                 mat = static_cast<std::uint32_t>(out.materials.size() - 1);
             }
+            if (o.shape != Shape::Mesh && it->alphaMode == AlphaMode::Mask)
+                out.warnings.push_back(where + ": material '" + it->name + "' has alpha_mode 'mask', which only "
+                                       "meshes honour: this " + std::string(enumName(o.shape)) + " is opaque");
             const bool emissive = glm::any(glm::greaterThan(emission, glm::vec3(0.0f)));
             const std::uint32_t primFlags = emissive && !twoSided ? PRIM_FLAG_ONE_SIDED_EMITTER : 0u;
             glm::mat4 m = o.transform.toMatrix();

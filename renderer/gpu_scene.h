@@ -162,8 +162,9 @@ bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScen
 // read) as a caustic material: KHR_materials_transmission above 0.5 -> dielectric (ior, alpha =
 // roughness^2), everything else the layered surface (base colour, metallic, perceptual roughness,
 // ior, specular, clearcoat, sheen, emission; docs/scene-format.md lists the mapping); base colour,
-// normal (with its scale) and metallic-roughness textures carry over, the last in the roughness
-// slot (baked by bakeMetallicRoughness and wired by compileScene). What does not map is appended
+// normal (with its scale), emission and metallic-roughness textures carry over, the last in the
+// roughness slot (baked by bakeMetallicRoughness and wired by compileScene); alphaMode MASK and
+// BLEND become AlphaMode::Mask with the factor's alpha folded into the cutoff. What does not map is appended
 // to *unmapped. mr (the baked texture) is accepted for the compile's second pass and changes
 // nothing in the mapping: the surface material reads metalness per texel.
 Material mapImportedMaterial(const struct ImportedMaterial& in, std::vector<std::string>* unmapped,

@@ -208,7 +208,7 @@ void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<Glt
             continue;
         }
         m.alphaMode = g.alphaMode;
-        m.alphaCutoff = g.alphaCutoff;
+        m.alphaCutoff = g.alphaMode == 1 ? g.alphaCutoff : 0.5f;  // glTF: alphaCutoff is MASK's alone
         m.doubleSided = g.doubleSided;
         m.normalScale = g.normalScale;
         if (g.hasIor && g.ior >= 1.0f) m.ior = g.ior;
@@ -244,8 +244,10 @@ void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<Glt
         r->warnings.push_back(path + ": a material's textures have different KHR_texture_transforms: the base colour "
                                      "texture's is used for all of them");
     if (otherUvSet) r->warnings.push_back(path + ": textures on UV sets other than the first use the first");
-    if (masked) r->warnings.push_back(path + ": alphaMode MASK is rendered opaque (cut-outs are not implemented)");
-    if (blended) r->warnings.push_back(path + ": alphaMode BLEND is rendered opaque");
+    (void)masked;  // MASK is rendered as the file says (cut-outs: shaders/geometry/alpha_mask.glsl)
+    if (blended)
+        r->warnings.push_back(path + ": alphaMode BLEND is rendered as MASK (a point is cut out where its alpha is "
+                                     "below 0.5; there is no partial transparency)");
 }
 
 struct Converter {

@@ -50,13 +50,27 @@ std::string glErrorsSince() {
 // The scene-specialised configuration of the integrator (shaders/scene/features.glsl) for the
 // scene and settings of `frame`: the kinds of material, light, shape, environment, sampler and
 // light selection present, the traversal the scene gets, whether it has one light only.
+bool hasAlphaMask(const CompiledScene& c) {
+    return std::any_of(c.instances.begin(), c.instances.end(),
+                       [](const gpu::GpuInstance& i) { return (i.info2.w & PRIM_FLAG_ALPHA_MASK) != 0u; });
+}
+
+// The unspecialised program's one feature define: alpha masks are compiled in only for a scene
+// that has one. Their test sits in traversal's innermost loop, where code size costs every ray on
+// a GPU (docs/performance.md, "integrator profile"), so a scene without masks must not pay for it
+// where specialisation is off either (NVIDIA, by default). With 0 the code is still compiled (a
+// constant-false branch), so the general program still checks the whole source.
+ShaderDefines generalDefines(bool alphaMask) { return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}}; }
+
 ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c) {
     std::uint32_t materials = 0, lights = 0, shapes = 0;
-    bool textures = false;
+    bool textures = false, emissionTextures = false;
     for (const gpu::GpuMaterial& m : c.materials) {
         materials |= 1u << (m.info.x & 31u);
-        textures = textures || m.textures.x != 0 || m.textures.y != 0 || m.textures.z != 0;
+        textures = textures || m.textures != glm::uvec4(0u);
+        emissionTextures = emissionTextures || m.textures.w != 0u;
     }
+    const bool alphaMask = hasAlphaMask(c);
     for (const gpu::GpuLight& l : c.lights) lights |= 1u << (l.info.x & 31u);
     for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
     if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
@@ -74,6 +88,8 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c)
             {"CAUSTIC_SAMPLERS", hex(1u << (frame.sampling.x & 31u))},
             {"CAUSTIC_LIGHT_SELECTIONS", hex(1u << (frame.sampling.y & 31u))},
             {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
+            {"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"},
+            {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
 }
@@ -124,9 +140,9 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     std::unique_ptr<Renderer> r(new Renderer());
     r->m_shaderDir = shaderDir;
     r->m_specialize = specializeByDefault();
-    // The general program, always: what a scene gets when specialisation is off, and the check
-    // that the whole source compiles.
-    if (!r->useProgram({}, error)) return nullptr;
+    // The general program, always: what a scene without alpha masks gets when specialisation is
+    // off, and the check that the whole source compiles.
+    if (!r->useProgram(generalDefines(false), error)) return nullptr;
     r->m_general = r->m_program;
     r->m_limits = queryGpuLimits();
     unsigned buffers[6];
@@ -172,10 +188,17 @@ ShaderDefines Renderer::featureDefines() const {
 }
 
 void Renderer::selectProgram() {
-    if (!m_specialize) return;
     // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
     // (which the general program's compile makes unlikely) falls back to it.
     std::string error;
+    if (!m_specialize) {
+        if (!useProgram(generalDefines(hasAlphaMask(m_compiled)), &error)) {
+            std::fprintf(stderr, "caustic: the integrator with alpha masks failed to build, using the general one: %s\n",
+                         error.c_str());
+            m_program = m_general;
+        }
+        return;
+    }
     if (!useProgram(featureDefines(), &error)) {
         std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
                      error.c_str());
@@ -336,7 +359,9 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
                                          compiled.bvhNodes.data());
             }
             if (dirty & kDirtyMaterials) {
-                // Emission lives in the lights too (radiance, selection probabilities).
+                // Emission lives in the lights too (radiance, selection probabilities), and an
+                // alpha mask in the instances' flags (PRIM_FLAG_ALPHA_MASK).
+                uploadBuffer(m_geometry[2], compiled.instances);
                 uploadBuffer(m_lights, compiled.lights);
                 uploadBuffer(m_lightTree, compiled.lightTree.nodes);
                 uploadBuffer(m_tables, packTables(compiled));

@@ -152,7 +152,7 @@ private:
     std::string m_shaderDir;
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
     std::map<std::string, unsigned> m_programs;  // by their defines
-    unsigned m_general = 0;      // the program without feature defines
+    unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal

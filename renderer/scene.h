@@ -84,6 +84,10 @@ enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielect
 // values and their sources); Custom takes Material::eta and Material::k.
 enum class Metal { Aluminium, Gold, Copper, Silver, Chromium, Platinum, Perfect, Custom };
 
+// Whether a material cuts holes by its albedo texture's alpha (glTF's alphaMode OPAQUE / MASK;
+// docs/materials.md, "Alpha cut-outs").
+enum class AlphaMode { Opaque, Mask };
+
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
@@ -119,6 +123,13 @@ struct Material {
     std::string normalTexture{};
     std::string roughnessTexture{};
     float normalScale = 1.0f;          // with normalTexture: scales the map's tangent-space x and y (glTF's scale)
+    // emissionTexture (sRGB unless HDR) multiplies the emission per point (the material's or an
+    // object's own), as glTF's emissiveTexture multiplies emissiveFactor.
+    std::string emissionTexture{};
+    // Mask: rays pass through the points where the albedo texture's alpha is below alphaCutoff
+    // (above 1: everywhere), as if nothing were there (camera, bounce and shadow rays alike).
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;
     bool operator==(const Material&) const = default;
 };
 

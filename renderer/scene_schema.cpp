@@ -160,6 +160,10 @@ std::span<const EnumChoice> enumChoices(SpotFalloff) {
     static constexpr EnumChoice k[] = {{0, "smoothstep", "smoothstep (cos)"}, {1, "linear_angle", "linear in angle (Mitsuba)"}};
     return k;
 }
+std::span<const EnumChoice> enumChoices(AlphaMode) {
+    static constexpr EnumChoice k[] = {{0, "opaque", "opaque"}, {1, "mask", "mask (cut-outs)"}};
+    return k;
+}
 std::span<const EnumChoice> enumChoices(EnvironmentType) {
     static constexpr EnumChoice k[] = {{0, "none", "none"}, {1, "constant", "constant"}, {2, "sky", "sky"}, {3, "map", "map (HDR image)"}};
     return k;
@@ -379,6 +383,26 @@ std::span<const Param<Material>> schemaOf<Material>() {
          .doc = "its first channel replaces `roughness` (or `sigma`, or a `surface`'s perceptual "
                 "`specular_roughness`), linear; a dielectric or conductor with one is always rough",
          .omitted = [](const M& m) { return m.roughnessTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
+        {.key = "emission_texture", .label = "Emission texture", .kind = ParamKind::File,
+         .member = &M::emissionTexture,
+         .doc = "its RGB multiplies the emitted radiance per point (the material's `emission`, or an object's own), "
+                "as glTF's `emissiveTexture` multiplies `emissiveFactor`; decoded from sRGB unless `.hdr` / `.exr`; "
+                "light sampling sees the same radiance as a ray that hits the surface (docs/materials.md)",
+         .omitted = [](const M& m) { return m.emissionTexture.empty(); }, .nonEmpty = true, .defaultText = "none"},
+        [] {
+            auto p = enumParam<&M::alphaMode>("alpha_mode", "Alpha mode",
+                                              "`\"mask\"`: rays (camera, bounce and shadow rays) pass through the points "
+                                              "where `albedo_texture`'s alpha is below `alpha_cutoff`, as glTF's "
+                                              "`alphaMode` `MASK` (cut-out leaves, fences); meshes only (a sphere, quad "
+                                              "or box stays opaque, with a warning); `\"opaque\"` ignores the alpha");
+            p.section = "Cut-outs";
+            return p;
+        }(),
+        {.key = "alpha_cutoff", .label = "Alpha cutoff", .kind = ParamKind::Float, .member = &M::alphaCutoff,
+         .range = atLeast(0),
+         .doc = "with `alpha_mode` `\"mask\"`: a point whose alpha is below it is cut out (glTF's `alphaCutoff`; "
+                "above 1 every point is, 0 none); written only with the mask",
+         .applies = [](const M& m) { return m.alphaMode == AlphaMode::Mask; }, .speed = 0.01f},
     };
     return k;
 }

@@ -100,6 +100,7 @@ std::span<const EnumChoice> enumChoices(RussianRoulette);
 std::span<const EnumChoice> enumChoices(PixelFilter);
 std::span<const EnumChoice> enumChoices(MaterialType);
 std::span<const EnumChoice> enumChoices(Metal);
+std::span<const EnumChoice> enumChoices(AlphaMode);
 std::span<const EnumChoice> enumChoices(Shape);
 std::span<const EnumChoice> enumChoices(LightType);
 std::span<const EnumChoice> enumChoices(SpotFalloff);

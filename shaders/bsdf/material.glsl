@@ -40,6 +40,18 @@ GpuMaterial materialAtSurface(GpuMaterial m, SurfacePoint s, float coneWidth, ou
     return m;
 }
 
+// The emission texture's factor at uv (1 without one): level 0, bilinear, for a ray that hits the
+// surface and for a light sample on it alike (lights/lights.glsl), so that both strategies of
+// multiple importance sampling estimate the same emitted radiance (a level of detail from the hit's
+// ray cone would give the BSDF strategy a blurred copy of what light sampling sees).
+vec3 emissionTexel(GpuMaterial m, vec2 uv) {
+    if (CAUSTIC_EMISSION_TEXTURES == 0u || m.textures.w == 0u) return vec3(1.0);
+    return textureSampleLod(m.textures.w - 1u, uv, 0.0).rgb;
+}
+
+// The radiance material m emits at texture coordinates uv.
+vec3 materialEmission(GpuMaterial m, vec2 uv) { return m.emission.rgb * emissionTexel(m, uv); }
+
 // The shading normal on the front side of ng (unit geometric normal, not flipped): perturbed by
 // the normal map (tangent space: x along dpdu, y along the bitangent on dpdv's side, z = ng;
 // stored as (n + 1) / 2), or ng itself.

@@ -4,7 +4,8 @@
 // explicit stack holds the nodes still to visit (the far child of each node whose children both
 // hit; children are visited nearer first; a popped node's children are slab-tested against the
 // closest hit so far); an instance's entries sit above the top level's. Closest hit and any hit (shadow rays, early exit) are the
-// same routine with a flag.
+// same routine with a flag. A triangle hit counts only where its material's alpha mask keeps it
+// (alpha_mask.glsl; compiled out for scenes without masks).
 //   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
 //   inverted (empty) box is never entered.
@@ -14,6 +15,7 @@
 #define GEOMETRY_BVH_GLSL
 #include "../lib/math.glsl"
 #include "../scene/buffers.glsl"
+#include "alpha_mask.glsl"
 
 // The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32) and
 // the instance tree's (fewer than 32). A push that would overflow is dropped (the node is not
@@ -150,7 +152,8 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
                 GpuTriangle tri = loadTriangle(firstTriangle + k);
                 float t;
                 vec2 b;
-                if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
+                if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b) &&
+                    alphaMaskKeeps(inst, tri, b)) {
                     hit.t = t;
                     hit.ref = TLAS_REF_INSTANCE | instance;
                     hit.triangle = firstTriangle + k;

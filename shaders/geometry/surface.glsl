@@ -67,6 +67,13 @@ vec3 triangleShadingNormal(GpuInstance inst, GpuTriangle tri, vec2 b, vec3 ng) {
     return dot(ns, ng) < 0.0 ? -ns : ns;
 }
 
+// The texture coordinates of triangle `tri` at barycentrics (b1, b2) (triangleSurface's uv alone).
+vec2 triangleUv(GpuTriangle tri, vec2 b) {
+    GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
+    return (1.0 - b.x - b.y) * vec2(v0.normalU.w, v0.tangentV.w) + b.x * vec2(v1.normalU.w, v1.tangentV.w) +
+           b.y * vec2(v2.normalU.w, v2.tangentV.w);
+}
+
 // The triangle's surface at barycentrics (b1, b2) (p = (1-b1-b2) p0 + b1 p1 + b2 p2).
 SurfacePoint triangleSurface(GpuInstance inst, GpuTriangle tri, vec2 b) {
     GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];

@@ -69,9 +69,14 @@ bool russianRouletteEnds(uint bounces, float rrBeta, float u, out float q) {
 
 // The radiance a surface emits towards wo: its material's emission from both faces, unless the
 // primitive is a one-sided emitter seen from behind.
+// With an emission texture the radiance is the material's at the hit's texture coordinates
+// (materialEmission: the value light sampling sees at the same point).
 vec3 emittedTowards(Hit hit, GpuMaterial mat, vec3 wo) {
     bool frontFacing = dot(hit.ng, wo) > 0.0;
-    return frontFacing || (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) == 0u ? mat.emission.rgb : vec3(0.0);
+    if (!frontFacing && (hit.flags & PRIM_FLAG_ONE_SIDED_EMITTER) != 0u) return vec3(0.0);
+    if (CAUSTIC_EMISSION_TEXTURES != 0u && mat.textures.w != 0u && maxComponent(mat.emission.rgb) > 0.0)
+        return materialEmission(mat, hitSurface(hit).uv);
+    return mat.emission.rgb;
 }
 
 // What a glass-splitting probe ray sees: the emission of the surface it hits, or the environment's

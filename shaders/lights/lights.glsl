@@ -25,7 +25,14 @@
 // mesh:   an emissive mesh instance: a triangle chosen in proportion to its world area (emitting
 //         triangles only), a uniform point on it; p_omega = r^2 / (|cos theta_l| A_emitting); the
 //         radiance is that triangle's material's. The front is the side of the object-space
-//         cross(p1 - p0, p2 - p0) (counter-clockwise winding seen from the front).
+//         cross(p1 - p0, p2 - p0) (counter-clockwise winding seen from the front). A point an
+//         alpha mask cuts out gives no sample (rays pass through it, so nothing is lost: the
+//         estimate stays that of the area that is there, with the same pdf both strategies use).
+// Emission textures (LIGHT_FLAG_EMISSION_TEXTURE): rect, sphere and mesh lights multiply the
+// radiance by the material's emission texture at the sampled point (bsdf/material.glsl,
+// emissionTexel; rect: its (alpha, beta), sphere: primitiveSurface's angles, mesh: the vertex
+// UVs), exactly what a ray that hits the point sees; the sampling density stays uniform in area
+// (the texture is not importance-sampled), so the pdfs, and MIS, are unchanged.
 // env:    a map is importance-sampled by its luminance table (environment.glsl); the constant
 //         colour and the smooth sky use uniform directions on the sphere, p_omega = 1/(4 pi).
 #ifndef LIGHTS_LIGHTS_GLSL
@@ -34,6 +41,8 @@
 #include "../scene/buffers.glsl"
 #include "environment.glsl"
 #include "../geometry/surface.glsl"
+#include "../geometry/alpha_mask.glsl"
+#include "../bsdf/material.glsl"
 
 struct LightSample {
     vec3 wi;       // unit direction from the shading point towards the light
@@ -80,6 +89,9 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.pdf = dist2 / (cosL * l.p1.w);
         s.nl = n;
         s.Li = l.color.rgb;
+        // u is the point's (alpha, beta) on the quad: its texture coordinates (geometry/surface.glsl).
+        if (CAUSTIC_EMISSION_TEXTURES != 0u && (l.info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u)
+            s.Li *= emissionTexel(loadMaterial(loadPrimitive(l.info.z).info.y), u);
     } else if (HAS_LIGHT(LIGHT_SPHERE) && type == LIGHT_SPHERE) {
         vec3 c = l.p0.xyz;
         float radius = l.p0.w;
@@ -114,6 +126,10 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             s.nl = n;
         }
         s.Li = l.color.rgb;
+        if (CAUSTIC_EMISSION_TEXTURES != 0u && (l.info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u) {
+            GpuPrimitive prim = loadPrimitive(l.info.z);
+            s.Li *= emissionTexel(loadMaterial(prim.info.y), primitiveSurface(prim, p + s.dist * s.wi).uv);
+        }
     } else if ((HAS_LIGHT(LIGHT_POINT) || HAS_LIGHT(LIGHT_SPOT)) && (type == LIGHT_POINT || type == LIGHT_SPOT)) {
         vec3 d = l.p0.xyz - p;
         float dist2 = dot(d, d);
@@ -159,8 +175,12 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         s.dist = sqrt(dist2);
         s.wi = d / s.dist;
         s.nl = n;
+        // A point an alpha mask cuts out is not there (a ray through it passes): no sample.
+        if (!alphaMaskKeeps(inst, tri, b)) return s;
         s.pdf = areaToSolidAngle(1.0 / l.p0.x, p, q, n);
-        s.Li = loadMaterial(triangleMaterial(inst, tri)).emission.rgb;
+        GpuMaterial em = loadMaterial(triangleMaterial(inst, tri));
+        s.Li = CAUSTIC_EMISSION_TEXTURES != 0u && (l.info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u
+                   ? materialEmission(em, triangleUv(tri, b)) : em.emission.rgb;
     } else if (HAS_LIGHT(LIGHT_ENV) && type == LIGHT_ENV) {
         if (HAS_ENVIRONMENT(ENV_MAP) && frame.envInfo.x == ENV_MAP) {
             s.wi = sampleEnvironmentMap(u, s.pdf);

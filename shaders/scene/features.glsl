@@ -37,6 +37,12 @@
 #ifndef CAUSTIC_TEXTURES
 #define CAUSTIC_TEXTURES 1u                // 0: no material has a texture
 #endif
+#ifndef CAUSTIC_EMISSION_TEXTURES
+#define CAUSTIC_EMISSION_TEXTURES 1u       // 0: no material has an emission texture
+#endif
+#ifndef CAUSTIC_ALPHA_MASK
+#define CAUSTIC_ALPHA_MASK 1u              // 0: no mesh has an alpha-masked material (geometry/alpha_mask.glsl)
+#endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light and no environment light
 #endif

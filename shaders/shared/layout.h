@@ -64,6 +64,8 @@ using uint = std::uint32_t;
 #define PRIM_FLAG_ONE_SIDED_EMITTER 1u  // emits from its front face only (rect lights unless two-sided,
                                         // objects with their own emission unless two_sided); also in
                                         // GpuInstance::info2.w for meshes
+#define PRIM_FLAG_ALPHA_MASK 2u         // GpuInstance::info2.w: some material of the mesh has
+                                        // MAT_FLAG_ALPHA_MASK (geometry/alpha_mask.glsl)
 
 // Material types (GpuMaterial::info.x); the models are in shaders/bsdf/, one per file.
 #define MAT_DIFFUSE 0u              // Lambert
@@ -83,6 +85,8 @@ using uint = std::uint32_t;
 #define MAT_FLAG_NO_REFLECTION 4u        // rough dielectric: transmission only (rough "transmission"):
                                          // F = 0 where light can refract, 1 under total internal reflection
 #define MAT_FLAG_METAL_TEXTURE 8u        // surface: the roughness texture's G channel is the metalness
+#define MAT_FLAG_ALPHA_MASK 16u          // cut-outs: rays pass where the albedo texture's alpha is below
+                                         // uintBitsToFloat(info.z) (geometry/alpha_mask.glsl)
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 // The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
@@ -109,6 +113,8 @@ using uint = std::uint32_t;
 // Light flags.
 #define LIGHT_FLAG_TWO_SIDED 1u     // area lights (rect, sphere, mesh): emits from the back faces too
 #define LIGHT_FLAG_LINEAR_ANGLE 2u  // spot: falls off linearly in the angle (Mitsuba's), not smoothstep in cos
+#define LIGHT_FLAG_EMISSION_TEXTURE 4u  // rect, sphere, mesh: a material's emission texture scales the
+                                        // radiance per point (bsdf/material.glsl, materialEmission)
 
 #define LIGHT_TREE_LEAF 0x80000000u // GpuLightNode::info.x: a leaf; the light index is info.x & ~LIGHT_TREE_LEAF
 
@@ -208,10 +214,11 @@ CAUSTIC_STRUCT(GpuMaterial) {
     vec4 emission;  // rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER),
                     // w: the normal map's scale (x and y of its tangent-space normal)
     vec4 params;    // x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
-    uvec4 info;     // x: MAT_*, y: MAT_FLAG_*
+    uvec4 info;     // x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
     vec4 eta;       // conductors: rgb real part of the complex IOR
     vec4 k;         // conductors: rgb imaginary part (extinction)
-    uvec4 textures; // texture index + 1 (0: none): x albedo (linear RGB), y normal map, z roughness (R)
+    uvec4 textures; // texture index + 1 (0: none): x albedo (linear RGB; A: the alpha of the cut-outs),
+                    // y normal map, z roughness (R), w emission (linear RGB, times emission.rgb)
     vec4 sheen;     // surface: rgb sheen colour (times its weight), w sheen roughness
 };
 

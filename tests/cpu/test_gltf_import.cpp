@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -49,7 +50,7 @@ TEST_CASE("the glTF test files are the generator script's output", "[cpu][mesh][
     const std::string command = "python3 \"" + (fs::path(CAUSTIC_SOURCE_DIR) / "tests/gltf/make_test_gltf.py").string() +
                                 "\" \"" + out.string() + "\"";
     REQUIRE(std::system(command.c_str()) == 0);
-    for (const char* name : {"quad.gltf", "quad.glb"}) {
+    for (const char* name : {"quad.gltf", "quad.glb", "leaf.gltf", "leaf.glb", "glow.gltf", "glow.glb"}) {
         INFO(name);
         CHECK(bytesOf(out / name) == bytesOf(kData / name));
     }
@@ -132,7 +133,7 @@ TEST_CASE("glTF import: .gltf (data URIs) and .glb give what the file says", "[c
         }
         // Reports: once per file each.
         CHECK(count(warnings, "KHR_materials_iridescence") == 1);
-        CHECK(count(warnings, "alphaMode MASK") == 1);
+        CHECK(count(warnings, "alphaMode") == 0);  // MASK is rendered as written: no report
         CHECK(warnings.find("embedded textures are not") == std::string::npos);
 
         // Mapped onto the layered surface.
@@ -177,4 +178,149 @@ TEST_CASE("broken embedded images and broken glTF JSON are reported by name, not
     CHECK_FALSE(readGltfInfo((dir / "cut.glb").string(), &info, &error));
     CHECK(error.find("cut.glb") != std::string::npos);
     fs::remove_all(dir);
+}
+
+TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the file says", "[cpu][mesh][gltf]") {
+    for (const char* name : {"leaf.gltf", "leaf.glb"}) {
+        INFO(name);
+        const std::string path = (kData / name).string();
+        const MeshImportResult r = importMeshFile(path);
+        REQUIRE(r.ok());
+        INFO(joined(r.warnings));
+        CHECK(joined(r.warnings).find("alphaMode") == std::string::npos);  // MASK is not an approximation
+        REQUIRE(r.materials.size() >= 1);
+        const ImportedMaterial& m = r.materials[0];
+        CHECK(m.alphaMode == 1);
+        CHECK(m.alphaCutoff == Approx(0.4f));
+        CHECK(m.opacity == Approx(0.8f));
+        // The RGBA texture keeps its alpha: 1 in columns 0, 1, 4, 5, 0 in the others.
+        const FileTextures files{path, &r.embedded, m.wrap};
+        ImageData base;
+        std::string error;
+        REQUIRE(readTextureImage(ImageReader{}, &files, m.baseColorTexture, &base, &error));
+        REQUIRE(base.channels == 4);
+        for (int x = 0; x < 8; ++x) CHECK(base.pixels[size_t(4 * x + 3)] == (x % 4 < 2 ? 1.0f : 0.0f));
+        // Mapped: a mask whose cutoff has the factor's alpha folded in (alpha x 0.8 < 0.4).
+        std::vector<std::string> unmapped;
+        const Material s = mapImportedMaterial(m, &unmapped);
+        CHECK(s.alphaMode == AlphaMode::Mask);
+        CHECK(s.alphaCutoff == Approx(0.5f));
+        CHECK(unmapped.empty());
+        // Compiled: the flag, the cutoff's bits, the albedo texture in RGBA, and the instance flag.
+        Scene scene;
+        Object o;
+        o.shape = Shape::Mesh;
+        o.file = path;
+        scene.objects.push_back(o);
+        CompiledScene c;
+        REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+        REQUIRE(c.materials.size() >= 1);
+        CHECK((c.materials[0].info.y & MAT_FLAG_ALPHA_MASK) != 0u);
+        CHECK(std::bit_cast<float>(c.materials[0].info.z) == 0.5f);
+        CHECK(c.materials[0].textures.x != 0u);
+        REQUIRE(c.instances.size() == 1);
+        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) != 0u);
+    }
+    for (const char* name : {"glow.gltf", "glow.glb"}) {
+        INFO(name);
+        const std::string path = (kData / name).string();
+        const MeshImportResult r = importMeshFile(path);
+        REQUIRE(r.ok());
+        REQUIRE(r.materials.size() >= 1);
+        const ImportedMaterial& m = r.materials[0];
+        CHECK(m.emission == glm::vec3(3.0f, 1.5f, 0.75f));  // emissiveFactor x emissive strength 3
+        REQUIRE(m.emissionTexture.size() > 1);
+        CHECK(m.emissionTexture[0] == '*');
+        CHECK(m.textureWrap(TextureSlot::Emission, 0) == kWrapClamp);
+        std::vector<std::string> unmapped;
+        const Material s = mapImportedMaterial(m, &unmapped);
+        CHECK(s.emissionTexture == m.emissionTexture);
+        CHECK(s.emission == m.emission);
+        CHECK(unmapped.empty());
+        Scene scene;
+        Object o;
+        o.shape = Shape::Mesh;
+        o.file = path;
+        scene.objects.push_back(o);
+        CompiledScene c;
+        std::string error;
+        REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+        REQUIRE(c.materials.size() >= 1);
+        REQUIRE(c.materials[0].textures.w != 0u);
+        const gpu::GpuTexture& t = c.textures[c.materials[0].textures.w - 1];
+        CHECK(t.info.y == 2u);
+        CHECK(((t.info.w >> 8) & 3u) == TEXTURE_WRAP_CLAMP);
+        REQUIRE(c.lights.size() == 1);
+        CHECK(c.lights[0].info.x == LIGHT_MESH);
+        CHECK((c.lights[0].info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u);
+        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) == 0u);
+        // Light selection weighs the light by the texture's mean: the two texels' linear RGB
+        // averaged, times the factor, over the quad's area 4, both faces (a file's materials).
+        auto lin = [](double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+        const glm::dvec3 mean(0.5, 0.5 * (lin(128.0 / 255.0) + lin(64.0 / 255.0)), 0.5);
+        const glm::dvec3 radiance = glm::dvec3(3.0, 1.5, 0.75) * mean;
+        const double y = 0.2126 * radiance.r + 0.7152 * radiance.g + 0.0722 * radiance.b;
+        REQUIRE(c.lightPower.size() == 1);
+        CHECK(c.lightPower[0] == Approx(2.0 * 3.14159265358979 * 4.0 * y).epsilon(2e-3));
+    }
+}
+
+TEST_CASE("glTF alpha BLEND is a mask reported once per file, and a mask on an analytic shape is reported",
+          "[cpu][mesh][gltf]") {
+    const fs::path dir = fs::temp_directory_path() / ("caustic-gltf-blend-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::string text = bytesOf(kData / "leaf.gltf");
+    const size_t at = text.find("\"MASK\"");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, 6, "\"BLEND\"");
+    std::ofstream(dir / "blend.gltf") << text;
+    const MeshImportResult r = importMeshFile((dir / "blend.gltf").string());
+    REQUIRE(r.ok());
+    const std::string warnings = joined(r.warnings);
+    INFO(warnings);
+    CHECK(count(warnings, "alphaMode BLEND is rendered as MASK") == 1);
+    CHECK(warnings.find("blend.gltf") != std::string::npos);
+    REQUIRE(r.materials.size() >= 1);
+    CHECK(r.materials[0].alphaMode == 2);
+    CHECK(r.materials[0].alphaCutoff == 0.5f);  // the file's alphaCutoff 0.4 is MASK's alone
+    std::vector<std::string> unmapped;
+    const Material s = mapImportedMaterial(r.materials[0], &unmapped);
+    CHECK(s.alphaMode == AlphaMode::Mask);
+    CHECK(s.alphaCutoff == Approx(0.625f));  // 0.5 / the factor's alpha 0.8
+    fs::remove_all(dir);
+
+    Scene scene;
+    Material m;
+    m.name = "cut";
+    m.alphaMode = AlphaMode::Mask;
+    scene.materials.push_back(m);
+    Object quad;
+    quad.shape = Shape::Quad;
+    quad.material = "cut";
+    scene.objects.push_back(quad);
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(scene, ImageReader{}, &c, &error));
+    CHECK(count(joined(c.warnings), "objects[0]: material 'cut' has alpha_mode 'mask', which only meshes honour") == 1);
+}
+
+TEST_CASE("a missing emission texture is reported with its material, its key and its file", "[cpu][gltf]") {
+    Scene scene;
+    Material m{"sign", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(2.0f)};
+    m.emissionTexture = "no-such-sign.png";
+    scene.materials.push_back(m);
+    Object quad;
+    quad.shape = Shape::Quad;
+    quad.material = "sign";
+    scene.objects.push_back(quad);
+    const ImageReader missing = [](const std::string& path, ImageData*, std::string* error) {
+        *error = path + ": cannot open";
+        return false;
+    };
+    CompiledScene c;
+    std::string error;
+    CHECK_FALSE(compileScene(scene, missing, &c, &error));
+    INFO(error);
+    CHECK(error.find("materials[0].emission_texture (material 'sign')") != std::string::npos);
+    CHECK(error.find("no-such-sign.png: cannot open") != std::string::npos);
 }

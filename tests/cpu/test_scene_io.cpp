@@ -89,7 +89,9 @@ const char* kEverything = R"({
               "seed": 4294967295, "light_selection": "uniform" },
   "materials": [
     { "name": "a", "type": "diffuse", "albedo": [0.1, 0.2, 0.3], "emission": [0, 1e-7, 1e12] },
-    { "name": "b", "albedo": [1, 0, 0.333333343] }
+    { "name": "b", "albedo": [1, 0, 0.333333343] },
+    { "name": "leaf", "albedo_texture": "leaf.png", "alpha_mode": "mask", "alpha_cutoff": 0.25,
+      "emission": [1, 1, 1], "emission_texture": "glow.png" }
   ],
   "objects": [
     { "name": "ball", "shape": "sphere", "material": "a",
@@ -279,6 +281,10 @@ TEST_CASE("The every-feature scene reads as written", "[scene_io]") {
     CHECK(s.render.lightSelection == LightSelection::Uniform);
     CHECK(s.materials[1].type == MaterialType::Diffuse);
     CHECK(s.materials[0].emission.z == 1e12f);
+    CHECK(s.materials[0].alphaMode == AlphaMode::Opaque);
+    CHECK(s.materials[2].alphaMode == AlphaMode::Mask);
+    CHECK(s.materials[2].alphaCutoff == 0.25f);
+    CHECK(s.materials[2].emissionTexture == "glow.png");
     CHECK(s.objects[0].transform.scale == glm::vec3(0.5f));
     CHECK(s.objects[1].name.empty());
     CHECK(s.objects[1].transform.scale == glm::vec3(2, -3, 1e-3f));
@@ -459,7 +465,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
          "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor, surface)"},
         {"unknown material key", scene(R"("materials": [{"name": "w", "roughness": 0.5}])"),
          "materials[0].roughness", "unknown key for a 'diffuse' material (allowed: name, type, albedo, emission, albedo_texture, normal_texture, "
-         "normal_scale, roughness_texture)"},
+         "normal_scale, roughness_texture, emission_texture, alpha_mode, alpha_cutoff)"},
         {"eta on a preset metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "gold", "eta": [1, 1, 1]}])"),
          "materials[0].eta", "only a 'custom' metal takes eta and k (this one is 'gold')"},
         {"unknown metal", scene(R"("materials": [{"name": "g", "type": "conductor", "metal": "brass"}])"),
@@ -468,6 +474,10 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
          "materials[0].roughness", "must be <= 1, got 1.5"},
         {"zero ior", scene(R"("materials": [{"name": "g", "type": "dielectric", "ior": 0}])"),
          "materials[0].ior", "must be > 0, got 0"},
+        {"negative alpha_cutoff", scene(R"("materials": [{"name": "g", "alpha_mode": "mask", "alpha_cutoff": -0.5}])"),
+         "materials[0].alpha_cutoff", "must be >= 0, got -0.5"},
+        {"unknown alpha_mode", scene(R"("materials": [{"name": "g", "alpha_mode": "blend"}])"),
+         "materials[0].alpha_mode", "unknown value 'blend' (allowed: opaque, mask)"},
         {"texture not a string", scene(R"("materials": [{"name": "g", "albedo_texture": 3}])"),
          "materials[0].albedo_texture", "must be a string, got number 3"},
         // Objects.

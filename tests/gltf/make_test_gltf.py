@@ -11,7 +11,11 @@ a flat normal map with scale 0.5, emissive factor x KHR_materials_emissive_stren
 KHR_materials_ior, _specular, _clearcoat and _sheen; alphaMode MASK; doubleSided. The file also
 lists KHR_materials_iridescence, which caustic does not map (reported once).
 
-Usage: make_test_gltf.py OUTPUT_DIR   (writes quad.gltf and quad.glb)
+Two more quads, each as .gltf and .glb too: "leaf" (an RGBA base colour texture, alphaMode MASK:
+cut-outs) and "glow" (an emissive texture with KHR_materials_emissive_strength); their comments
+below say what they hold.
+
+Usage: make_test_gltf.py OUTPUT_DIR   (writes quad, leaf and glow, .gltf and .glb)
 Only the Python standard library; the output is deterministic (byte-identical on every run).
 """
 import base64
@@ -54,12 +58,11 @@ def geometry_bytes():
     return [pos, nrm, uv, idx]
 
 
-def document(image_entries, buffers, views):
+def document(spec, image_entries, buffers, views):
+    """The glTF JSON of the quad with `spec`'s extensionsUsed, samplers, textures and materials."""
     return {
         "asset": {"version": "2.0", "generator": "caustic tests/gltf/make_test_gltf.py"},
-        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_ior",
-                           "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
-                           "KHR_materials_iridescence"],
+        **spec,
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "name": "quad"}],
@@ -73,8 +76,15 @@ def document(image_entries, buffers, views):
         ],
         "bufferViews": views,
         "buffers": buffers,
-        "samplers": [{"wrapS": 33071, "wrapT": 33648}, {}],
         "images": image_entries,
+    }
+
+
+QUAD = {
+        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_ior",
+                           "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
+                           "KHR_materials_iridescence"],
+        "samplers": [{"wrapS": 33071, "wrapT": 33648}, {}],
         "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 1}, {"source": 2, "sampler": 1}],
         "materials": [{
             "name": "layered",
@@ -98,32 +108,74 @@ def document(image_entries, buffers, views):
                 "KHR_materials_iridescence": {"iridescenceFactor": 1.0},
             },
         }],
-    }
+}
 
 
-def write_gltf(path):
+# "leaf": alpha cut-outs. An 8 x 8 RGBA base colour texture (green) whose alpha is 255 in columns
+# 0, 1, 4, 5 and 0 in columns 2, 3, 6, 7 (stripes along v), sampler REPEAT, under
+# KHR_texture_transform scale (2, 1) (four stripe pairs across the quad); baseColorFactor alpha
+# 0.8 and alphaCutoff 0.4, so a point is cut out where the texture's alpha is below 0.5:
+# bilinear filtering crosses 0.5 exactly on the texel edges between the columns, so the quad is
+# solid for glTF u in [k/4, k/4 + 1/8) and cut out in [k/4 + 1/8, (k + 1)/4).
+LEAF_TEXTURE = png(8, 8, [[c for x in range(8) for c in (40, 160, 30, 255 if x % 4 < 2 else 0)] for _ in range(8)], 4)
+LEAF_IMAGES = [("leaf", LEAF_TEXTURE)]
+LEAF = {
+    "extensionsUsed": ["KHR_texture_transform"],
+    "samplers": [{"wrapS": 10497, "wrapT": 10497}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "materials": [{
+        "name": "leaf",
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [1.0, 1.0, 1.0, 0.8],
+            "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"scale": [2.0, 1.0]}}},
+            "metallicFactor": 0.0, "roughnessFactor": 1.0,
+        },
+        "alphaMode": "MASK", "alphaCutoff": 0.4, "doubleSided": True,
+    }],
+}
+
+# "glow": an emission texture. A 2 x 1 sRGB emissive texture (left texel (255, 128, 0), right
+# (0, 64, 255)), sampler CLAMP_TO_EDGE, times emissiveFactor (1, 0.5, 0.25) times
+# KHR_materials_emissive_strength 3; a black (non-reflecting) base.
+GLOW_TEXTURE = png(2, 1, [[255, 128, 0, 0, 64, 255]], 3)
+GLOW_IMAGES = [("glow", GLOW_TEXTURE)]
+GLOW = {
+    "extensionsUsed": ["KHR_materials_emissive_strength"],
+    "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "materials": [{
+        "name": "glow",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0},
+        "emissiveTexture": {"index": 0},
+        "emissiveFactor": [1.0, 0.5, 0.25],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 3.0}},
+    }],
+}
+
+
+def write_gltf(path, spec, images):
     geo = geometry_bytes()
     blob, views = b"", []
     for part in geo:
         views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(part)})
         blob += part
     uri = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
-    images = [{"name": n, "uri": "data:image/png;base64," + base64.b64encode(b).decode()} for n, b in IMAGES]
-    doc = document(images, [{"byteLength": len(blob), "uri": uri}], views)
+    entries = [{"name": n, "uri": "data:image/png;base64," + base64.b64encode(b).decode()} for n, b in images]
+    doc = document(spec, entries, [{"byteLength": len(blob), "uri": uri}], views)
     with open(path, "w") as f:
         json.dump(doc, f, indent=1, sort_keys=True)
         f.write("\n")
 
 
-def write_glb(path):
+def write_glb(path, spec, images):
     geo = geometry_bytes()
     blob, views = b"", []
-    for part in geo + [b for _, b in IMAGES]:
+    for part in geo + [b for _, b in images]:
         views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(part)})
         blob += part
         blob += b"\x00" * (-len(blob) % 4)
-    images = [{"name": n, "mimeType": "image/png", "bufferView": 4 + i} for i, (n, _) in enumerate(IMAGES)]
-    doc = document(images, [{"byteLength": len(blob)}], views)
+    entries = [{"name": n, "mimeType": "image/png", "bufferView": 4 + i} for i, (n, _) in enumerate(images)]
+    doc = document(spec, entries, [{"byteLength": len(blob)}], views)
     text = json.dumps(doc, sort_keys=True).encode()
     text += b" " * (-len(text) % 4)
     body = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(blob), b"BIN\x00") + blob
@@ -134,5 +186,6 @@ def write_glb(path):
 if __name__ == "__main__":
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "data", "gltf")
     os.makedirs(out, exist_ok=True)
-    write_gltf(os.path.join(out, "quad.gltf"))
-    write_glb(os.path.join(out, "quad.glb"))
+    for name, spec, images in [("quad", QUAD, IMAGES), ("leaf", LEAF, LEAF_IMAGES), ("glow", GLOW, GLOW_IMAGES)]:
+        write_gltf(os.path.join(out, name + ".gltf"), spec, images)
+        write_glb(os.path.join(out, name + ".glb"), spec, images)

@@ -113,4 +113,47 @@ void checkSameMean(const Film& a, const Film& b, double k) {
     }
 }
 
+namespace {
+
+constexpr int kBlocks = 4;
+
+struct BlockStats { glm::dvec3 mean[kBlocks][kBlocks]; glm::dvec3 var[kBlocks][kBlocks]; };
+
+BlockStats blocks(const Film& f) {
+    BlockStats b{};
+    const int bs = f.width / kBlocks;
+    const double n = double(bs) * bs;
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            const size_t i = f.index(x, y);
+            b.mean[y / bs][x / bs] += glm::dvec3(f.mean[i]) / n;
+            b.var[y / bs][x / bs] += glm::dvec3(f.varianceOfMean[i]) / (n * n);
+        }
+    return b;
+}
+
+}  // namespace
+
+void checkBlocksAgree(const Film& a, const Film& b, const char* what) {
+    const BlockStats sa = blocks(a), sb = blocks(b);
+    int disagreements = 0;
+    double seSum = 0.0, meanSum = 0.0;
+    for (int by = 0; by < kBlocks; ++by)
+        for (int bx = 0; bx < kBlocks; ++bx)
+            for (int c = 0; c < 3; ++c) {
+                const double diff = std::abs(sa.mean[by][bx][c] - sb.mean[by][bx][c]);
+                const double se = std::sqrt(sa.var[by][bx][c] + sb.var[by][bx][c]);
+                seSum += se;
+                meanSum += sa.mean[by][bx][c];
+                if (diff > 4.0 * se + 1e-6) {
+                    ++disagreements;
+                    UNSCOPED_INFO(what << ": block (" << bx << ", " << by << ") channel " << c << ": "
+                                       << sa.mean[by][bx][c] << " vs " << sb.mean[by][bx][c] << ", combined se " << se);
+                }
+            }
+    INFO(what << ": mean combined standard error " << seSum / meanSum << " of the mean");
+    CHECK(disagreements == 0);
+    CHECK(seSum < 0.1 * meanSum);
+}
+
 }  // namespace caustic::test

@@ -34,5 +34,9 @@ ImageStats imageStats(const Film& film);
 // CHECKs that two renders of the same integral have the same image mean per channel, within k
 // combined standard errors.
 void checkSameMean(const Film& a, const Film& b, double k = 4.0);
+// CHECKs that two renders of the same integral agree per block of a 4 x 4 grid and channel within
+// 4 combined standard errors (48 comparisons), and the test's own power: the comparison must be
+// tighter than a tenth of the blocks' values on average. The width and height must be multiples of 4.
+void checkBlocksAgree(const Film& a, const Film& b, const char* what);
 
 }  // namespace caustic::test

@@ -14,46 +14,9 @@ using namespace caustic;
 
 namespace {
 
-constexpr int kSize = 24, kBlocks = 4;
+constexpr int kSize = 24;
 
-struct BlockStats { glm::dvec3 mean[kBlocks][kBlocks]; glm::dvec3 var[kBlocks][kBlocks]; };
-
-BlockStats blocks(const Film& f) {
-    BlockStats b{};
-    const int bs = f.width / kBlocks;
-    const double n = double(bs) * bs;
-    for (int y = 0; y < f.height; ++y)
-        for (int x = 0; x < f.width; ++x) {
-            const size_t i = f.index(x, y);
-            b.mean[y / bs][x / bs] += glm::dvec3(f.mean[i]) / n;
-            b.var[y / bs][x / bs] += glm::dvec3(f.varianceOfMean[i]) / (n * n);
-        }
-    return b;
-}
-
-// Per block and channel within 4 combined standard errors (48 comparisons), and the test's own
-// power: the comparison must be tighter than a tenth of the blocks' values on average.
-void checkAgree(const Film& a, const Film& b, const char* what) {
-    const BlockStats sa = blocks(a), sb = blocks(b);
-    int disagreements = 0;
-    double seSum = 0.0, meanSum = 0.0;
-    for (int by = 0; by < kBlocks; ++by)
-        for (int bx = 0; bx < kBlocks; ++bx)
-            for (int c = 0; c < 3; ++c) {
-                const double diff = std::abs(sa.mean[by][bx][c] - sb.mean[by][bx][c]);
-                const double se = std::sqrt(sa.var[by][bx][c] + sb.var[by][bx][c]);
-                seSum += se;
-                meanSum += sa.mean[by][bx][c];
-                if (diff > 4.0 * se + 1e-6) {
-                    ++disagreements;
-                    UNSCOPED_INFO(what << ": block (" << bx << ", " << by << ") channel " << c << ": "
-                                       << sa.mean[by][bx][c] << " vs " << sb.mean[by][bx][c] << ", combined se " << se);
-                }
-            }
-    INFO(what << ": mean combined standard error " << seSum / meanSum << " of the mean");
-    CHECK(disagreements == 0);
-    CHECK(seSum < 0.1 * meanSum);
-}
+void checkAgree(const Film& a, const Film& b, const char* what) { test::checkBlocksAgree(a, b, what); }
 
 // A grey floor, a rect light above, and the emitter under test (white, emitting) placed so the
 // camera sees its front, its back or its underside as well as the light it casts on the floor.
