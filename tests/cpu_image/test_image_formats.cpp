@@ -57,7 +57,7 @@ TEST_CASE("images: a file is read by the reader its extension names, in either c
     }
 }
 
-TEST_CASE("images: a PNG saved as .jpg still reads; a PNM saved as .png is refused, naming the file", "[image]") {
+TEST_CASE("images: a PNG saved as .jpg still reads, and a PNM saved as .png is refused, naming the file", "[image]") {
     test::TempDir dir;
     writePng(dir.file("a.png"));
     std::filesystem::copy_file(dir.file("a.png"), dir.file("really-png.jpg"));
