@@ -785,6 +785,14 @@ WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
     sz = 1.0f / ray.dir[kz];
 }
 
+float edgeFunction(float a, float b, float c, float d) {
+    // volatile: each product rounded on its own even where the compiler would contract a * b - c d
+    // into an fma (GCC does with -ffp-contract=fast, its default, on targets with FMA).
+    volatile float ab = a * b;
+    volatile float cd = c * d;
+    return ab - cd;
+}
+
 // Woop, Benthin and Wald 2013, figure 2 (without backface culling).
 bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::vec3& v1,
                        const glm::vec3& v2, float tMax, float* tOut, float* uOut, float* vOut) {
@@ -792,9 +800,10 @@ bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::v
     const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
     const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    // Float edge functions, never of the wrong sign (edgeFunction), as on the GPU.
+    float u = edgeFunction(cx, by, cy, bx);
+    float v = edgeFunction(ax, cy, ay, cx);
+    float w = edgeFunction(bx, ay, by, ax);
     if (u == 0.0f || v == 0.0f || w == 0.0f) {
         // An edge function that is exactly 0 may be a rounding artefact: redo the three in double
         // (a product of two floats is exact in double, so the signs are exact), which decides

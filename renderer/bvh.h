@@ -190,9 +190,17 @@ struct WatertightRay {
 
 // The watertight ray/triangle test: a hit with t in (0, tMax) sets *t, *u, *v. Edges shared by
 // two triangles are never missed by both (no ray escapes through a closed mesh); a ray exactly on
-// an edge may hit both. Double precision fallback when an edge function is exactly 0 (section 3).
+// an edge may hit both. Float edge functions (edgeFunction), never of the wrong sign; a double
+// precision redo when one is exactly 0 (section 3).
 bool intersectTriangle(const WatertightRay& ray, const glm::vec3& v0, const glm::vec3& v1,
                        const glm::vec3& v2, float tMax, float* t, float* u, float* v);
+
+// An edge function, a * b - c * d with each product rounded on its own (never contracted into an
+// fma): rounding is monotone, so the result is never of the wrong sign, only sometimes 0 where
+// the exact value is not. The GLSL traversal computes the same (geometry/bvh.glsl, `precise`: an
+// fma contraction, fl(a b - fl(c d)), can have the wrong sign and let a ray through an edge miss
+// both triangles).
+float edgeFunction(float a, float b, float c, float d);
 
 // Closest hit with t in (0, tMax) over one BLAS (instance left as ~0u) or the whole scene.
 RayHit intersectBlas(const MeshBlas& blas, std::span<const glm::vec3> positions, const Ray& ray,

@@ -9,7 +9,8 @@
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
 //   inverted (empty) box is never entered.
 //   Triangles: Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1),
-//   with the edge functions redone in double when one is exactly 0 (as the CPU reference does).
+//   with float edge functions kept monotone (`precise`: never of the wrong sign) and those that
+//   are exactly 0 redone in double (as the CPU reference does).
 #ifndef GEOMETRY_BVH_GLSL
 #define GEOMETRY_BVH_GLSL
 #include "../lib/math.glsl"
@@ -60,14 +61,28 @@ WatertightRay makeWatertightRay(vec3 o, vec3 d) {
     return r;
 }
 
+// a * b - c * d, each product rounded on its own: rounding is monotone, so a b > c d gives
+// fl(a b) >= fl(c d), and the result is never of the wrong sign (it may be 0 where the exact value
+// is not, which the triangle test redoes in double). `precise` forbids the compiler to contract it
+// into fma(a, b, -fl(c d)), which can have the wrong sign: a ray through one of two triangles
+// near their shared edge could then miss both. renderer/bvh.cpp computes the same on the CPU.
+float edgeFunction(float a, float b, float c, float d) {
+    precise float ab = a * b;
+    precise float cd = c * d;
+    precise float r = ab - cd;
+    return r;
+}
+
 bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, out float t, out vec2 bary) {
     vec3 a = v0 - r.o, b = v1 - r.o, c = v2 - r.o;
     float ax = a[r.kx] - r.s.x * a[r.kz], ay = a[r.ky] - r.s.y * a[r.kz];
     float bx = b[r.kx] - r.s.x * b[r.kz], by = b[r.ky] - r.s.y * b[r.kz];
     float cx = c[r.kx] - r.s.x * c[r.kz], cy = c[r.ky] - r.s.y * c[r.kz];
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    float u = edgeFunction(cx, by, cy, bx);
+    float v = edgeFunction(ax, cy, ay, cx);
+    float w = edgeFunction(bx, ay, by, ax);
+    // A float edge function that is 0 may be a rounding artefact (never one of the wrong sign):
+    // redone in double (exact products), as in Woop et al.
     if (u == 0.0 || v == 0.0 || w == 0.0) {
         double ud = double(cx) * double(by) - double(cy) * double(bx);
         double vd = double(ax) * double(cy) - double(ay) * double(cx);
