@@ -94,6 +94,30 @@ struct Bvh {
     bool empty() const { return nodes.empty(); }
 };
 
+// A 4-wide BVH for the GPU's traversal (CAUSTIC_WIDE_BVH; mirrored by GpuWideBvhNode in
+// shaders/shared/layout.h, the same 128 bytes): collapsed from a binary tree, each node holds its
+// up to four children's boxes by coordinate and their references. Why: llvmpipe executes a
+// traversal step's whole loop body for 8 rays at once, so a step costs the same whatever it does;
+// fewer, wider steps test more boxes per step (docs/performance.md).
+struct WideBvhNode {
+    float minX[4], maxX[4], minY[4], maxY[4], minZ[4], maxZ[4];
+    std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << 27 | first, or a node's index
+    std::uint32_t pad[4];
+};
+inline constexpr std::uint32_t kWideEmpty = 0xffffffffu;
+inline constexpr std::uint32_t kWideLeaf = 0x80000000u;
+inline constexpr std::uint32_t kWideLeafMaxCount = 15u;
+inline constexpr std::uint32_t kWideLeafMaxFirst = (1u << 27) - 1u;
+
+// Appends the 4-wide form of `bvh` to `out`, its root first; child node indices are absolute
+// (base + the node's position among those appended). Each node takes the children of a binary
+// node and, while it has fewer than four, replaces the child of largest surface area that is an
+// interior node by that node's two children. Binary leaves of more than kWideLeafMaxCount
+// primitives become nodes of shorter leaves (the same box). An empty tree appends nothing. False
+// when a leaf's first primitive is beyond kWideLeafMaxFirst (nothing appended then).
+bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out);
+
+
 // Builds over primBounds (one box per primitive, indexed by primitive id).
 Bvh buildBvh(std::span<const Aabb> primBounds, const BvhBuildOptions& options = {});
 

@@ -136,11 +136,68 @@ bool bvhDescend(GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, in
     return false;
 }
 
+// A leaf's triangles, [first, first + count) of the instance's (from firstTriangle): a hit
+// nearer than hit.t replaces it. The one place where a triangle hit is accepted, for both forms of
+// the instance's traversal. True when a hit was found.
+bool traceLeafTriangles(WatertightRay wr, uint instance, uint firstTriangle, uint first, uint count, bool anyHit,
+                        inout TraceHit hit) {
+    bool found = false;
+    for (uint k = first; k < first + count; ++k) {
+        GpuTriangle tri = loadTriangle(firstTriangle + k);
+        float t;
+        vec2 b;
+        if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
+            hit.t = t;
+            hit.ref = TLAS_REF_INSTANCE | instance;
+            hit.triangle = firstTriangle + k;
+            hit.bary = b;
+            found = true;
+            if (anyHit) return true;
+        }
+    }
+    return found;
+}
+
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+// One step through a 4-wide node (GpuWideBvhNode): its four children's boxes slab-tested at once
+// (the same test as slabTest, by coordinate over vec4s), the nearest child hit becomes `ref`, the
+// others hit go on the stack, farthest first. False when none is hit.
+bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
+    uint t0 = 8u * ref;
+    vec4 minX = FETCH_F4(wideNodeTexels, t0), maxX = FETCH_F4(wideNodeTexels, t0 + 1u);
+    vec4 minY = FETCH_F4(wideNodeTexels, t0 + 2u), maxY = FETCH_F4(wideNodeTexels, t0 + 3u);
+    vec4 minZ = FETCH_F4(wideNodeTexels, t0 + 4u), maxZ = FETCH_F4(wideNodeTexels, t0 + 5u);
+    uvec4 child = FETCH_U4(wideNodeTexels, t0 + 6u);
+    vec4 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
+    vec4 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
+    vec4 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;
+    vec4 tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, vec4(0.0)));
+    vec4 tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;
+    bvec4 h = lessThanEqual(tn, min(tf, vec4(tMax)));
+    // Entry distances of the children hit (+inf for the others), sorted with their references by
+    // a 5-comparator network: (0 1) (2 3) (0 2) (1 3) (1 2).
+    vec4 key = mix(vec4(uintBitsToFloat(0x7f800000u)), tn, h);
+    uvec4 c = child;
+#define WIDE_SORT2(i, j) \
+    if (key[j] < key[i]) { float tk = key[i]; key[i] = key[j]; key[j] = tk; uint tc = c[i]; c[i] = c[j]; c[j] = tc; }
+    WIDE_SORT2(0, 1) WIDE_SORT2(2, 3) WIDE_SORT2(0, 2) WIDE_SORT2(1, 3) WIDE_SORT2(1, 2)
+#undef WIDE_SORT2
+    if (isinf(key.x)) return false;
+    if (!isinf(key.w) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.w;
+    if (!isinf(key.z) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.z;
+    if (!isinf(key.y) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.y;
+    ref = c.x;
+    return true;
+}
+#endif
+
 // A mesh instance's own BVH, in object space (the ray transformed; t keeps its meaning), on the
 // stack above `base`, which it leaves as it found it. Its loop is nested in the top level's so
 // that an iteration in a mesh runs only the mesh's code: llvmpipe executes every branch of a loop
 // body under a lane mask, so one loop for both levels paid for the top level's primitive tests
 // and the instance entry at every step through a mesh (docs/performance.md).
+// With CAUSTIC_WIDE_BVH (and buffer textures) the mesh's 4-wide BVH is walked instead of the
+// binary one: half as many steps, each testing four boxes (docs/performance.md).
 bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
     GpuInstance inst = loadInstance(instance);
     vec3 o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
@@ -155,29 +212,35 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
     uint firstTriangle = inst.info.y;
     int sp = base;
     bool found = false;
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+    uint ref = inst.info3.x;
+    while (true) {
+        if ((ref & WIDE_CHILD_LEAF) == 0u) {
+            if (wideDescend(ref, o, invD, hit.t, sp)) continue;
+        } else {
+            if (traceLeafTriangles(wr, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u, anyHit,
+                                   hit)) {
+                found = true;
+                if (anyHit) return true;
+            }
+        }
+        if (sp == base) break;
+        ref = g_bvhStack[--sp];
+    }
+#else
     while (true) {
         GpuBvhNode n = loadBvhNode(node);
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;
-        } else {
-            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                GpuTriangle tri = loadTriangle(firstTriangle + k);
-                float t;
-                vec2 b;
-                if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b)) {
-                    hit.t = t;
-                    hit.ref = TLAS_REF_INSTANCE | instance;
-                    hit.triangle = firstTriangle + k;
-                    hit.bary = b;
-                    found = true;
-                    if (anyHit) return true;
-                }
-            }
+        } else if (traceLeafTriangles(wr, instance, firstTriangle, n.rightOrFirst, count, anyHit, hit)) {
+            found = true;
+            if (anyHit) return true;
         }
         if (sp == base) break;
         node = g_bvhStack[--sp];
     }
+#endif
     return found;
 }
 

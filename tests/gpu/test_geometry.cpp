@@ -11,6 +11,7 @@
 
 #include "renderer/shader_loader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -354,7 +355,7 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
         return glm::vec3(glm::dot(inst.objectToWorld0, q), glm::dot(inst.objectToWorld1, q), glm::dot(inst.objectToWorld2, q));
     };
     // Allowed disagreements with the CPU: hit/miss, t (beyond 1e-4 relative), triangle.
-    struct Family { const char* name; std::vector<Ray> rays; int hit, t, triangle; };
+    struct Family { const char* name; std::vector<Ray> rays; int hit, t, triangle, tieTriangles = 0; };
     std::vector<Family> families;
     families.push_back({"random", randomRays(17, 4096), 2, 0, 2});
     std::vector<Ray> grazing, aimed, inside;
@@ -386,15 +387,20 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     // reference: measured 2.3 % hit/miss and 5.7 % t disagreements, the same for every
     // configuration; the configurations must still agree with each other exactly (below).
     families.push_back({"grazing", grazing, 102, 205, 205});
-    families.push_back({"vertices and edges", aimed, 8, 0, 2048});
+    families.push_back({"vertices and edges", aimed, 8, 0, 2048, 16});
     families.push_back({"origins inside meshes", inside, 2, 0, 2});
     ShaderDefines specialised = renderer->featureDefines();
     ShaderDefines specialisedFetch = specialised;
     specialisedFetch.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
-    const std::pair<const char*, ShaderDefines> configs[] = {{"storage buffers, general", {}},
-                                                             {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
-                                                             {"storage buffers, specialised", specialised},
-                                                             {"buffer textures, specialised", specialisedFetch}};
+    ShaderDefines specialisedWide = specialisedFetch;
+    specialisedWide.emplace_back("CAUSTIC_WIDE_BVH", "1");
+    const std::pair<const char*, ShaderDefines> configs[] = {
+        {"storage buffers, general", {}},
+        {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
+        {"storage buffers, specialised", specialised},
+        {"buffer textures, specialised", specialisedFetch},
+        {"4-wide BVH, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}}},
+        {"4-wide BVH, specialised", specialisedWide}};
     for (const Family& f : families) {
         std::vector<GpuHit> first;
         for (const auto& [name, defines] : configs) {
@@ -408,12 +414,20 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
             CHECK(a.tMismatch <= f.t);
             CHECK(a.triangleMismatch <= f.triangle);
             CHECK(a.anyMismatch == 0);
-            // The configurations are one source: they find exactly the same hits.
+            // The configurations are one source: they find exactly the same hits. The 4-wide BVH
+            // visits the same leaves in another order: where a ray meets several triangles at
+            // about the same t (through a vertex or an edge) it may report another of them, whose
+            // t differs in the last bits (measured: 1 ulp on one ray in 2048, 4 other triangles).
             if (first.empty()) first = gpu;
-            int differ = 0;
-            for (size_t i = 0; i < gpu.size(); ++i)
-                differ += gpu[i].t != first[i].t || gpu[i].triangle != first[i].triangle || gpu[i].occluded != first[i].occluded;
+            const bool wide = std::any_of(defines.begin(), defines.end(), [](const auto& d) { return d.first == "CAUSTIC_WIDE_BVH"; });
+            int differ = 0, otherTriangle = 0;
+            for (size_t i = 0; i < gpu.size(); ++i) {
+                const bool tie = wide && std::abs(gpu[i].t - first[i].t) <= 1e-6f * std::abs(first[i].t);
+                differ += (gpu[i].t != first[i].t && !tie) || gpu[i].occluded != first[i].occluded;
+                otherTriangle += gpu[i].triangle != first[i].triangle || gpu[i].t != first[i].t;
+            }
             CHECK(differ == 0);
+            CHECK(otherTriangle <= (wide ? f.tieTriangles : 0));
         }
     }
 }
