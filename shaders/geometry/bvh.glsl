@@ -20,7 +20,15 @@
 // the instance tree's (fewer than 32). A push that would overflow is dropped (the node is not
 // visited) rather than written out of bounds. (76 entries since the one-loop traversal, which also
 // kept instance entries and exit markers there; kept, as what NVIDIA was measured with.)
-#define BVH_STACK_SIZE 76
+// The 4-wide BVH (CAUSTIC_WIDE_BVH) pushes up to three siblings per step: 31 top-level entries and
+// 3 per level of an instance's tree (no deeper than its binary tree, 32) need 127. Only programs
+// that can meet a mesh get the larger stack: on llvmpipe 128 entries made scenes without meshes
+// that walk the top level 10-20 % slower than 76 (docs/performance.md).
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+const int BVH_STACK_SIZE = HAS_MESHES ? 128 : 76;
+#else
+const int BVH_STACK_SIZE = 76;
+#endif
 
 struct TraceHit {
     float t;
