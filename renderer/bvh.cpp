@@ -785,6 +785,14 @@ WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
     sz = 1.0f / ray.dir[kz];
 }
 
+float edgeFunction(float a, float b, float c, float d) {
+    // volatile: each product rounded on its own even where the compiler would contract a * b - c d
+    // into an fma (GCC does with -ffp-contract=fast, its default, on targets with FMA).
+    volatile float ab = a * b;
+    volatile float cd = c * d;
+    return ab - cd;
+}
+
 // Woop, Benthin and Wald 2013, figure 2 (without backface culling).
 bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::vec3& v1,
                        const glm::vec3& v2, float tMax, float* tOut, float* uOut, float* vOut) {
@@ -792,9 +800,10 @@ bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::v
     const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
     const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    // Float edge functions, never of the wrong sign (edgeFunction), as on the GPU.
+    float u = edgeFunction(cx, by, cy, bx);
+    float v = edgeFunction(ax, cy, ay, cx);
+    float w = edgeFunction(bx, ay, by, ax);
     if (u == 0.0f || v == 0.0f || w == 0.0f) {
         // An edge function that is exactly 0 may be a rounding artefact: redo the three in double
         // (a product of two floats is exact in double, so the signs are exact), which decides
@@ -820,6 +829,100 @@ bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::v
     *uOut = v * invDet;
     *vOut = w * invDet;
     return true;
+}
+
+namespace {
+
+struct WideCollapse {
+    const std::vector<BvhNode>& nodes;
+    std::uint32_t base;
+    std::vector<WideBvhNode>& out;
+    bool ok = true;
+
+    static void setBox(WideBvhNode& w, int k, const glm::vec3& lo, const glm::vec3& hi) {
+        w.minX[k] = lo.x; w.maxX[k] = hi.x;
+        w.minY[k] = lo.y; w.maxY[k] = hi.y;
+        w.minZ[k] = lo.z; w.maxZ[k] = hi.z;
+    }
+
+    static WideBvhNode emptyNode() {
+        WideBvhNode w{};
+        const float inf = std::numeric_limits<float>::infinity();
+        for (int k = 0; k < 4; ++k) {
+            setBox(w, k, glm::vec3(inf), glm::vec3(-inf));  // inverted: never entered
+            w.child[k] = kWideEmpty;
+        }
+        return w;
+    }
+
+    // A leaf's reference; a long leaf becomes a node of shorter ones (its box for each).
+    std::uint32_t leafRef(std::uint32_t first, std::uint32_t count, const glm::vec3& lo, const glm::vec3& hi) {
+        if (first > kWideLeafMaxFirst || count > kWideLeafMaxFirst - first + 1u) {
+            ok = false;
+            return kWideEmpty;
+        }
+        if (count <= kWideLeafMaxCount) return kWideLeaf | (count << 27) | first;
+        const auto index = static_cast<std::uint32_t>(out.size());
+        out.push_back(emptyNode());
+        const std::uint32_t part = std::max((count + 3u) / 4u, 1u);
+        for (int k = 0; k < 4; ++k) {
+            const std::uint32_t f = first + std::uint32_t(k) * part;
+            if (f >= first + count) break;
+            const std::uint32_t n = std::min(part, first + count - f);
+            const std::uint32_t ref = leafRef(f, n, lo, hi);
+            setBox(out[index], k, lo, hi);
+            out[index].child[k] = ref;
+        }
+        return base + index;
+    }
+
+    // The wide node for binary node `b` (or, for a binary leaf at the root, a node holding it).
+    std::uint32_t node(std::uint32_t b) {
+        const auto index = static_cast<std::uint32_t>(out.size());
+        out.push_back(emptyNode());
+        std::uint32_t kids[4];
+        int n = 0;
+        if (nodes[b].isLeaf()) {
+            kids[n++] = b;
+        } else {
+            kids[n++] = b + 1;
+            kids[n++] = nodes[b].rightOrFirst;
+        }
+        while (n < 4) {
+            int best = -1;
+            float bestArea = -1.0f;
+            for (int k = 0; k < n; ++k) {
+                if (nodes[kids[k]].isLeaf()) continue;
+                const float a = nodes[kids[k]].bounds().halfArea();
+                if (a > bestArea) { bestArea = a; best = k; }
+            }
+            if (best < 0) break;
+            const std::uint32_t opened = kids[best];
+            for (int k = n; k > best + 1; --k) kids[k] = kids[k - 1];
+            kids[best] = opened + 1;
+            kids[best + 1] = nodes[opened].rightOrFirst;
+            ++n;
+        }
+        for (int k = 0; k < n; ++k) {
+            const BvhNode& c = nodes[kids[k]];
+            const std::uint32_t ref = c.isLeaf() ? leafRef(c.rightOrFirst, c.count(), c.boundsMin, c.boundsMax)
+                                                 : node(kids[k]);
+            setBox(out[index], k, c.boundsMin, c.boundsMax);  // (out may have grown: index, not a reference)
+            out[index].child[k] = ref;
+        }
+        return base + index;
+    }
+};
+
+}  // namespace
+
+bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out) {
+    if (bvh.nodes.empty()) return true;
+    const std::size_t start = out.size();
+    WideCollapse c{bvh.nodes, base - static_cast<std::uint32_t>(start), out};
+    c.node(0);
+    if (!c.ok) out.resize(start);
+    return c.ok;
 }
 
 Ray transformRay(const glm::mat4& worldToObject, const Ray& ray) {

@@ -94,6 +94,30 @@ struct Bvh {
     bool empty() const { return nodes.empty(); }
 };
 
+// A 4-wide BVH for the GPU's traversal (CAUSTIC_WIDE_BVH; mirrored by GpuWideBvhNode in
+// shaders/shared/layout.h, the same 128 bytes): collapsed from a binary tree, each node holds its
+// up to four children's boxes by coordinate and their references. Why: llvmpipe executes a
+// traversal step's whole loop body for 8 rays at once, so a step costs the same whatever it does;
+// fewer, wider steps test more boxes per step (docs/performance.md).
+struct WideBvhNode {
+    float minX[4], maxX[4], minY[4], maxY[4], minZ[4], maxZ[4];
+    std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << 27 | first, or a node's index
+    std::uint32_t pad[4];
+};
+inline constexpr std::uint32_t kWideEmpty = 0xffffffffu;
+inline constexpr std::uint32_t kWideLeaf = 0x80000000u;
+inline constexpr std::uint32_t kWideLeafMaxCount = 15u;
+inline constexpr std::uint32_t kWideLeafMaxFirst = (1u << 27) - 1u;
+
+// Appends the 4-wide form of `bvh` to `out`, its root first; child node indices are absolute
+// (base + the node's position among those appended). Each node takes the children of a binary
+// node and, while it has fewer than four, replaces the child of largest surface area that is an
+// interior node by that node's two children. Binary leaves of more than kWideLeafMaxCount
+// primitives become nodes of shorter leaves (the same box). An empty tree appends nothing. False
+// when a leaf's first primitive is beyond kWideLeafMaxFirst (nothing appended then).
+bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out);
+
+
 // Builds over primBounds (one box per primitive, indexed by primitive id).
 Bvh buildBvh(std::span<const Aabb> primBounds, const BvhBuildOptions& options = {});
 
@@ -190,9 +214,17 @@ struct WatertightRay {
 
 // The watertight ray/triangle test: a hit with t in (0, tMax) sets *t, *u, *v. Edges shared by
 // two triangles are never missed by both (no ray escapes through a closed mesh); a ray exactly on
-// an edge may hit both. Double precision fallback when an edge function is exactly 0 (section 3).
+// an edge may hit both. Float edge functions (edgeFunction), never of the wrong sign; a double
+// precision redo when one is exactly 0 (section 3).
 bool intersectTriangle(const WatertightRay& ray, const glm::vec3& v0, const glm::vec3& v1,
                        const glm::vec3& v2, float tMax, float* t, float* u, float* v);
+
+// An edge function, a * b - c * d with each product rounded on its own (never contracted into an
+// fma): rounding is monotone, so the result is never of the wrong sign, only sometimes 0 where
+// the exact value is not. The GLSL traversal computes the same (geometry/bvh.glsl, `precise`: an
+// fma contraction, fl(a b - fl(c d)), can have the wrong sign and let a ray through an edge miss
+// both triangles).
+float edgeFunction(float a, float b, float c, float d);
 
 // Closest hit with t in (0, tMax) over one BLAS (instance left as ~0u) or the whole scene.
 RayHit intersectBlas(const MeshBlas& blas, std::span<const glm::vec3> positions, const Ray& ray,

@@ -59,6 +59,7 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
         {"light tree", sizeOf(c.lightTree.nodes)},
         {"light and environment sampling tables", sizeOf(tables)},
         {"BVH nodes", sizeOf(c.bvhNodes)},
+        {"4-wide BVH nodes", sizeOf(c.wideNodes)},
         {"top-level BVH entries", sizeOf(c.tlasRefs)},
         {"mesh instances", sizeOf(c.instances)},
         {"mesh triangles", sizeOf(c.triangles)},

@@ -30,7 +30,8 @@ static_assert(sizeof(GpuFrame) == 320);
 static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
-static_assert(sizeof(GpuInstance) == 128);
+static_assert(sizeof(GpuInstance) == 144);
+static_assert(sizeof(GpuWideBvhNode) == 128 && sizeof(GpuWideBvhNode) == sizeof(caustic::WideBvhNode));
 static_assert(sizeof(GpuTriangle) == 64);
 static_assert(sizeof(GpuVertex) == 32);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
@@ -587,7 +588,7 @@ struct Builder {
 
     // Lays the meshes' BVHs and triangles out for the GPU and builds the top level over every
     // analytic primitive and mesh instance.
-    void finishGeometry() {
+    bool finishGeometry() {
         std::vector<Aabb> bounds = primBounds;
         std::vector<std::uint32_t> refs;
         for (std::uint32_t i = 0; i < primBounds.size(); ++i) refs.push_back(i);
@@ -637,6 +638,21 @@ struct Builder {
         }
         out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
         buildTlas(out.meshBvh);
+        // Each mesh's BVH in 4-wide form too (CAUSTIC_WIDE_BVH; O(nodes), remade each compile).
+        std::vector<WideBvhNode> wide;
+        std::vector<std::uint32_t> wideRootOf;
+        for (const MeshBlas& blas : out.meshBvh.blases) {
+            wideRootOf.push_back(static_cast<std::uint32_t>(wide.size()));
+            if (!collapseBvh4(blas.bvh, wideRootOf.back(), wide)) {
+                *error = "a mesh has more triangles than the GPU's 4-wide BVH can index (2^27)";
+                return false;
+            }
+        }
+        out.wideNodes.resize(wide.size());
+        for (std::size_t i = 0; i < wide.size(); ++i) out.wideNodes[i] = std::bit_cast<gpu::GpuWideBvhNode>(wide[i]);
+        for (size_t i = 0; i < out.instances.size(); ++i)
+            out.instances[i].info3 = glm::uvec4(wideRootOf[out.meshBvh.instances[i].mesh], 0, 0, 0);
+        return true;
     }
 
     void layOutMeshes(std::vector<std::uint32_t>& rootOf, std::vector<std::uint32_t>& firstTriangleOf) {
@@ -819,7 +835,7 @@ struct Builder {
                 }
             }
         }
-        finishGeometry();
+        if (!finishGeometry()) return false;
         if (out.primitives.empty() && out.lights.empty() && out.instances.empty())
             out.boundsMin = out.boundsMax = glm::vec3(0.0f);
         const Environment& env = scene.environment;

@@ -63,6 +63,9 @@ struct CompiledScene {
     std::uint32_t tlasNodeCapacity = 0;
     std::vector<std::uint32_t> tlasRefs;          // primitive index or TLAS_REF_INSTANCE | instance
     std::vector<gpu::GpuInstance> instances;
+    // Every mesh's BVH again, 4-wide (renderer/bvh.h, collapseBvh4), for CAUSTIC_WIDE_BVH; an
+    // instance's root is info3.x.
+    std::vector<gpu::GpuWideBvhNode> wideNodes;
     std::vector<gpu::GpuTriangle> triangles;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<float> meshLightCdf;

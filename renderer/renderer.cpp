@@ -164,6 +164,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
     glCreateBuffers(1, &r->m_primitiveHits);
+    glCreateBuffers(1, &r->m_wideNodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
@@ -177,6 +178,7 @@ Renderer::~Renderer() {
     glDeleteBuffers(3, materialBuffers);
     glDeleteBuffers(1, &m_lightTree);
     glDeleteBuffers(1, &m_primitiveHits);
+    glDeleteBuffers(1, &m_wideNodes);
     glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
@@ -406,6 +408,7 @@ std::string Renderer::upload(bool meshes) {
     if (meshes) {
         uploadBuffer(m_geometry[0], m_compiled.bvhNodes);
         uploadBuffer(m_geometry[3], m_compiled.triangles);
+        uploadBuffer(m_wideNodes, m_compiled.wideNodes);
         uploadBuffer(m_geometry[4], m_compiled.vertices);
     } else {  // the top level's reserve only
         glNamedBufferSubData(m_geometry[0], 0, GLsizeiptr(m_compiled.tlasNodeCapacity * sizeof(gpu::GpuBvhNode)),
@@ -477,7 +480,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
         {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
         {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
-        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}};
+        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

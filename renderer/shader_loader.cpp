@@ -177,6 +177,11 @@ ShaderDefines integratorDefines() {
     }
     ShaderDefines defines;
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
+    // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only): with them
+    // by default, $CAUSTIC_WIDE_BVH = 0 for the binary ones.
+    bool wide = fetchTexels;
+    if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
+    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
     return defines;
 }
 

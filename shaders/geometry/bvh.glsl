@@ -10,7 +10,8 @@
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
 //   inverted (empty) box is never entered.
 //   Triangles: Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1),
-//   with the edge functions redone in double when one is exactly 0 (as the CPU reference does).
+//   with float edge functions kept monotone (`precise`: never of the wrong sign) and those that
+//   are exactly 0 redone in double (as the CPU reference does).
 #ifndef GEOMETRY_BVH_GLSL
 #define GEOMETRY_BVH_GLSL
 #include "../lib/math.glsl"
@@ -21,7 +22,15 @@
 // the instance tree's (fewer than 32). A push that would overflow is dropped (the node is not
 // visited) rather than written out of bounds. (76 entries since the one-loop traversal, which also
 // kept instance entries and exit markers there; kept, as what NVIDIA was measured with.)
-#define BVH_STACK_SIZE 76
+// The 4-wide BVH (CAUSTIC_WIDE_BVH) pushes up to three siblings per step: 31 top-level entries and
+// 3 per level of an instance's tree (no deeper than its binary tree, 32) need 127. Only programs
+// that can meet a mesh get the larger stack: on llvmpipe 128 entries made scenes without meshes
+// that walk the top level 10-20 % slower than 76 (docs/performance.md).
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+const int BVH_STACK_SIZE = HAS_MESHES ? 128 : 76;
+#else
+const int BVH_STACK_SIZE = 76;
+#endif
 
 struct TraceHit {
     float t;
@@ -62,14 +71,28 @@ WatertightRay makeWatertightRay(vec3 o, vec3 d) {
     return r;
 }
 
+// a * b - c * d, each product rounded on its own: rounding is monotone, so a b > c d gives
+// fl(a b) >= fl(c d), and the result is never of the wrong sign (it may be 0 where the exact value
+// is not, which the triangle test redoes in double). `precise` forbids the compiler to contract it
+// into fma(a, b, -fl(c d)), which can have the wrong sign: a ray through one of two triangles
+// near their shared edge could then miss both. renderer/bvh.cpp computes the same on the CPU.
+float edgeFunction(float a, float b, float c, float d) {
+    precise float ab = a * b;
+    precise float cd = c * d;
+    precise float r = ab - cd;
+    return r;
+}
+
 bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, out float t, out vec2 bary) {
     vec3 a = v0 - r.o, b = v1 - r.o, c = v2 - r.o;
     float ax = a[r.kx] - r.s.x * a[r.kz], ay = a[r.ky] - r.s.y * a[r.kz];
     float bx = b[r.kx] - r.s.x * b[r.kz], by = b[r.ky] - r.s.y * b[r.kz];
     float cx = c[r.kx] - r.s.x * c[r.kz], cy = c[r.ky] - r.s.y * c[r.kz];
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    float u = edgeFunction(cx, by, cy, bx);
+    float v = edgeFunction(ax, cy, ay, cx);
+    float w = edgeFunction(bx, ay, by, ax);
+    // A float edge function that is 0 may be a rounding artefact (never one of the wrong sign):
+    // redone in double (exact products), as in Woop et al.
     if (u == 0.0 || v == 0.0 || w == 0.0) {
         double ud = double(cx) * double(by) - double(cy) * double(bx);
         double vd = double(ax) * double(cy) - double(ay) * double(cx);
@@ -123,11 +146,70 @@ bool bvhDescend(GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, in
     return false;
 }
 
+// A leaf's triangles, [first, first + count) of the instance's (from firstTriangle): a hit
+// nearer than hit.t replaces it. The one place where a triangle hit is accepted, for both forms of
+// the instance's traversal. True when a hit was found.
+bool traceLeafTriangles(WatertightRay wr, GpuInstance inst, uint instance, uint firstTriangle, uint first, uint count,
+                        bool anyHit, inout TraceHit hit) {
+    bool found = false;
+    for (uint k = first; k < first + count; ++k) {
+        GpuTriangle tri = loadTriangle(firstTriangle + k);
+        float t;
+        vec2 b;
+        // The one place a triangle hit is accepted (both traversals), and the alpha cut-outs'
+        // any-hit test (geometry/alpha_mask.glsl; compiled out for scenes without masks).
+        if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b) && alphaMaskKeeps(inst, tri, b)) {
+            hit.t = t;
+            hit.ref = TLAS_REF_INSTANCE | instance;
+            hit.triangle = firstTriangle + k;
+            hit.bary = b;
+            found = true;
+            if (anyHit) return true;
+        }
+    }
+    return found;
+}
+
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+// One step through a 4-wide node (GpuWideBvhNode): its four children's boxes slab-tested at once
+// (the same test as slabTest, by coordinate over vec4s), the nearest child hit becomes `ref`, the
+// others hit go on the stack, farthest first. False when none is hit.
+bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
+    uint t0 = 8u * ref;
+    vec4 minX = FETCH_F4(wideNodeTexels, t0), maxX = FETCH_F4(wideNodeTexels, t0 + 1u);
+    vec4 minY = FETCH_F4(wideNodeTexels, t0 + 2u), maxY = FETCH_F4(wideNodeTexels, t0 + 3u);
+    vec4 minZ = FETCH_F4(wideNodeTexels, t0 + 4u), maxZ = FETCH_F4(wideNodeTexels, t0 + 5u);
+    uvec4 child = FETCH_U4(wideNodeTexels, t0 + 6u);
+    vec4 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
+    vec4 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
+    vec4 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;
+    vec4 tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, vec4(0.0)));
+    vec4 tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;
+    bvec4 h = lessThanEqual(tn, min(tf, vec4(tMax)));
+    // Entry distances of the children hit (+inf for the others), sorted with their references by
+    // a 5-comparator network: (0 1) (2 3) (0 2) (1 3) (1 2).
+    vec4 key = mix(vec4(uintBitsToFloat(0x7f800000u)), tn, h);
+    uvec4 c = child;
+#define WIDE_SORT2(i, j) \
+    if (key[j] < key[i]) { float tk = key[i]; key[i] = key[j]; key[j] = tk; uint tc = c[i]; c[i] = c[j]; c[j] = tc; }
+    WIDE_SORT2(0, 1) WIDE_SORT2(2, 3) WIDE_SORT2(0, 2) WIDE_SORT2(1, 3) WIDE_SORT2(1, 2)
+#undef WIDE_SORT2
+    if (isinf(key.x)) return false;
+    if (!isinf(key.w) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.w;
+    if (!isinf(key.z) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.z;
+    if (!isinf(key.y) && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = c.y;
+    ref = c.x;
+    return true;
+}
+#endif
+
 // A mesh instance's own BVH, in object space (the ray transformed; t keeps its meaning), on the
 // stack above `base`, which it leaves as it found it. Its loop is nested in the top level's so
 // that an iteration in a mesh runs only the mesh's code: llvmpipe executes every branch of a loop
 // body under a lane mask, so one loop for both levels paid for the top level's primitive tests
 // and the instance entry at every step through a mesh (docs/performance.md).
+// With CAUSTIC_WIDE_BVH (and buffer textures) the mesh's 4-wide BVH is walked instead of the
+// binary one: half as many steps, each testing four boxes (docs/performance.md).
 bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
     GpuInstance inst = loadInstance(instance);
     vec3 o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
@@ -142,30 +224,35 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
     uint firstTriangle = inst.info.y;
     int sp = base;
     bool found = false;
+#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+    uint ref = inst.info3.x;
+    while (true) {
+        if ((ref & WIDE_CHILD_LEAF) == 0u) {
+            if (wideDescend(ref, o, invD, hit.t, sp)) continue;
+        } else {
+            if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u, anyHit,
+                                   hit)) {
+                found = true;
+                if (anyHit) return true;
+            }
+        }
+        if (sp == base) break;
+        ref = g_bvhStack[--sp];
+    }
+#else
     while (true) {
         GpuBvhNode n = loadBvhNode(node);
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;
-        } else {
-            for (uint k = n.rightOrFirst; k < n.rightOrFirst + count; ++k) {
-                GpuTriangle tri = loadTriangle(firstTriangle + k);
-                float t;
-                vec2 b;
-                if (intersectTriangle(wr, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, t, b) &&
-                    alphaMaskKeeps(inst, tri, b)) {
-                    hit.t = t;
-                    hit.ref = TLAS_REF_INSTANCE | instance;
-                    hit.triangle = firstTriangle + k;
-                    hit.bary = b;
-                    found = true;
-                    if (anyHit) return true;
-                }
-            }
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, n.rightOrFirst, count, anyHit, hit)) {
+            found = true;
+            if (anyHit) return true;
         }
         if (sp == base) break;
         node = g_bvhStack[--sp];
     }
+#endif
     return found;
 }
 

@@ -56,6 +56,10 @@ layout(binding = TEXUNIT_TLAS_REFS) uniform usamplerBuffer tlasRefTexels;
 layout(binding = TEXUNIT_INSTANCES) uniform usamplerBuffer instanceTexels;
 layout(binding = TEXUNIT_MATERIALS) uniform usamplerBuffer materialTexels;
 layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexels;
+// The meshes' 4-wide BVHs (GpuWideBvhNode, 8 texels each), read only by texel fetches: the 4-wide
+// traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where the
+// buffer textures are used anyway.
+layout(binding = TEXUNIT_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
@@ -127,14 +131,15 @@ uint loadTlasRef(uint i) {
 GpuInstance loadInstance(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
     GpuInstance s;
-    s.worldToObject0 = FETCH_F4(instanceTexels, 8u * i);
-    s.worldToObject1 = FETCH_F4(instanceTexels, 8u * i + 1u);
-    s.worldToObject2 = FETCH_F4(instanceTexels, 8u * i + 2u);
-    s.objectToWorld0 = FETCH_F4(instanceTexels, 8u * i + 3u);
-    s.objectToWorld1 = FETCH_F4(instanceTexels, 8u * i + 4u);
-    s.objectToWorld2 = FETCH_F4(instanceTexels, 8u * i + 5u);
-    s.info = FETCH_U4(instanceTexels, 8u * i + 6u);
-    s.info2 = FETCH_U4(instanceTexels, 8u * i + 7u);
+    s.worldToObject0 = FETCH_F4(instanceTexels, 9u * i);
+    s.worldToObject1 = FETCH_F4(instanceTexels, 9u * i + 1u);
+    s.worldToObject2 = FETCH_F4(instanceTexels, 9u * i + 2u);
+    s.objectToWorld0 = FETCH_F4(instanceTexels, 9u * i + 3u);
+    s.objectToWorld1 = FETCH_F4(instanceTexels, 9u * i + 4u);
+    s.objectToWorld2 = FETCH_F4(instanceTexels, 9u * i + 5u);
+    s.info = FETCH_U4(instanceTexels, 9u * i + 6u);
+    s.info2 = FETCH_U4(instanceTexels, 9u * i + 7u);
+    s.info3 = FETCH_U4(instanceTexels, 9u * i + 8u);
     return s;
 #else
     return instances[i];

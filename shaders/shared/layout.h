@@ -41,6 +41,7 @@ using uint = std::uint32_t;
 #define TEXUNIT_INSTANCES 5
 #define TEXUNIT_MATERIALS 6
 #define TEXUNIT_PRIMITIVE_HITS 7
+#define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] as RGBA32UI texels (CAUSTIC_WIDE_BVH; no storage-buffer form)
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
@@ -181,6 +182,27 @@ CAUSTIC_STRUCT(GpuBvhNode) {
 #endif
 };
 
+// A node of a mesh's 4-wide BVH (renderer/bvh.h, collapseBvh4; CAUSTIC_WIDE_BVH): the four
+// children's boxes by coordinate (minX[k] = minX.k, ...), so one node's step tests four boxes
+// with vector operations, and the children: WIDE_CHILD_EMPTY (its box is inverted: never hit),
+// WIDE_CHILD_LEAF | count << 27 | first (triangles [first, first + count) of the mesh's, count in
+// [1, 15], first < 2^27; a longer binary leaf becomes a node of leaves), or the index of a child
+// node in wideNodes. 128 bytes, 8 texels; the last is padding.
+CAUSTIC_STRUCT(GpuWideBvhNode) {
+    vec4 minX;
+    vec4 maxX;
+    vec4 minY;
+    vec4 maxY;
+    vec4 minZ;
+    vec4 maxZ;
+    uvec4 child;
+    uvec4 pad;
+};
+#define WIDE_CHILD_EMPTY 0xffffffffu
+#define WIDE_CHILD_LEAF 0x80000000u
+#define WIDE_LEAF_MAX_COUNT 15u
+#define WIDE_LEAF_MAX_FIRST 0x07ffffffu
+
 // A placed mesh: its BVH and triangles, and the affine transforms both ways (rows).
 CAUSTIC_STRUCT(GpuInstance) {
     vec4 worldToObject0;
@@ -192,6 +214,7 @@ CAUSTIC_STRUCT(GpuInstance) {
     uvec4 info;   // x: root node in bvhNodes, y: first triangle, z: material, w: light index + 1
     uvec4 info2;  // x: first vertex, y: triangle count, z: 1 when the file's materials are used,
                   // w: PRIM_FLAG_* (PRIM_FLAG_ONE_SIDED_EMITTER)
+    uvec4 info3;  // x: root node of the mesh's 4-wide BVH in wideNodes (CAUSTIC_WIDE_BVH); yzw: 0
 };
 
 // One triangle in object space; v: its vertices' indices into the vertex buffer (already offset),

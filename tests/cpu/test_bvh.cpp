@@ -577,3 +577,79 @@ TEST_CASE("Binned SAH beats a median split in SAH cost", "[bvh]") {
         CHECK(sah < med);
     }
 }
+
+TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside its ancestors' boxes", "[bvh]") {
+    // The GPU walks this form (CAUSTIC_WIDE_BVH); its traversal is checked against the CPU BVH
+    // in tests/gpu/test_geometry.cpp. Leaves longer than kWideLeafMaxCount (leaf 16 here) become
+    // nodes of shorter leaves.
+    struct Setting { const char* name; BvhBuildOptions opt; };
+    std::vector<Setting> settings;
+    settings.push_back({"default", {}});
+    BvhBuildOptions o;
+    o.maxLeafSize = 1;
+    settings.push_back({"leaf 1", o});
+    o = {};
+    o.bins = 64;
+    o.maxLeafSize = 16;
+    o.traversalCost = 4.0f;  // leaves as long as allowed
+    settings.push_back({"leaf 16", o});
+    o = {};
+    o.sah = false;
+    o.maxLeafSize = 4;
+    settings.push_back({"median split", o});
+    for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
+        const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 3u + 5u);
+        const std::vector<Aabb> boxes = triangleBoxes(m);
+        for (const Setting& s : settings) {
+            INFO(n << " triangles, " << s.name);
+            const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
+            std::vector<WideBvhNode> wide(5);  // appended after 5 others: indices are absolute
+            const std::uint32_t base = 5;
+            REQUIRE(collapseBvh4(blas.bvh, base, wide));
+            REQUIRE(wide.size() > 5);
+            std::vector<int> seen(blas.triangles.size(), 0);
+            std::size_t reached = 0;
+            // Walk from the root with each child's box; every box must contain what is below it.
+            struct Item { std::uint32_t ref; glm::vec3 lo, hi; };
+            std::vector<Item> todo{{base, glm::vec3(-1e30f), glm::vec3(1e30f)}};
+            while (!todo.empty()) {
+                const Item it = todo.back();
+                todo.pop_back();
+                REQUIRE(it.ref >= base);
+                REQUIRE(it.ref - base < wide.size() - 5);
+                const WideBvhNode& w = wide[it.ref];
+                ++reached;
+                int children = 0;
+                for (int k = 0; k < 4; ++k) {
+                    const glm::vec3 lo(w.minX[k], w.minY[k], w.minZ[k]), hi(w.maxX[k], w.maxY[k], w.maxZ[k]);
+                    if (w.child[k] == kWideEmpty) {
+                        CHECK(lo.x > hi.x);  // an inverted box: never entered
+                        continue;
+                    }
+                    ++children;
+                    CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
+                    CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
+                    if ((w.child[k] & kWideLeaf) != 0) {
+                        const std::uint32_t first = w.child[k] & kWideLeafMaxFirst, count = (w.child[k] >> 27) & 15u;
+                        REQUIRE(count >= 1);
+                        REQUIRE(first + count <= seen.size());
+                        for (std::uint32_t t = first; t < first + count; ++t) {
+                            ++seen[t];
+                            const Aabb tb = boxes[blas.triangleIds[t]];
+                            CHECK(glm::all(glm::lessThanEqual(lo, tb.min)));
+                            CHECK(glm::all(glm::greaterThanEqual(hi, tb.max)));
+                        }
+                    } else {
+                        todo.push_back({w.child[k], lo, hi});
+                    }
+                }
+                CHECK(children >= 1);
+            }
+            CHECK(reached == wide.size() - 5);  // no node unreached
+            for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
+            // Fewer steps: about a third of the binary tree's interior nodes (2 to 4 children each).
+            const std::size_t interior = (blas.bvh.nodes.size() - 1) / 2;
+            if (n > 100 && s.opt.maxLeafSize <= kWideLeafMaxCount) CHECK(wide.size() - 5 <= interior / 2 + 1);
+        }
+    }
+}

@@ -86,6 +86,7 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     CHECK_MEMBER("instances", GpuInstance, objectToWorld2);
     CHECK_MEMBER("instances", GpuInstance, info);
     CHECK_MEMBER("instances", GpuInstance, info2);
+    CHECK_MEMBER("instances", GpuInstance, info3);
     CHECK(arrayStride(p, "instances[0].worldToObject0") == GLint(sizeof(GpuInstance)));
     CHECK_MEMBER("triangles", GpuTriangle, p0);
     CHECK_MEMBER("triangles", GpuTriangle, p1);

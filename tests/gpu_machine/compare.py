@@ -14,7 +14,8 @@ the load than the wall clock; on the GPU machine only the wall clock means anyth
 
 --config: a caustic configuration, measured in its turn in every repetition: the label, then
 environment variables for caustic-bench (CAUSTIC_SHADER_DIR=... for another shader tree,
-CAUSTIC_SPECIALIZE=0, CAUSTIC_FETCH_TEXELS=0); repeatable. Default: one, "caustic", as is.
+CAUSTIC_SPECIALIZE=0, CAUSTIC_FETCH_TEXELS=0, CAUSTIC_WIDE_BVH=0), or CAUSTIC_BENCH=PATH for
+another caustic-bench binary (another commit's build); repeatable. Default: one, "caustic", as is.
 
 Scenes: cornell (scenes/cornell-box.json and Mitsuba's cornell_box()), mesh-knot. On the GPU
 machine run.sh calls it with --variant cuda_ad_rgb and the 1024 x 1024 settings.
@@ -91,7 +92,9 @@ def main():
         for label, env in configs:
             load = os.getloadavg()[0]
             loads.append(load)
-            rates = caustic_run(args.bench, args.scenes, args.size, args.spp, args.max_depth, args.bench_arg, env)
+            env = dict(env)
+            bench = env.pop("CAUSTIC_BENCH", args.bench)
+            rates = caustic_run(bench, args.scenes, args.size, args.spp, args.max_depth, args.bench_arg, env)
             for s in args.scenes:
                 rows[s][label]["wall"].append(rates[s][0])
                 rows[s][label]["cpu"].append(rates[s][1])

@@ -44,7 +44,7 @@ PATCHES = {
     # One bilinear lookup instead of two blended (no trilinear).
     "texture-bilinear-only": [("bsdf/texture.glsl", "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n",
                                "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n    return a;\n")],
-    "small-stack": [("geometry/bvh.glsl", "#define BVH_STACK_SIZE 76", "#define BVH_STACK_SIZE 40")],
+    "small-stack": [("geometry/bvh.glsl", "#else\nconst int BVH_STACK_SIZE = 76;\n", "#else\nconst int BVH_STACK_SIZE = 40;\n")],
 }
 # Whole files from an earlier commit (git show at pack time), to measure a change on the GPU
 # machine that was measured on llvmpipe only: the traversal before the instance's BVH got its own
