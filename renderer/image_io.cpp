@@ -117,18 +117,26 @@ namespace {
 // OpenImageIO's own fallback, which tries every reader it has (about 40: FITS, DPX, PSD, ...) on
 // a file its extension's reader refused: 15-60 ms per damaged file (the image fuzzer ran at 13
 // inputs a second) and dozens of parsers exposed to hostile bytes that no scene needs.
+// A reader may throw instead of failing (OpenImageIO 2.4's BMP reader throws std::length_error
+// from open() on a run-length file whose header declares an impossible size: found by fuzz_image),
+// which counts as that reader's refusal.
 std::unique_ptr<OIIO::ImageInput> openWith(const std::string& format, const std::string& path, std::string* why) {
-    auto in = OIIO::ImageInput::create(format, false);
-    if (!in) {
-        *why = OIIO::geterror();
+    try {
+        auto in = OIIO::ImageInput::create(format, false);
+        if (!in) {
+            *why = OIIO::geterror();
+            return nullptr;
+        }
+        OIIO::ImageSpec spec;
+        if (!in->open(path, spec)) {
+            *why = in->geterror();
+            return nullptr;
+        }
+        return in;
+    } catch (const std::exception& e) {
+        *why = std::string("the ") + format + " reader failed: " + e.what();
         return nullptr;
     }
-    OIIO::ImageSpec spec;
-    if (!in->open(path, spec)) {
-        *why = in->geterror();
-        return nullptr;
-    }
-    return in;
 }
 
 std::unique_ptr<OIIO::ImageInput> openByExtension(const std::string& path, std::string* error) {
@@ -197,6 +205,10 @@ bool readChannelImage(const std::string& path, ChannelImage* out, std::string* e
         *error = path + ": out of memory reading the image";
         out->pixels = {};
         return false;
+    } catch (const std::exception& e) {  // a reader that throws while decoding (see openWith)
+        *error = path + ": cannot decode image: " + e.what();
+        out->pixels = {};
+        return false;
     }
 }
 
@@ -222,6 +234,10 @@ bool readImage(const std::string& path, ImageData* out, std::string* error) {
     } catch (const std::bad_alloc&) {
         *error = path + ": out of memory reading the image (" + std::to_string(out->width) + "x" +
                  std::to_string(out->height) + ")";
+        out->pixels = {};
+        return false;
+    } catch (const std::exception& e) {  // a reader that throws while decoding (see openWith)
+        *error = path + ": cannot decode image: " + e.what();
         out->pixels = {};
         return false;
     }

@@ -84,3 +84,20 @@ TEST_CASE("images: an extension no reader knows, or none, is refused with a mess
     CHECK_FALSE(readImage(dir.file("noext"), &image, &error));
     CHECK(error == dir.file("noext") + ": cannot read image: the file name has no extension to tell its format");
 }
+
+// Found by fuzz_image (docs/reliability.md): OpenImageIO 2.4's BMP reader throws std::length_error
+// from open() on this run-length file; the CLI died with "unexpected failure:
+// vector::_M_default_append", naming no file, and the fuzzer's process with std::terminate.
+TEST_CASE("images: a BMP on which OpenImageIO's reader throws is refused with a message naming it", "[image]") {
+    const std::string file = CAUSTIC_SOURCE_DIR "/tests/fuzz/seeds/image/rle-length-error.bmp";
+    test::TempDir dir;
+    std::filesystem::copy_file(file, dir.file("misnamed.png"));
+    for (const std::string& path : {file, dir.file("misnamed.png")}) {
+        INFO(path);
+        ImageData image;
+        std::string error;
+        CHECK_FALSE(readImage(path, &image, &error));
+        CHECK(error.rfind(path + ": cannot read image", 0) == 0);
+        CHECK(image.pixels.empty());
+    }
+}
