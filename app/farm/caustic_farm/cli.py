@@ -627,6 +627,9 @@ def main(argv=None):
             p.error("--%s: expected at least %d, got %d" % (name.replace("_", "-"), 0 if name == "max_retries" else 1, value))
     try:
         caustic = find_caustic(args.caustic)
+        # Which program the tasks run: with several checkouts, a farm installed from another one
+        # finds that checkout's build/caustic (docs/farm.md).
+        print("caustic-farm: caustic is %s" % caustic, file=sys.stderr)
         os.makedirs(args.output, exist_ok=True)
         return {"render": cmd_render, "sweep": cmd_sweep, "batch": cmd_batch, "compare": cmd_compare}[args.command](
             args, flags, caustic)
