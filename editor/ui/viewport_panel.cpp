@@ -100,6 +100,18 @@ void applyMatrix(EditorUi& ui, const glm::mat4& m) {
     }
 }
 
+// One world-space segment over the image, through viewProj (the camera's, as the gizmo uses);
+// a segment with an end behind the camera is left out.
+void drawWorldLine(ImDrawList* dl, const glm::mat4& viewProj, ImVec2 pos, ImVec2 size, glm::vec3 p, glm::vec3 q,
+                   ImU32 colour, float width) {
+    const glm::vec4 a = viewProj * glm::vec4(p, 1.0f), b = viewProj * glm::vec4(q, 1.0f);
+    if (a.w <= 1e-6f || b.w <= 1e-6f) return;
+    auto screen = [&](const glm::vec4& c) {
+        return ImVec2(pos.x + (c.x / c.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - c.y / c.w * 0.5f) * size.y);
+    };
+    dl->AddLine(screen(a), screen(b), colour, width);
+}
+
 // The lights' outlines over the image (lightOutline): every light faint, the selected one bright,
 // so lights that are not objects can be seen, picked by eye and placed.
 void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
@@ -115,14 +127,8 @@ void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         const bool selected = ui.state.selection.kind == EntityKind::Light && ui.state.selection.index == i;
         const ImU32 colour = selected ? IM_COL32(255, 210, 60, 255) : IM_COL32(255, 210, 60, 110);
         for (const std::vector<glm::vec3>& line : lightOutline(scene.lights[size_t(i)], scene.camera, outlineSize)) {
-            for (size_t k = 0; k + 1 < line.size(); ++k) {
-                const glm::vec4 a = viewProj * glm::vec4(line[k], 1.0f), b = viewProj * glm::vec4(line[k + 1], 1.0f);
-                if (a.w <= 1e-6f || b.w <= 1e-6f) continue;  // behind the camera
-                auto screen = [&](const glm::vec4& c) {
-                    return ImVec2(pos.x + (c.x / c.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - c.y / c.w * 0.5f) * size.y);
-                };
-                dl->AddLine(screen(a), screen(b), colour, selected ? 2.0f : 1.0f);
-            }
+            for (size_t k = 0; k + 1 < line.size(); ++k)
+                drawWorldLine(dl, viewProj, pos, size, line[k], line[k + 1], colour, selected ? 2.0f : 1.0f);
         }
     }
     dl->PopClipRect();
@@ -158,15 +164,8 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
             corner[k] = glm::vec3(toWorld * glm::vec4((k & 1) ? local.second.x : local.first.x, (k & 2) ? local.second.y : local.first.y,
                                                       (k & 4) ? local.second.z : local.first.z, 1.0f));
         for (int k = 0; k < 8; ++k)
-            for (int bit : {1, 2, 4}) {
-                if (k & bit) continue;
-                const glm::vec4 a = viewProj * glm::vec4(corner[k], 1.0f), c = viewProj * glm::vec4(corner[k | bit], 1.0f);
-                if (a.w <= 1e-6f || c.w <= 1e-6f) continue;   // behind the camera
-                auto screen = [&](const glm::vec4& v) {
-                    return ImVec2(pos.x + (v.x / v.w * 0.5f + 0.5f) * size.x, pos.y + (0.5f - v.y / v.w * 0.5f) * size.y);
-                };
-                dl->AddLine(screen(a), screen(c), colour, active ? 2.0f : 1.0f);
-            }
+            for (int bit : {1, 2, 4})
+                if (!(k & bit)) drawWorldLine(dl, viewProj, pos, size, corner[k], corner[k | bit], colour, active ? 2.0f : 1.0f);
     }
     dl->PopClipRect();
 }

@@ -134,6 +134,18 @@ BlockStats blocks(const Film& f) {
 
 }  // namespace
 
+void checkStrategiesAgree(Renderer& r, const Scene& s, int spp) {
+    r.setStrategy(STRATEGY_MIS);
+    const Film mis = renderFilm(r, s, spp);
+    r.setStrategy(STRATEGY_LIGHT_ONLY);
+    const Film light = renderFilm(r, s, spp);
+    r.setStrategy(STRATEGY_BSDF_ONLY);
+    const Film bsdf = renderFilm(r, s, 4 * spp);
+    r.setStrategy(STRATEGY_MIS);
+    checkBlocksAgree(mis, light, "MIS vs light sampling");
+    checkBlocksAgree(mis, bsdf, "MIS vs BSDF sampling");
+}
+
 void checkBlocksAgree(const Film& a, const Film& b, const char* what) {
     const BlockStats sa = blocks(a), sb = blocks(b);
     int disagreements = 0;

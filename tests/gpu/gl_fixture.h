@@ -39,4 +39,8 @@ void checkSameMean(const Film& a, const Film& b, double k = 4.0);
 // tighter than a tenth of the blocks' values on average. The width and height must be multiples of 4.
 void checkBlocksAgree(const Film& a, const Film& b, const char* what);
 
+// The same scene by MIS, by light sampling alone (spp samples) and by BSDF sampling alone (4 spp
+// samples: it is the noisier one), each pair checked by checkBlocksAgree; leaves the renderer on MIS.
+void checkStrategiesAgree(Renderer& r, const Scene& s, int spp);
+
 }  // namespace caustic::test

@@ -94,17 +94,6 @@ Object horizontalQuadMesh(const fs::path& file, float height) {
     return o;
 }
 
-void checkStrategies(Renderer& r, const Scene& s, int spp) {
-    r.setStrategy(STRATEGY_MIS);
-    const Film mis = test::renderFilm(r, s, spp);
-    r.setStrategy(STRATEGY_LIGHT_ONLY);
-    const Film light = test::renderFilm(r, s, spp);
-    r.setStrategy(STRATEGY_BSDF_ONLY);
-    const Film bsdf = test::renderFilm(r, s, 4 * spp);
-    r.setStrategy(STRATEGY_MIS);
-    test::checkBlocksAgree(mis, light, "MIS vs light sampling");
-    test::checkBlocksAgree(mis, bsdf, "MIS vs BSDF sampling");
-}
 
 }  // namespace
 
@@ -221,7 +210,7 @@ TEST_CASE("alpha cut-outs: shadow rays and bounce rays pass the holes too", "[gp
     // leaf reflecting and casting light (max depth 3).
     Scene s = litFloorScene(2.0f);
     s.objects.push_back(horizontalQuadMesh(kData / "leaf.glb", 1.0f));
-    checkStrategies(*renderer, s, 64);
+    test::checkStrategiesAgree(*renderer, s, 64);
 }
 
 TEST_CASE("emission textures: a glTF emissive texture seen directly is factor x strength x texel",
@@ -267,7 +256,7 @@ TEST_CASE("emission textures: light sampling, BSDF sampling and MIS agree", "[gp
         Object glow = horizontalQuadMesh(kData / "glow.glb", 1.0f);
         glow.transform.scale = glm::vec3(0.6f);
         s.objects.push_back(glow);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
     SECTION("a scene material's emission_texture on a quad and on a sphere (rect and sphere lights)") {
         // A generated 4 x 2 texture: a different colour per texel, and one black texel.
@@ -296,9 +285,9 @@ TEST_CASE("emission textures: light sampling, BSDF sampling and MIS agree", "[gp
         panel.transform.scale = glm::vec3(0.5f, 0.4f, 1.0f);
         s.objects.push_back(panel);
         s.objects.push_back(test::sphereAt("glowing", glm::vec3(0.7f, 0.5f, -0.3f), 0.35f));
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
         // And the object's own emission in place of the material's is textured alike.
         s.objects[1].emission = glm::vec3(2.0f, 3.0f, 1.0f);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
 }

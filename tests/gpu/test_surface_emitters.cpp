@@ -50,17 +50,6 @@ Object emitter(Shape shape, glm::vec3 emission, bool twoSided) {
     return o;
 }
 
-void checkStrategies(Renderer& r, const Scene& s, int spp) {
-    r.setStrategy(STRATEGY_MIS);
-    const Film mis = test::renderFilm(r, s, spp);
-    r.setStrategy(STRATEGY_LIGHT_ONLY);
-    const Film light = test::renderFilm(r, s, spp);
-    r.setStrategy(STRATEGY_BSDF_ONLY);
-    const Film bsdf = test::renderFilm(r, s, 4 * spp);
-    r.setStrategy(STRATEGY_MIS);
-    checkAgree(mis, light, "MIS vs light sampling");
-    checkAgree(mis, bsdf, "MIS vs BSDF sampling");
-}
 
 }  // namespace
 
@@ -73,7 +62,7 @@ TEST_CASE("surface emitters: MIS, light sampling and BSDF sampling agree for eve
         q.transform.rotate = glm::vec3(60.0f, 20.0f, 0.0f);  // front (+z) towards -y and away from the camera
         q.transform.scale = glm::vec3(0.6f, 0.4f, 1.0f);
         s.objects.push_back(q);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
     SECTION("a two-sided quad") {
         Object q = emitter(Shape::Quad, glm::vec3(2.0f, 1.5f, 1.0f), true);
@@ -81,7 +70,7 @@ TEST_CASE("surface emitters: MIS, light sampling and BSDF sampling agree for eve
         q.transform.rotate = glm::vec3(60.0f, 20.0f, 0.0f);
         q.transform.scale = glm::vec3(0.6f, 0.4f, 1.0f);
         s.objects.push_back(q);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
     SECTION("a one-sided sphere and a one-sided box") {
         Object ball = emitter(Shape::Sphere, glm::vec3(1.0f, 1.2f, 1.5f), false);
@@ -93,7 +82,7 @@ TEST_CASE("surface emitters: MIS, light sampling and BSDF sampling agree for eve
         box.transform.rotate = glm::vec3(0.0f, 30.0f, 0.0f);
         box.transform.scale = glm::vec3(0.3f);
         s.objects.push_back(box);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
     SECTION("one-sided meshes: an open one (a quad, whose back the floor sees) and a torus") {
         // On a closed mesh a back face is always hidden behind a front face, so only an open
@@ -113,7 +102,7 @@ TEST_CASE("surface emitters: MIS, light sampling and BSDF sampling agree for eve
         torus.transform.rotate = glm::vec3(50.0f, 0.0f, 0.0f);
         torus.transform.scale = glm::vec3(0.3f);
         s.objects.push_back(torus);
-        checkStrategies(*renderer, s, 64);
+        test::checkStrategiesAgree(*renderer, s, 64);
     }
 }
 
