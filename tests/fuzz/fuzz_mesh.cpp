@@ -7,9 +7,16 @@
 // used positions, finite unit normals and finite UVs and tangents where present, attribute arrays
 // empty or one per vertex, material indices in range; every warning names the file.
 // Seeds: assets/knot.obj and Debian's assimp-testmodels (tests/fuzz/run.sh builds them).
+// Built a second time as caustic_fuzz_mesh_common with CAUSTIC_FUZZ_MESH_FORMATS set to the
+// formats scenes are made of (OBJ, PLY, STL, OFF, glTF, GLB, FBX): every other extension ends the
+// run. The full harness spends most of its time restarting after crashes inside Assimp's other
+// importers (MDL, ASE, COB, MD5, 3DS, COLLADA: contained by the child-process import, not
+// fixable here), so the formats that matter most get few executions; this one gives them the
+// fuzzer to themselves (docs/reliability.md, "Fuzzing").
 #include "renderer/mesh_import.h"
 #include "tests/fuzz/fuzz_common.h"
 
+#include <algorithm>
 #include <cmath>
 
 using namespace caustic;
@@ -26,6 +33,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (ext.empty() || ext.size() > 12) return 0;
     for (const char c : ext)
         if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) return 0;
+#ifdef CAUSTIC_FUZZ_MESH_FORMATS
+    {
+        const std::string_view formats = CAUSTIC_FUZZ_MESH_FORMATS;  // "obj,ply,..."
+        bool listed = false;
+        for (std::size_t at = 0; at <= formats.size();) {
+            const std::size_t end = std::min(formats.find(',', at), formats.size());
+            listed = listed || formats.substr(at, end - at) == ext;
+            at = end + 1;
+        }
+        if (!listed) return 0;
+    }
+#endif
     const std::string dotExt = "." + std::string(ext);
     if (!isMeshFileExtensionSupported("input" + dotExt)) return 0;
     const std::string file = fuzz::ScratchDir::get().write(reinterpret_cast<const std::uint8_t*>(body.data()),

@@ -4,7 +4,7 @@
 # assets/, Debian's assimp-testmodels and tests/fuzz/seeds/. docs/reliability.md has the figures.
 #
 #   tests/fuzz/run.sh                        every harness, 10^6 executions each, one after another
-#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh image)
+#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh mesh_common image)
 #
 # Needs clang and its sanitizer runtimes (Debian: clang libclang-rt-14-dev); the normal build and
 # test suite do not. Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs), crashes go
@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     *) harnesses+=("$1"); shift ;;
   esac
 done
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh image)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh mesh_common image)
 command -v clang++ >/dev/null || { echo "run.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -66,6 +66,10 @@ for h in "${harnesses[@]}"; do
         -o -iname '*.3mf' -o -iname '*.raw' -o -iname '*.cob' -o -iname '*.b3d' -o -iname '*.dxf' -o -iname '*.x3d' \
         -o -iname '*.irrmesh' -o -iname '*.q3o' -o -iname '*.csm' -o -iname '*.ter' -o -iname '*.hmp' \) | sort)
       seed_with_ext mesh 65536 "${files[@]}" "$root/assets/knot.obj" ;;
+    mesh_common)  # the formats of caustic_fuzz_mesh_common (tests/fuzz/CMakeLists.txt)
+      mapfile -t files < <(find "$models" -type f \( -iname '*.obj' -o -iname '*.ply' -o -iname '*.stl' -o -iname '*.off' \
+        -o -iname '*.gltf' -o -iname '*.glb' -o -iname '*.fbx' \) | sort)
+      seed_with_ext mesh_common 65536 "${files[@]}" "$root/assets/knot.obj" ;;
     image)
       mapfile -t files < <(find "$models" -type f \( -iname '*.png' -o -iname '*.jpg' -o -iname '*.bmp' -o -iname '*.tga' \
         -o -iname '*.dds' -o -iname '*.tif' -o -iname '*.exr' -o -iname '*.hdr' \) | sort)
@@ -77,7 +81,7 @@ done
 # Per harness: the longest input and extra options. Time-outs are per input (a hang is an input
 # that takes longer than 10 s); rss_limit_mb is above the largest image the readers accept
 # (16384 x 8192 x 4 floats = 2 GiB).
-declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [image]=65536)
+declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [mesh_common]=65536 [image]=65536)
 # Mesh and image inputs reach Assimp and OpenImageIO, which allocate what a corrupt header
 # declares (64 GB for one glTF accessor): a normal build gets std::bad_alloc and refuses the file,
 # but under AddressSanitizer a failed throwing new always aborts; Assimp's importers also crash
@@ -86,7 +90,7 @@ declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 
 # crash must be looked at (the summary counts them). The image harness runs in the normal mode
 # (each fork-mode job restarts OpenImageIO, 100x slower); CAUSTIC_FUZZ_IMAGE_FORK=1 forks it too.
 fork="-fork=1 -ignore_ooms=1 -ignore_crashes=1 -ignore_timeouts=1"
-declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}")
+declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [mesh_common]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}")
 summary=()
 for h in "${harnesses[@]}"; do
   log="$build/logs/$h.log"
