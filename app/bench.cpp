@@ -109,6 +109,7 @@ std::string traceRays(Renderer& renderer, unsigned program, GLuint query, const 
 std::string interactive(Renderer& renderer, Scene scene, int frames, const std::string& name) {
     using Clock = std::chrono::steady_clock;
     std::string error;
+    renderer.setBakeGeometry(false);  // as the editor renders: its edits must not rebuild the program
     if (!renderer.setScene(scene, &error)) return "interactive " + name + ": " + error;
     const double budget = 1.0 / 30.0 - 0.002;
     std::vector<double> frameMs, moveMs, addMs;
@@ -218,6 +219,7 @@ int main(int argc, char** argv) {
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
     renderer->setImageReader(readRadianceHdr);  // environment maps without OpenImageIO
+    renderer->setBakeGeometry(true);            // as batch mode renders (app/main.cpp)
     std::printf("# %s | %s | %s\n", context->info().vendor.c_str(), context->info().renderer.c_str(),
                 context->info().version.c_str());
     std::printf("%-24s %10s %6s %5s %9s %9s %12s %12s %10s %9s %14s\n", "scene", "size", "spp", "depth", "wall s", "gpu s",
@@ -289,7 +291,10 @@ int main(int argc, char** argv) {
             const std::string path = outDir + "/" + name.substr(0, name.rfind('.')) + ".ppm";
             if (!writeFileAtomically(path, ppm, &error)) std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
         }
-        if (interactiveFrames > 0) extra.push_back(interactive(*renderer, scene, interactiveFrames, name));
+        if (interactiveFrames > 0) {
+            extra.push_back(interactive(*renderer, scene, interactiveFrames, name));
+            renderer->setBakeGeometry(true);
+        }
         if (traceOnly) extra.push_back(traceRays(*renderer, raysProgram, query, name, size, repeat));
         if (oidn) extra.push_back(denoiseOnce(film, name));
     }

@@ -243,6 +243,9 @@ int runBatch(const CliOptions& o) {
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) return fail(error);
     renderer->setImageReader(readImage);
+    // Batch geometry never changes while a variant renders: a scene of a few analytic primitives
+    // gets them as constants of its program on llvmpipe (Renderer::setBakeGeometry).
+    renderer->setBakeGeometry(true);
     renderer->setStrategy(o.strategy == "light" ? STRATEGY_LIGHT_ONLY
                           : o.strategy == "bsdf" ? STRATEGY_BSDF_ONLY
                                                  : STRATEGY_MIS);

@@ -123,6 +123,13 @@ public:
     // The feature defines (shaders/scene/features.glsl) of the program specialised for the current
     // scene and settings, whether or not this renderer specialises (test kernels build with them).
     ShaderDefines featureDefines() const;
+    // Whether a specialised program may hold the scene's primitives as constants (a scene of a
+    // few analytic primitives and no mesh: CAUSTIC_BAKED_PRIMITIVES, renderer.cpp
+    // bakedPrimitiveTests): 1.8x on llvmpipe for the Cornell box, but every change of geometry
+    // then builds a new program (about a second on llvmpipe). For renders whose geometry stays
+    // put (batch mode, caustic-bench), not for the editor. Off by default; without
+    // specialisation it does nothing. $CAUSTIC_BAKE_GEOMETRY = 1 or 0 overrides it.
+    void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     unsigned program() const { return m_program; }  // the integrator the last dispatch used (before any: the general one)
 
     // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
@@ -151,6 +158,7 @@ private:
 
     std::string m_shaderDir;
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
+    bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used

@@ -268,6 +268,31 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     if (CAUSTIC_TRAVERSAL == 1u ||
         (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
         bool found = false;
+#ifdef CAUSTIC_BAKED_PRIMITIVES
+        // The primitives as constants of the program (renderer.cpp, bakedPrimitiveTests): the
+        // same tests as the loop below, on immediates instead of fetched records.
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index) {                                              \
+            GpuPrimitive rec;                                                                 \
+            rec.a = uintBitsToFloat(ra);                                                      \
+            rec.b = uintBitsToFloat(rb);                                                      \
+            rec.c = uintBitsToFloat(rc);                                                      \
+            rec.info = uvec4(kind, 0u, 0u, 0u);                                               \
+            float t;                                                                          \
+            if ((kind) == PRIM_SPHERE ? intersectSphere(rec, bakedRay, hit.t, t)              \
+                                      : intersectQuadPlane(rec, bakedRay, hit.t, t)) {        \
+                hit.t = t;                                                                    \
+                hit.ref = index;                                                              \
+                found = true;                                                                 \
+                if (anyHit) return true;                                                      \
+            }                                                                                 \
+        }
+        CAUSTIC_BAKED_PRIMITIVES
+#undef BAKED_PRIMITIVE
+        return found;
+#endif
         for (uint i = 0u; i < frame.counts.x; ++i) {
             float t;
             if (intersectPrimitiveT(i, rayO, rayD, hit.t, t)) {
