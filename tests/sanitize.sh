@@ -24,9 +24,14 @@ cmake --build "$build" -j "$jobs" >&2
 supp="$root/tests/sanitize"
 # detect_leaks: on (the default on x86-64 Linux, said explicitly). abort_on_error: a report kills
 # the process with SIGABRT, so no test can pass over one.
-# fast_unwind_on_malloc=0: Debian's libraries have no frame pointers, and without the slow
-# unwinder a leak's stack stops at the first of them, too short for the suppressions to match.
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:fast_unwind_on_malloc=0:${ASAN_OPTIONS:-}"
+# Allocation stacks come from frame pointers (ASan's fast unwinder; caustic is built with
+# -fno-omit-frame-pointer): Debian's libraries have none, so a stack ends a frame or two into
+# them, which is enough for the suppressions, matched by module. The slow unwinder gives whole
+# stacks but made the GPU tests crawl (Mesa allocates at every GL call: two tests took over 7
+# minutes each); CAUSTIC_ASAN_FULL_STACKS=1 uses it, for reading a report.
+unwind=1
+[ "${CAUSTIC_ASAN_FULL_STACKS:-0}" = 1 ] && unwind=0
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:fast_unwind_on_malloc=$unwind:${ASAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 # Left out: the mesh import smoke, whose mutations make Assimp allocate what a corrupt count
