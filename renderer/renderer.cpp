@@ -93,6 +93,35 @@ std::string bakedPrimitiveTests(const CompiledScene& c) {
     return out;
 }
 
+// The same for mesh instances (a few meshes and primitives: CAUSTIC_BAKED_TOP_LEVEL), one
+// BAKED_INSTANCE(index, the record's nine rows) each.
+std::string bakedInstanceTests(const CompiledScene& c) {
+    std::string out;
+    char b[16];
+    auto word = [&](std::uint32_t u) {
+        std::snprintf(b, sizeof b, "0x%08xu", unsigned(u));
+        return std::string(b);
+    };
+    auto bits = [](float f) {
+        std::uint32_t u;
+        std::memcpy(&u, &f, sizeof u);
+        return u;
+    };
+    auto frow = [&](const glm::vec4& v) {
+        return "uvec4(" + word(bits(v.x)) + "," + word(bits(v.y)) + "," + word(bits(v.z)) + "," + word(bits(v.w)) + ")";
+    };
+    auto urow = [&](const glm::uvec4& v) { return "uvec4(" + word(v.x) + "," + word(v.y) + "," + word(v.z) + "," + word(v.w) + ")"; };
+    for (std::size_t i = 0; i < c.instances.size(); ++i) {
+        const gpu::GpuInstance& in = c.instances[i];
+        out += "BAKED_INSTANCE(" + std::to_string(i) + "u,";
+        for (const glm::vec4& r : {in.worldToObject0, in.worldToObject1, in.worldToObject2, in.objectToWorld0,
+                                   in.objectToWorld1, in.objectToWorld2})
+            out += frow(r) + ",";
+        out += urow(in.info) + "," + urow(in.info2) + "," + urow(in.info3) + ") ";
+    }
+    return out;
+}
+
 ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c, bool bake) {
     std::uint32_t materials = 0, lights = 0, shapes = 0;
     bool textures = false, emissionTextures = false;
@@ -124,6 +153,8 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
+    if (bake && !bruteForce && !c.instances.empty() && c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX)
+        defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
     return defines;
 }
 

@@ -210,8 +210,7 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
 // and the instance entry at every step through a mesh (docs/performance.md).
 // With CAUSTIC_WIDE_BVH (and buffer textures) the mesh's 4-wide BVH is walked instead of the
 // binary one: half as many steps, each testing four boxes (docs/performance.md).
-bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
-    GpuInstance inst = loadInstance(instance);
+bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
     vec3 o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
                   dot(inst.worldToObject2, vec4(rayO, 1.0)));
     vec3 d = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
@@ -254,6 +253,10 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
     }
 #endif
     return found;
+}
+
+bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
+    return traceInstanceRecord(loadInstance(instance), instance, rayO, rayD, anyHit, base, hit);
 }
 
 bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
@@ -304,6 +307,54 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         }
         return found;
     }
+#if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
+    {
+        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests),
+        // in a fixed order instead of the tree: a scene of a few meshes and primitives. Each
+        // instance is entered by all the lanes that hit its box at once, where the walk entered
+        // it at whatever step each lane reached it (llvmpipe runs the instance's loop once per
+        // such step).
+        bool found = false;
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index) {                                              \
+            GpuPrimitive rec;                                                                 \
+            rec.a = uintBitsToFloat(ra);                                                      \
+            rec.b = uintBitsToFloat(rb);                                                      \
+            rec.c = uintBitsToFloat(rc);                                                      \
+            rec.info = uvec4(kind, 0u, 0u, 0u);                                               \
+            float t;                                                                          \
+            if ((kind) == PRIM_SPHERE ? intersectSphere(rec, bakedRay, hit.t, t)              \
+                                      : intersectQuadPlane(rec, bakedRay, hit.t, t)) {        \
+                hit.t = t;                                                                    \
+                hit.ref = index;                                                              \
+                found = true;                                                                 \
+                if (anyHit) return true;                                                      \
+            }                                                                                 \
+        }
+#define BAKED_INSTANCE(index, w0, w1, w2, o0, o1, o2, i1, i2, i3) {                             \
+            GpuInstance inst;                                                                 \
+            inst.worldToObject0 = uintBitsToFloat(w0);                                        \
+            inst.worldToObject1 = uintBitsToFloat(w1);                                        \
+            inst.worldToObject2 = uintBitsToFloat(w2);                                        \
+            inst.objectToWorld0 = uintBitsToFloat(o0);                                        \
+            inst.objectToWorld1 = uintBitsToFloat(o1);                                        \
+            inst.objectToWorld2 = uintBitsToFloat(o2);                                        \
+            inst.info = i1;                                                                   \
+            inst.info2 = i2;                                                                  \
+            inst.info3 = i3;                                                                  \
+            if (traceInstanceRecord(inst, index, rayO, rayD, anyHit, 0, hit)) {               \
+                found = true;                                                                 \
+                if (anyHit) return true;                                                      \
+            }                                                                                 \
+        }
+        CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_PRIMITIVE
+#undef BAKED_INSTANCE
+        return found;
+    }
+#endif
     // The top level, over analytic primitives and mesh instances.
     vec3 invD = safeInverse(rayD);
     float tEnter;

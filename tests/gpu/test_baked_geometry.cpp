@@ -1,9 +1,10 @@
 // Baked primitives (Renderer::setBakeGeometry, renderer.cpp bakedPrimitiveTests): a batch
 // render's scene-specialised program for a scene of a few analytic primitives holds their hit
 // records as constants instead of fetching them (1.8x on llvmpipe for the Cornell box,
-// docs/performance.md). It must be an optimisation and nothing else: the same image, bit for bit,
-// as the program that fetches the records, for quads and spheres; and an edit that moves a
-// primitive must build a new program, never render the old geometry.
+// docs/performance.md), and a scene of a few meshes and primitives its top level's entries
+// (CAUSTIC_BAKED_TOP_LEVEL). It must be an optimisation and nothing else: the same image, bit for
+// bit, as the program that fetches the records, for quads, spheres and mesh instances; and an
+// edit that moves a primitive or a mesh must build a new program, never render the old geometry.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
 
@@ -27,6 +28,19 @@ Scene boxWithSpheres() {
     s.materials.push_back({"mirror ball", MaterialType::Mirror, glm::vec3(0.9f), glm::vec3(0.0f)});
     s.objects.push_back(test::sphereAt("glass ball", glm::vec3(-0.3f, -0.6f, 0.3f), 0.3f));
     s.objects.push_back(test::sphereAt("mirror ball", glm::vec3(0.4f, 0.4f, -0.2f), 0.2f));
+    return s;
+}
+
+// The same with a small glass knot (a mesh instance) on the floor.
+Scene withKnot(Scene s) {
+    Object knot;
+    knot.name = "knot";
+    knot.shape = Shape::Mesh;
+    knot.file = CAUSTIC_SOURCE_DIR "/assets/knot.obj";
+    knot.material = "glass ball";
+    knot.transform.translate = glm::vec3(-0.1f, 0.2f, 0.5f);
+    knot.transform.scale = glm::vec3(0.25f);
+    s.objects.push_back(knot);
     return s;
 }
 
@@ -71,18 +85,22 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     // Something was rendered: the box is lit.
     CHECK(test::imageStats(film).mean.r > 0.01);
 
-    // A scene with a mesh walks the BVH: nothing to bake, the same program as without baking.
-    Scene withMesh = scene;
-    Object knot;
-    knot.name = "knot";
-    knot.shape = Shape::Mesh;
-    knot.file = CAUSTIC_SOURCE_DIR "/assets/knot.obj";
-    knot.material = "glass ball";
-    knot.transform.scale = glm::vec3(0.1f);
-    withMesh.objects.push_back(knot);
-    const Film meshFilm = test::renderFilm(*baked, withMesh, 1);
+    // With a mesh the top level is baked instead (the instances' records and the primitives, in a
+    // fixed order instead of the top-level tree; the meshes' own BVHs are walked as before).
+    const Scene withMesh = withKnot(scene);
+    const Film meshReference = test::renderFilm(*fetching, withMesh, 2);
+    const Film meshFilm = test::renderFilm(*baked, withMesh, 2);
     CHECK_FALSE(hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
-    CHECK(test::imageStats(meshFilm).mean.r > 0.01);
+    CHECK(hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    CHECK_FALSE(hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    requireSameFilm(meshFilm, meshReference);
+    // The knot is in the picture: the image differs from the box's without it (same seed and
+    // sample count, so only pixels whose paths meet the knot differ).
+    const Film box = test::renderFilm(*fetching, scene, 2);
+    int knotPixels = 0;
+    for (size_t i = 0; i < meshFilm.mean.size(); ++i) knotPixels += meshFilm.mean[i] != box.mean[i];
+    INFO(knotPixels << " pixels see the knot");
+    CHECK(knotPixels > 30);
 }
 
 TEST_CASE("baked primitives: an edit that moves a primitive builds a new program, never renders the old geometry",
@@ -111,4 +129,18 @@ TEST_CASE("baked primitives: an edit that moves a primitive builds a new program
     int changed = 0;
     for (size_t i = 0; i < after.mean.size(); ++i) changed += after.mean[i] != before.mean[i];
     CHECK(changed > 50);
+
+    // The same for a baked top level: moving the mesh instance.
+    Scene meshScene = withKnot(scene);
+    const Film meshBefore = test::renderFilm(*baked, meshScene, 2);
+    const unsigned meshProgram = baked->program();
+    meshScene.objects.back().transform.translate += glm::vec3(-0.4f, 0.3f, 0.0f);
+    REQUIRE(baked->update(meshScene, kDirtyTransforms, &error));
+    baked->render(2);
+    const Film meshAfter = baked->readFilm();
+    CHECK(baked->program() != meshProgram);
+    requireSameFilm(meshAfter, test::renderFilm(*fetching, meshScene, 2));
+    int meshChanged = 0;
+    for (size_t i = 0; i < meshAfter.mean.size(); ++i) meshChanged += meshAfter.mean[i] != meshBefore.mean[i];
+    CHECK(meshChanged > 20);
 }
