@@ -64,32 +64,34 @@ ShaderDefines generalDefines(bool alphaMask) { return {{"CAUSTIC_ALPHA_MASK", al
 
 std::vector<gpu::GpuPrimitive> primitiveHitRecords(const std::vector<gpu::GpuPrimitive>& primitives);
 
-// The baked tests of a brute-force program (bake = true): every primitive's hit record as
-// constants of the program, one BAKED_PRIMITIVE(kind, a, b, c, index) each (geometry/bvh.glsl),
-// the words exact (uintBitsToFloat of their bits, no decimal round trip). On llvmpipe the loop
-// over primitives then unrolls into tests on immediates: the Cornell box's 18 quad tests per ray
-// read three texel fetches each otherwise (each a gather of 8 lanes), and with them baked the box
-// renders 1.8x faster, the same image bit for bit (docs/performance.md). Neither a uniform block
-// nor a constant array indexed in the loop did this (both slower than the fetches).
+// Baked geometry (bake = true; geometry/bvh.glsl): records as constants of the program, each
+// 32-bit word a literal (floats as uintBitsToFloat of their bits: no decimal round trip).
+std::string glslWord(std::uint32_t u) {
+    char b[16];
+    std::snprintf(b, sizeof b, "0x%08xu", unsigned(u));
+    return b;
+}
+std::string glslRow(const glm::uvec4& v) {
+    return "uvec4(" + glslWord(v.x) + "," + glslWord(v.y) + "," + glslWord(v.z) + "," + glslWord(v.w) + ")";
+}
+std::string glslRow(const glm::vec4& v) {
+    glm::uvec4 u;
+    std::memcpy(&u, &v, sizeof u);
+    return glslRow(u);
+}
+
+// A brute-force program's primitives: one BAKED_PRIMITIVE(kind, a, b, c, index) each. On
+// llvmpipe the loop over primitives then unrolls into tests on immediates: the Cornell box's 18
+// quad tests per ray read three texel fetches each otherwise (each a gather of 8 lanes), and with
+// them baked the box renders 1.6-2.2x faster, the same image bit for bit (docs/performance.md).
+// Neither a uniform block nor a constant array indexed in the loop did this (both slower than the
+// fetches).
 std::string bakedPrimitiveTests(const CompiledScene& c) {
     std::string out;
-    char b[16];
-    auto word = [&](float f) {
-        std::uint32_t u;
-        std::memcpy(&u, &f, sizeof u);
-        std::snprintf(b, sizeof b, "0x%08xu", unsigned(u));
-        return std::string(b);
-    };
-    auto row = [&](const glm::vec4& v) { return "uvec4(" + word(v.x) + "," + word(v.y) + "," + word(v.z) + "," + word(v.w) + ")"; };
     const std::vector<gpu::GpuPrimitive> hits = primitiveHitRecords(c.primitives);
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-        out += "BAKED_PRIMITIVE(";
-        out += std::to_string(hits[i].info.x) + "u,";
-        out += row(hits[i].a) + ",";
-        out += row(hits[i].b) + ",";
-        out += row(hits[i].c) + ",";
-        out += std::to_string(i) + "u) ";
-    }
+    for (std::size_t i = 0; i < hits.size(); ++i)
+        out += "BAKED_PRIMITIVE(" + std::to_string(hits[i].info.x) + "u," + glslRow(hits[i].a) + "," + glslRow(hits[i].b) +
+               "," + glslRow(hits[i].c) + "," + std::to_string(i) + "u) ";
     return out;
 }
 
@@ -97,27 +99,13 @@ std::string bakedPrimitiveTests(const CompiledScene& c) {
 // BAKED_INSTANCE(index, the record's nine rows) each.
 std::string bakedInstanceTests(const CompiledScene& c) {
     std::string out;
-    char b[16];
-    auto word = [&](std::uint32_t u) {
-        std::snprintf(b, sizeof b, "0x%08xu", unsigned(u));
-        return std::string(b);
-    };
-    auto bits = [](float f) {
-        std::uint32_t u;
-        std::memcpy(&u, &f, sizeof u);
-        return u;
-    };
-    auto frow = [&](const glm::vec4& v) {
-        return "uvec4(" + word(bits(v.x)) + "," + word(bits(v.y)) + "," + word(bits(v.z)) + "," + word(bits(v.w)) + ")";
-    };
-    auto urow = [&](const glm::uvec4& v) { return "uvec4(" + word(v.x) + "," + word(v.y) + "," + word(v.z) + "," + word(v.w) + ")"; };
     for (std::size_t i = 0; i < c.instances.size(); ++i) {
         const gpu::GpuInstance& in = c.instances[i];
         out += "BAKED_INSTANCE(" + std::to_string(i) + "u,";
         for (const glm::vec4& r : {in.worldToObject0, in.worldToObject1, in.worldToObject2, in.objectToWorld0,
                                    in.objectToWorld1, in.objectToWorld2})
-            out += frow(r) + ",";
-        out += urow(in.info) + "," + urow(in.info2) + "," + urow(in.info3) + ") ";
+            out += glslRow(r) + ",";
+        out += glslRow(in.info) + "," + glslRow(in.info2) + "," + glslRow(in.info3) + ") ";
     }
     return out;
 }

@@ -259,65 +259,10 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
     return traceInstanceRecord(loadInstance(instance), instance, rayO, rayD, anyHit, base, hit);
 }
 
-bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
-    hit.t = tMax;
-    hit.ref = 0xffffffffu;
-    hit.triangle = 0u;
-    hit.bary = vec2(0.0);
-    if (frame.geometry.x == 0u) return false;
-    // A few analytic primitives and no meshes (a Cornell box is 18 quads): testing them all beats
-    // walking a tree, by about 1.5x on llvmpipe (docs/performance.md).
-    // (CAUSTIC_TRAVERSAL: a scene-specialised program keeps only the one its scene uses.)
-    if (CAUSTIC_TRAVERSAL == 1u ||
-        (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
-        bool found = false;
-#ifdef CAUSTIC_BAKED_PRIMITIVES
-        // The primitives as constants of the program (renderer.cpp, bakedPrimitiveTests): the
-        // same tests as the loop below, on immediates instead of fetched records.
-        Ray bakedRay;
-        bakedRay.o = rayO;
-        bakedRay.d = rayD;
-#define BAKED_PRIMITIVE(kind, ra, rb, rc, index) {                                              \
-            GpuPrimitive rec;                                                                 \
-            rec.a = uintBitsToFloat(ra);                                                      \
-            rec.b = uintBitsToFloat(rb);                                                      \
-            rec.c = uintBitsToFloat(rc);                                                      \
-            rec.info = uvec4(kind, 0u, 0u, 0u);                                               \
-            float t;                                                                          \
-            if ((kind) == PRIM_SPHERE ? intersectSphere(rec, bakedRay, hit.t, t)              \
-                                      : intersectQuadPlane(rec, bakedRay, hit.t, t)) {        \
-                hit.t = t;                                                                    \
-                hit.ref = index;                                                              \
-                found = true;                                                                 \
-                if (anyHit) return true;                                                      \
-            }                                                                                 \
-        }
-        CAUSTIC_BAKED_PRIMITIVES
-#undef BAKED_PRIMITIVE
-        return found;
-#endif
-        for (uint i = 0u; i < frame.counts.x; ++i) {
-            float t;
-            if (intersectPrimitiveT(i, rayO, rayD, hit.t, t)) {
-                hit.t = t;
-                hit.ref = i;
-                found = true;
-                if (anyHit) return true;
-            }
-        }
-        return found;
-    }
-#if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
-    {
-        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests),
-        // in a fixed order instead of the tree: a scene of a few meshes and primitives. Each
-        // instance is entered by all the lanes that hit its box at once, where the walk entered
-        // it at whatever step each lane reached it (llvmpipe runs the instance's loop once per
-        // such step).
-        bool found = false;
-        Ray bakedRay;
-        bakedRay.o = rayO;
-        bakedRay.d = rayD;
+#if defined(CAUSTIC_BAKED_PRIMITIVES) || defined(CAUSTIC_BAKED_TOP_LEVEL)
+// Baked geometry (renderer.cpp, bakedPrimitiveTests): the renderer's define expands to one of these
+// per primitive or instance, each record's words as literals, inside traceScene (they use its
+// bakedRay, rayO, rayD, anyHit, hit and found). The tests are the loop's and the walk's own.
 #define BAKED_PRIMITIVE(kind, ra, rb, rc, index) {                                              \
             GpuPrimitive rec;                                                                 \
             rec.a = uintBitsToFloat(ra);                                                      \
@@ -349,9 +294,52 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
                 if (anyHit) return true;                                                      \
             }                                                                                 \
         }
+#endif
+
+bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
+    hit.t = tMax;
+    hit.ref = 0xffffffffu;
+    hit.triangle = 0u;
+    hit.bary = vec2(0.0);
+    if (frame.geometry.x == 0u) return false;
+    // A few analytic primitives and no meshes (a Cornell box is 18 quads): testing them all beats
+    // walking a tree, by about 1.5x on llvmpipe (docs/performance.md).
+    // (CAUSTIC_TRAVERSAL: a scene-specialised program keeps only the one its scene uses.)
+    if (CAUSTIC_TRAVERSAL == 1u ||
+        (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
+        bool found = false;
+#ifdef CAUSTIC_BAKED_PRIMITIVES
+        // The primitives as constants of the program (renderer.cpp, bakedPrimitiveTests): the
+        // same tests as the loop below, on immediates instead of fetched records.
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
+        CAUSTIC_BAKED_PRIMITIVES
+        return found;
+#endif
+        for (uint i = 0u; i < frame.counts.x; ++i) {
+            float t;
+            if (intersectPrimitiveT(i, rayO, rayD, hit.t, t)) {
+                hit.t = t;
+                hit.ref = i;
+                found = true;
+                if (anyHit) return true;
+            }
+        }
+        return found;
+    }
+#if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
+    {
+        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests),
+        // in a fixed order instead of the tree: a scene of a few meshes and primitives. Each
+        // instance is entered by all the lanes that hit its box at once, where the walk entered
+        // it at whatever step each lane reached it (llvmpipe runs the instance's loop once per
+        // such step).
+        bool found = false;
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
         CAUSTIC_BAKED_TOP_LEVEL
-#undef BAKED_PRIMITIVE
-#undef BAKED_INSTANCE
         return found;
     }
 #endif
