@@ -35,6 +35,12 @@ void drawStatusBar(EditorUi& ui) {
             ImGui::Text("%d / %d spp (next %d%%)", done, rs.samples, static_cast<int>(ui.renderer->bandProgress() * 100.0f));
         else
             ImGui::Text("%d / %d spp", done, rs.samples);
+        // A script's wait_samples holds the render below the scene's target: say where, or the bar
+        // reads "1 / 256 spp ... done".
+        if (ui.session.sampleCap && *ui.session.sampleCap < rs.samples) {
+            ImGui::SameLine();
+            ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "(held at %d by the script)", *ui.session.sampleCap);
+        }
         ImGui::SameLine(0.0f, 16.0f);
         // Wall clock: what the image gains per second as the user waits (the path tracer's own
         // rate, per second of its time, is in the tooltip: the UI takes the rest of each frame).
