@@ -69,6 +69,7 @@ struct Reader {
     bool ok = true;
     bool take(void* dst, std::size_t n) {
         if (!ok || n > in.size() - at) return ok = false;
+        if (n == 0) return true;  // an empty vector's data() may be null: memcpy(null, ..., 0) is undefined
         std::memcpy(dst, in.data() + at, n);
         at += n;
         return true;
