@@ -86,6 +86,11 @@ declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 
 # GB after 12,000 inputs, 2.5 GB after 81,000: the sanitizer allocator keeps what the largest
 # images took; LeakSanitizer finds 62 bytes lost, in OpenImageIO) without anything leaking, so its
 # limit is higher, and the allocator is asked to give freed memory back every second.
+# Per-input time-outs: 10 s, but 30 s for images. A 551-byte TIFF declaring a large image takes
+# 1.3 s under the sanitizers on a quiet machine, and twice on 2026-12-02 such an input passed 10 s
+# while the machine was loaded (the fuzzer at low priority beside the sanitizer suite). That is a
+# time-out with no hang behind it, and it ended the run.
+declare -A timeout=([scene]=10 [scene_override]=10 [hdr]=10 [mesh]=10 [mesh_common]=10 [image]=30)
 declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 [mesh_common]=4096 [image]=8192)
 # Mesh and image inputs reach Assimp and OpenImageIO, which allocate what a corrupt header
 # declares (64 GB for one glTF accessor): a normal build gets std::bad_alloc and refuses the file,
@@ -105,7 +110,7 @@ for h in "${harnesses[@]}"; do
   # Leaks: the suppressions of the sanitizer suite (third-party code only, reasons in the file).
   ( cd "$build" && TMPDIR="${TMPDIR:-/tmp}" ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:allocator_release_to_os_interval_ms=1000:${ASAN_OPTIONS:-}" \
     LSAN_OPTIONS="suppressions=$root/tests/sanitize/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}" \
-    "$build/tests/fuzz/caustic_fuzz_$h" -runs="$runs" -max_len="${max_len[$h]}" -timeout=10 -rss_limit_mb="${rss_limit[$h]}" \
+    "$build/tests/fuzz/caustic_fuzz_$h" -runs="$runs" -max_len="${max_len[$h]}" -timeout="${timeout[$h]}" -rss_limit_mb="${rss_limit[$h]}" \
       -malloc_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$build/artifacts/$h-" ${extra[$h]} \
       "$build/corpus/$h" ) > "$log" 2>&1
   rc=$?
