@@ -1,5 +1,6 @@
 #include "tests/gpu/gl_fixture.h"
 
+#include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
 
 #include <catch2/catch.hpp>
@@ -42,6 +43,15 @@ unsigned kernel(const std::string& name) {
     REQUIRE(program != 0);
     programs.emplace(name, program);
     return program;
+}
+
+Scene cornellBox(int size) {
+    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
+    INFO(loaded.error);
+    REQUIRE(loaded);
+    Scene s = *loaded.scene;
+    s.render.width = s.render.height = size;
+    return s;
 }
 
 Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission) {

@@ -18,11 +18,7 @@ namespace {
 
 // The Cornell box (18 quads) with a glass sphere and a mirror sphere: both shape tests baked.
 Scene boxWithSpheres() {
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
-    INFO(loaded.error);
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = s.render.height = 32;
+    Scene s = test::cornellBox(32);
     s.render.maxDepth = 6;
     s.materials.push_back({"glass ball", MaterialType::Transmission, glm::vec3(1.0f), glm::vec3(0.0f)});
     s.materials.push_back({"mirror ball", MaterialType::Mirror, glm::vec3(0.9f), glm::vec3(0.0f)});
@@ -60,12 +56,36 @@ std::unique_ptr<Renderer> specialisingRenderer(bool bake) {
     return r;
 }
 
-void requireSameFilm(const Film& a, const Film& b) {
+int differingPixels(const Film& a, const Film& b) {
     REQUIRE(a.mean.size() == b.mean.size());
     int differ = 0;
     for (size_t i = 0; i < a.mean.size(); ++i) differ += a.mean[i] != b.mean[i];
+    return differ;
+}
+
+void requireSameFilm(const Film& a, const Film& b) {
+    const int differ = differingPixels(a, b);
     INFO(differ << " of " << a.mean.size() << " pixels differ");
     CHECK(differ == 0);
+}
+
+// Renders `scene` with the baking renderer, applies `move` through update() (the editor's path),
+// and checks that the baked renderer built a new program whose image is the fetching renderer's,
+// and that the move changed at least minChanged pixels (so that the comparison could fail).
+template <class Move>
+void checkMoveRebuilds(Renderer& baked, Renderer& fetching, Scene scene, Move move, int minChanged) {
+    const Film before = test::renderFilm(baked, scene, 2);
+    const unsigned programBefore = baked.program();
+    move(scene);
+    std::string error;
+    REQUIRE(baked.update(scene, kDirtyTransforms, &error));
+    baked.render(2);
+    const Film after = baked.readFilm();
+    CHECK(baked.program() != programBefore);
+    requireSameFilm(after, test::renderFilm(fetching, scene, 2));
+    const int changed = differingPixels(after, before);
+    INFO(changed << " pixels changed by the move");
+    CHECK(changed > minChanged);
 }
 
 }  // namespace
@@ -97,8 +117,7 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     // The knot is in the picture: the image differs from the box's without it (same seed and
     // sample count, so only pixels whose paths meet the knot differ).
     const Film box = test::renderFilm(*fetching, scene, 2);
-    int knotPixels = 0;
-    for (size_t i = 0; i < meshFilm.mean.size(); ++i) knotPixels += meshFilm.mean[i] != box.mean[i];
+    const int knotPixels = differingPixels(meshFilm, box);
     INFO(knotPixels << " pixels see the knot");
     CHECK(knotPixels > 30);
 }
@@ -106,41 +125,15 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
 TEST_CASE("baked primitives: an edit that moves a primitive builds a new program, never renders the old geometry",
           "[gpu][integrator][bake]") {
     REQUIRE(std::getenv("CAUSTIC_BAKE_GEOMETRY") == nullptr);
-    Scene scene = boxWithSpheres();
     auto baked = specialisingRenderer(true), fetching = specialisingRenderer(false);
-    const Film before = test::renderFilm(*baked, scene, 2);
-    const unsigned programBefore = baked->program();
-
-    // Move the mirror ball and a box, through the editor's path (update), not setScene.
-    Object* ball = nullptr;
-    for (Object& o : scene.objects)
-        if (o.material == "mirror ball") ball = &o;
-    REQUIRE(ball != nullptr);
-    ball->transform.translate += glm::vec3(-0.5f, 0.0f, 0.3f);
-    scene.objects[scene.objects.size() - 3].transform.translate.x += 0.05f;
-    std::string error;
-    REQUIRE(baked->update(scene, kDirtyTransforms, &error));
-    baked->render(2);
-    const Film after = baked->readFilm();
-    CHECK(baked->program() != programBefore);
-
-    requireSameFilm(after, test::renderFilm(*fetching, scene, 2));
-    // The move changed the image, so the comparison above could have failed.
-    int changed = 0;
-    for (size_t i = 0; i < after.mean.size(); ++i) changed += after.mean[i] != before.mean[i];
-    CHECK(changed > 50);
-
-    // The same for a baked top level: moving the mesh instance.
-    Scene meshScene = withKnot(scene);
-    const Film meshBefore = test::renderFilm(*baked, meshScene, 2);
-    const unsigned meshProgram = baked->program();
-    meshScene.objects.back().transform.translate += glm::vec3(-0.4f, 0.3f, 0.0f);
-    REQUIRE(baked->update(meshScene, kDirtyTransforms, &error));
-    baked->render(2);
-    const Film meshAfter = baked->readFilm();
-    CHECK(baked->program() != meshProgram);
-    requireSameFilm(meshAfter, test::renderFilm(*fetching, meshScene, 2));
-    int meshChanged = 0;
-    for (size_t i = 0; i < meshAfter.mean.size(); ++i) meshChanged += meshAfter.mean[i] != meshBefore.mean[i];
-    CHECK(meshChanged > 20);
+    // The mirror ball and a box.
+    checkMoveRebuilds(*baked, *fetching, boxWithSpheres(), [](Scene& s) {
+        for (Object& o : s.objects)
+            if (o.material == "mirror ball") o.transform.translate += glm::vec3(-0.5f, 0.0f, 0.3f);
+        s.objects[s.objects.size() - 3].transform.translate.x += 0.05f;
+    }, 50);
+    // A baked top level: the mesh instance.
+    checkMoveRebuilds(*baked, *fetching, withKnot(boxWithSpheres()), [](Scene& s) {
+        s.objects.back().transform.translate += glm::vec3(-0.4f, 0.3f, 0.0f);
+    }, 20);
 }

@@ -138,11 +138,7 @@ TEST_CASE("a diffuse plane under a point light and a spot light", "[gpu][integra
 
 TEST_CASE("the same seed gives the same bytes, however the samples are split", "[gpu][integrator]") {
     auto renderer = test::makeRenderer();
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
-    INFO(loaded.error);
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = s.render.height = 32;
+    Scene s = test::cornellBox(32);
     s.render.seed = 1;
     Film a = test::renderFilm(*renderer, s, 12);
     // Same seed, samples split 5 + 7: the per-sample streams depend on (pixel, index, seed) only.
@@ -196,10 +192,7 @@ TEST_CASE("incremental updates render the same bytes as a fresh upload", "[gpu][
     // Renderer::update uploads only what an edit changed; whatever it skips must not matter.
     auto incremental = test::makeRenderer();
     auto fresh = test::makeRenderer();
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = s.render.height = 16;
+    Scene s = test::cornellBox(16);
     // An emissive quad object as well as the rect light, so material edits reach a light.
     s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(1.0f, 0.5f, 0.25f)});
     Object panel;

@@ -24,11 +24,7 @@ using namespace caustic;
 namespace {
 
 Scene scaledCornellBox(float scale, std::uint32_t seed) {
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
-    INFO(loaded.error);
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = s.render.height = 32;
+    Scene s = test::cornellBox(32);
     s.render.seed = seed;
     for (Object& o : s.objects) {
         o.transform.translate *= scale;
