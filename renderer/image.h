@@ -18,7 +18,11 @@ struct ImageData {
 // before any pixel memory is allocated: 16384 x 8192 (the largest common environment maps) at
 // most, no side over 65536, at most 4 channels are kept.
 inline constexpr long long kMaxImageDimension = 65536;
+#ifdef CAUSTIC_FUZZ_MAX_IMAGE_PIXELS
+inline constexpr long long kMaxImagePixels = CAUSTIC_FUZZ_MAX_IMAGE_PIXELS;  // the fuzz build's (CMakeLists.txt)
+#else
 inline constexpr long long kMaxImagePixels = 16384LL * 8192;
+#endif
 inline constexpr int kMaxImageChannels = 64;  // what a file may declare
 inline constexpr int kMaxKeptImageChannels = 4;  // what a reader keeps (the first ones: RGBA)
 
@@ -32,7 +36,7 @@ inline std::string imageSizeProblem(const std::string& path, long long width, lo
                std::to_string(kMaxImageChannels) + " are accepted)";
     if (width > kMaxImageDimension || height > kMaxImageDimension || width * height > kMaxImagePixels)
         return path + ": declares " + size + " pixels, more than the limit of " +
-               std::to_string(kMaxImagePixels) + " pixels (16384x8192) and " +
+               std::to_string(kMaxImagePixels) + (kMaxImagePixels == 16384LL * 8192 ? " pixels (16384x8192) and " : " pixels and ") +
                std::to_string(kMaxImageDimension) + " per side";
     return "";
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,6 +22,22 @@ namespace {
 // the driver never queues seconds of work (see docs/gpu-machine notes: a long queue is lost).
 constexpr double kTargetDispatchSeconds = 0.05;
 constexpr std::uint32_t kMaxSamplesPerDispatch = 64;
+// With path regeneration (regeneratesPaths(): llvmpipe) a dispatch needs several samples per
+// pixel for a lane whose path ended to have another one to start, and the more it holds the less
+// its lanes idle at the end: batch dispatches there aim at this long instead (one sample of a
+// large image may take longer; then it is one sample, as before). llvmpipe runs a dispatch on the
+// CPU, with no watchdog; the regeneration is off on NVIDIA, whose driver drops long queues.
+// The CAUSTIC_DISPATCH_SECONDS environment variable sets either target (for measuring).
+constexpr double kRegeneratingDispatchSeconds = 1.0;
+
+double targetDispatchSeconds() {
+    if (const char* env = std::getenv("CAUSTIC_DISPATCH_SECONDS"); env && *env) {
+        char* end = nullptr;
+        const double v = std::strtod(env, &end);
+        if (end != env && std::isfinite(v) && v > 0.0 && v <= 60.0) return v;
+    }
+    return regeneratesPaths() ? kRegeneratingDispatchSeconds : kTargetDispatchSeconds;
+}
 
 template <class T>
 void uploadBuffer(unsigned buffer, const std::vector<T>& data) {
@@ -585,10 +602,11 @@ void Renderer::render(int count, const std::function<void(int)>& progress) {
         m_samplesDone += static_cast<int>(f.samples);
         if (progress) progress(m_samplesDone);
     };
+    const double target = targetDispatchSeconds();
     while (issued < count) {
         std::uint32_t n = 1;
         if (m_secondsPerSample > 0.0)
-            n = static_cast<std::uint32_t>(std::clamp(kTargetDispatchSeconds / m_secondsPerSample, 1.0, double(kMaxSamplesPerDispatch)));
+            n = static_cast<std::uint32_t>(std::clamp(target / m_secondsPerSample, 1.0, double(kMaxSamplesPerDispatch)));
         n = std::min<std::uint32_t>(n, static_cast<std::uint32_t>(count - issued));
         dispatch(static_cast<std::uint32_t>(firstSample + issued), n);
         inFlight.push_back({glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0), n, Clock::now()});

@@ -182,7 +182,18 @@ ShaderDefines integratorDefines() {
     bool wide = fetchTexels;
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
+    // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
+    // run in lock step on the CPU (llvmpipe: the same driver test as the buffer textures);
+    // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
+    if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
     return defines;
+}
+
+bool regeneratesPaths() {
+    if (const char* env = std::getenv("CAUSTIC_REGENERATE"); env && *env) return std::strcmp(env, "0") != 0;
+    if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) return std::strcmp(env, "0") != 0;
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
 
 std::string defaultShaderDir() {

@@ -48,6 +48,12 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
 // configurations on one driver). The same GLSL source either way.
 ShaderDefines integratorDefines();
 
+// Whether integratorDefines() turns on path regeneration (CAUSTIC_REGENERATE: a lane whose path
+// ends starts its pixel's next sample within the same dispatch; integrator/path.comp): by default
+// on llvmpipe, $CAUSTIC_REGENERATE = 1 or 0 forces it. It pays only when a dispatch holds several
+// samples per pixel, so the renderer then makes its batch dispatches longer.
+bool regeneratesPaths();
+
 // Where the shaders are: $CAUSTIC_SHADER_DIR, else <executable dir>/../shaders (build/caustic in
 // a checkout), else the source tree's shaders/ recorded at configure time.
 std::string defaultShaderDir();

@@ -226,14 +226,19 @@ bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, 
 #if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
     uint ref = inst.info3.x;
     while (true) {
-        if ((ref & WIDE_CHILD_LEAF) == 0u) {
+        // Down to a leaf (or out of the tree) first, then the leaf: the lanes test their leaves'
+        // triangles together instead of each step paying for both.
+        bool done = false;
+        while ((ref & WIDE_CHILD_LEAF) == 0u) {
             if (wideDescend(ref, o, invD, hit.t, sp)) continue;
-        } else {
-            if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u, anyHit,
-                                   hit)) {
-                found = true;
-                if (anyHit) return true;
-            }
+            if (sp == base) { done = true; break; }
+            ref = g_bvhStack[--sp];
+        }
+        if (done) break;
+        if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u, anyHit,
+                               hit)) {
+            found = true;
+            if (anyHit) return true;
         }
         if (sp == base) break;
         ref = g_bvhStack[--sp];

@@ -34,6 +34,38 @@ void main() {
     vec4 normalSum = imageLoad(normalImage, ip);
     uint pixelIndex = pixel.y * frame.image.x + pixel.x;
     uint dropped = 0u;
+#ifdef CAUSTIC_REGENERATE
+    // Path regeneration (Novak, Havran and Dachsbacher 2010, "Path Regeneration for Interactive
+    // Path Tracing"): one loop over bounces, in which a lane whose path has ended starts its
+    // pixel's next sample. On llvmpipe a work group's 8 neighbouring invocations run as the lanes
+    // of one SIMD register until the last of them is done, so a loop over samples with the bounce
+    // loop inside ran, for every sample, as many bounces as the longest of the 8 paths; here the
+    // group runs about as many as the longest lane's sum over its samples. Each sample still has
+    // the random numbers of (seed, pixel, sample index) and is summed in the same order: the
+    // image is the same as the nested loops' (docs/performance.md).
+    if (frame.dispatch.x > 0u) {
+        uint s = 0u;
+        Sampler smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z, frame.image.w);
+        vec2 uFilter = sample2D(smp, SLOT_FILTER);
+        PathState st = pathBegin(cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS)));
+        while (true) {
+            if (!pathStep(st, smp)) continue;
+            vec3 L = st.L;
+            albedoSum += vec4(st.aov.albedo, 1.0);
+            normalSum += vec4(st.aov.normal, 1.0);
+            if (any(isnan(L)) || any(isinf(L))) {
+                ++dropped;
+            } else {
+                sum += vec4(L, 1.0);
+                sumSq += vec4(L * L, 0.0);
+            }
+            if (++s >= frame.dispatch.x) break;
+            smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
+            uFilter = sample2D(smp, SLOT_FILTER);
+            st = pathBegin(cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS)));
+        }
+    }
+#else
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
         Sampler smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
         vec2 uFilter = sample2D(smp, SLOT_FILTER);
@@ -46,6 +78,7 @@ void main() {
         sum += vec4(L, 1.0);
         sumSq += vec4(L * L, 0.0);
     }
+#endif
     if (dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], dropped);
     // A 64-bit ray count from two 32-bit words: carry into the high word on wrap-around.
     uint before = atomicAdd(counters[COUNTER_RAYS_LO], g_rayCount);

@@ -87,198 +87,237 @@ vec3 probeEmission(bool found, Hit hit, vec3 d) {
     return emittedTowards(hit, loadMaterial(hit.material), -d);
 }
 
-vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
-    aov.albedo = vec3(0.0);
-    aov.normal = vec3(0.0);
-    bool aovDone = false;
-    uint strategy = frame.counts.w;
-    uint maxDepth = frame.counts.z;
-    bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
-    bool misOn = strategy == STRATEGY_MIS;
-    vec3 L = vec3(0.0);
-    vec3 beta = vec3(1.0);
-    bool countEmitted = true;  // camera ray or after a delta bounce or BSDF-only: weight 1
-    float prevBsdfPdf = 0.0;
-    vec3 prevP = ray.o;
-    vec3 prevN = vec3(0.0);     // the previous vertex's shading normal, for the light selection pmf
-    bool prevTwoSided = false;  // whether it transmits (both hemispheres receive light)
-    float etaScale = 1.0;       // product of eta'^2 over the refractions so far
-    // Texture level of detail: a ray cone of the camera's pixel angle, its width grown along the
-    // whole path length (bsdf/material.glsl).
-    float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
-    float pathLength = 0.0;
-
+// A path in flight: everything one bounce hands the next (pathStep). pathBegin starts one at a
+// camera ray; pathRadiance runs one to its end. path.comp's regenerating loop (CAUSTIC_REGENERATE)
+// steps each invocation's paths one bounce at a time and starts the pixel's next sample in a lane
+// whose path has ended, so that no SIMD lane idles while its neighbours' paths go on.
+struct PathState {
+    Ray ray;
+    vec3 L;
+    vec3 beta;
+    bool countEmitted;    // camera ray or after a delta bounce or BSDF-only: weight 1
+    float prevBsdfPdf;
+    vec3 prevP;
+    vec3 prevN;           // the previous vertex's shading normal, for the light selection pmf
+    bool prevTwoSided;    // whether it transmits (both hemispheres receive light)
+    float etaScale;       // product of eta'^2 over the refractions so far
+    float pathLength;     // for the texture ray cone (bsdf/material.glsl)
     // Glass splitting (see the header): whether the ray traced next is a probe, the weight of
     // what it sees, the continuation ray waiting behind it (none when the path ends after the
     // probe), and the factor (the chosen lobe's probability) that scales the continuation's next
     // emission term.
+    bool probing;
+    bool pendingEnds;
+    vec3 probeBeta;
+    Ray pending;
+    float emitScale;
+    uint bounces;
+    bool aovDone;
+    PathAov aov;
+};
+
+PathState pathBegin(Ray ray) {
+    PathState st;
+    st.ray = ray;
+    st.L = vec3(0.0);
+    st.beta = vec3(1.0);
+    st.countEmitted = true;
+    st.prevBsdfPdf = 0.0;
+    st.prevP = ray.o;
+    st.prevN = vec3(0.0);
+    st.prevTwoSided = false;
+    st.etaScale = 1.0;
+    st.pathLength = 0.0;
+    st.probing = false;
+    st.pendingEnds = false;
+    st.probeBeta = vec3(0.0);
+    st.pending = ray;
+    st.emitScale = 1.0;
+    st.bounces = 0u;
+    st.aovDone = false;
+    st.aov.albedo = vec3(0.0);
+    st.aov.normal = vec3(0.0);
+    return st;
+}
+
+// One trip through the path loop: traces st.ray and handles what it finds. True when the path
+// has ended (st.L and st.aov are then its results).
+bool pathStep(inout PathState st, inout Sampler smp) {
+    uint strategy = frame.counts.w;
+    uint maxDepth = frame.counts.z;
+    bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
+    bool misOn = strategy == STRATEGY_MIS;
+    // Texture level of detail: a ray cone of the camera's pixel angle, its width grown along the
+    // whole path length (bsdf/material.glsl).
+    float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
     bool split = (frame.options.x & OPTION_GLASS_SPLIT) != 0u && frame.counts.y > 0u;
-    bool probing = false;
-    bool pendingEnds = false;
-    vec3 probeBeta = vec3(0.0);
-    Ray pending = ray;
-    float emitScale = 1.0;
+    uint bounces = st.bounces;
 
-    for (uint bounces = 0u;;) {
-        Hit hit;
-        bool found = sceneIntersect(ray, FLT_MAX, hit);  // the integrator's one closest-hit call
-        if (probing) {
-            L += probeBeta * probeEmission(found, hit, ray.d);
-            probing = false;
-            if (pendingEnds) break;
-            ray = pending;
-            continue;
-        }
-        if (!found) {
-            uint envIndex = frame.dispatch.y;
-            if (HAS_ANY_ENVIRONMENT && frame.envInfo.x != ENV_NONE) {
-                vec3 Le = environmentRadiance(ray.d);
-                if (countEmitted || !useLights) {
-                    L += beta * Le * emitScale;
-                } else if (misOn && envIndex > 0u) {
-                    float pl = lightSelectPmf(envIndex - 1u, prevP, prevN, prevTwoSided) *
-                               lightPdf(envIndex - 1u, prevP, ray.d, vec3(0.0), vec3(0.0));
-                    L += beta * Le * powerHeuristic(prevBsdfPdf, pl);
-                }
-            }
-            break;
-        }
-
-        GpuMaterial mat = loadMaterial(hit.material);
-        vec3 wo = -ray.d;
-
-        // Emission.
-        vec3 Le = emittedTowards(hit, mat, wo);
-        if (maxComponent(Le) > 0.0) {
-            if (countEmitted || !useLights) {
-                L += beta * Le * emitScale;
-            } else if (misOn && hit.light > 0u) {
-                uint li = hit.light - 1u;
-                float pl = lightSelectPmf(li, prevP, prevN, prevTwoSided) * lightPdf(li, prevP, ray.d, hit.p, hit.ng);
-                L += beta * Le * powerHeuristic(prevBsdfPdf, pl);
-            }
-        }
-
-        // Textures, then the shading frame. Reflection-only models are two-sided: the normal is
-        // turned towards the viewer. Transmissive models keep the front (unflipped) normal, so
-        // that wo.z < 0 tells them the viewer is inside. A shading normal (normal map) that puts
-        // the viewer below the surface falls back to the geometric normal.
-        pathLength += hit.t;
-        float cosHit = abs(dot(hit.ng, wo));
-        float coneWidth = pixelSpread * pathLength / max(cosHit, 0.1);
-        vec3 ns = hit.ns;
-        if (CAUSTIC_TEXTURES != 0u && any(notEqual(mat.textures.xyz, uvec3(0u)))) {
-            SurfacePoint sp = hitSurface(hit);
-            vec3 normalTexel;
-            mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
-            ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
-        }
-        bool keepFront = bsdfHasTransmission(mat);
-        float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
-        vec3 n = side * ns;
-        if (dot(n, wo) * dot(side * hit.ng, wo) <= 0.0) n = side * hit.ng;
-        if (!aovDone && !bsdfIsDelta(mat)) {
-            aovDone = true;
-            aov.albedo = aovAlbedo(mat);
-            aov.normal = dot(n, wo) < 0.0 ? -n : n;  // n: the shading normal, or ng where it fails
-        }
-        if (bounces >= maxDepth) break;
-        Frame f = frameFromNormal(n);
-        vec3 woL = toLocal(f, wo);
-        float ngWo = dot(hit.ng, wo);
-
-        // Next event estimation.
-        uint li;
-        float pmf;
-        if (useLights && !bsdfIsDelta(mat) &&
-            selectLight(sample1D(smp, bounceSlot(bounces, SLOT_LIGHT_SELECT)), hit.p, n, keepFront, li, pmf)) {
-            LightSample ls = sampleLight(li, hit.p, sample2D(smp, bounceSlot(bounces, SLOT_LIGHT)));
-            if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
-                vec3 wiL = toLocal(f, ls.wi);
-                float pdfBsdf;
-                vec3 fv = bsdfEvalPdf(mat, woL, wiL, pdfBsdf);
-                // Reflection and transmission as the geometry sees them must agree with the
-                // shading frame's (a shading normal must not leak light through the surface).
-                if ((woL.z * wiL.z > 0.0) != (ngWo * dot(hit.ng, ls.wi) > 0.0)) fv = vec3(0.0);
-                if (maxComponent(fv) > 0.0) {
-                    // One call site for both kinds of shadow ray: each call inlines the whole
-                    // traversal, and code size costs speed on the GPU (docs/performance.md).
-                    Ray shadow;
-                    float shadowTMax = FLT_MAX;
-                    if (ls.dist >= FLT_MAX) {
-                        shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
-                        shadow.d = ls.wi;
-                    } else {
-                        shadow = segmentRay(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
-                        shadowTMax = 1.0;
-                    }
-                    if (!sceneOccluded(shadow, shadowTMax)) {
-                        float pl = pmf * ls.pdf;
-                        float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
-                        L += beta * fv * abs(wiL.z) * ls.Li * (w / pl);
-                    }
-                }
-            }
-        }
-
-        // Continuation ray by BSDF sampling.
-        vec2 uDir = sample2D(smp, bounceSlot(bounces, SLOT_BSDF_DIR));
-        BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
-        if (bs.pdf <= 0.0) break;
-        vec3 wiW = toWorld(f, bs.wi);
-        // Reflection or transmission as the geometry sees it must agree with the shading frame's.
-        bool ends = (woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0);
-
-        // Glass splitting: the lobe not taken is traced next, for the emission it sees alone. Only
-        // lobes that leave the medium are probed (wi.z > 0: the dielectric's frame keeps the outward
-        // normal): a probe that stays inside a closed glass object would see that object again.
-        // A lobe that is probed when not taken has its emission scaled by its probability when
-        // taken, so that in expectation its emission is counted once (docs/design.md). The probe
-        // is traced even when the continuation is refused or ended by Russian roulette.
-        emitScale = 1.0;
-        vec3 probeDir = vec3(0.0);
-        if (HAS_MATERIAL(MAT_DIELECTRIC) && split && mat.info.x == MAT_DIELECTRIC) {
-            if (bs.wi.z > 0.0) emitScale = bs.pdf;
-            BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
-            probeDir = toWorld(f, other.wi);
-            if (other.pdf > 0.0 && other.wi.z > 0.0 &&
-                (woL.z * other.wi.z > 0.0) == (ngWo * dot(hit.ng, probeDir) > 0.0)) {
-                probing = true;
-                probeBeta = beta * other.f * abs(other.wi.z);  // the lobe's weight, not over its pdf
-            }
-        }
-
-        if (!ends) {
-            beta *= bs.f * abs(bs.wi.z) / bs.pdf;
-            countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
-            prevBsdfPdf = bs.pdf;
-            prevP = hit.p;
-            prevN = n;
-            prevTwoSided = keepFront;
-            if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
-                float eta = mat.params.y;
-                etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
-            }
-            ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
-            ray.d = wiW;
-            float q;
-            ends = russianRouletteEnds(bounces, maxComponent(beta) * etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q);
-            if (!ends) {
-                beta /= q;
-                ends = maxComponent(beta) <= 0.0;
-            }
-        }
-        if (probing) {  // the probe goes first; the continuation waits (or ends after it)
-            pending = ray;
-            pendingEnds = ends;
-            ray.o = offsetRayOrigin(hit.p, hit.ng, probeDir);
-            ray.d = probeDir;
-        } else if (ends) {
-            break;
-        }
-        ++bounces;
+    Hit hit;
+    bool found = sceneIntersect(st.ray, FLT_MAX, hit);  // the integrator's one closest-hit call
+    if (st.probing) {
+        st.L += st.probeBeta * probeEmission(found, hit, st.ray.d);
+        st.probing = false;
+        if (st.pendingEnds) return true;
+        st.ray = st.pending;
+        return false;
     }
-    return L;
+    if (!found) {
+        uint envIndex = frame.dispatch.y;
+        if (HAS_ANY_ENVIRONMENT && frame.envInfo.x != ENV_NONE) {
+            vec3 Le = environmentRadiance(st.ray.d);
+            if (st.countEmitted || !useLights) {
+                st.L += st.beta * Le * st.emitScale;
+            } else if (misOn && envIndex > 0u) {
+                float pl = lightSelectPmf(envIndex - 1u, st.prevP, st.prevN, st.prevTwoSided) *
+                           lightPdf(envIndex - 1u, st.prevP, st.ray.d, vec3(0.0), vec3(0.0));
+                st.L += st.beta * Le * powerHeuristic(st.prevBsdfPdf, pl);
+            }
+        }
+        return true;
+    }
+
+    GpuMaterial mat = loadMaterial(hit.material);
+    vec3 wo = -st.ray.d;
+
+    // Emission.
+    vec3 Le = emittedTowards(hit, mat, wo);
+    if (maxComponent(Le) > 0.0) {
+        if (st.countEmitted || !useLights) {
+            st.L += st.beta * Le * st.emitScale;
+        } else if (misOn && hit.light > 0u) {
+            uint li = hit.light - 1u;
+            float pl = lightSelectPmf(li, st.prevP, st.prevN, st.prevTwoSided) * lightPdf(li, st.prevP, st.ray.d, hit.p, hit.ng);
+            st.L += st.beta * Le * powerHeuristic(st.prevBsdfPdf, pl);
+        }
+    }
+
+    // Textures, then the shading frame. Reflection-only models are two-sided: the normal is
+    // turned towards the viewer. Transmissive models keep the front (unflipped) normal, so
+    // that wo.z < 0 tells them the viewer is inside. A shading normal (normal map) that puts
+    // the viewer below the surface falls back to the geometric normal.
+    st.pathLength += hit.t;
+    float cosHit = abs(dot(hit.ng, wo));
+    float coneWidth = pixelSpread * st.pathLength / max(cosHit, 0.1);
+    vec3 ns = hit.ns;
+    if (CAUSTIC_TEXTURES != 0u && any(notEqual(mat.textures.xyz, uvec3(0u)))) {
+        SurfacePoint sp = hitSurface(hit);
+        vec3 normalTexel;
+        mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
+        ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
+    }
+    bool keepFront = bsdfHasTransmission(mat);
+    float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
+    vec3 n = side * ns;
+    if (dot(n, wo) * dot(side * hit.ng, wo) <= 0.0) n = side * hit.ng;
+    if (!st.aovDone && !bsdfIsDelta(mat)) {
+        st.aovDone = true;
+        st.aov.albedo = aovAlbedo(mat);
+        st.aov.normal = dot(n, wo) < 0.0 ? -n : n;  // n: the shading normal, or ng where it fails
+    }
+    if (bounces >= maxDepth) return true;
+    Frame f = frameFromNormal(n);
+    vec3 woL = toLocal(f, wo);
+    float ngWo = dot(hit.ng, wo);
+
+    // Next event estimation.
+    uint li;
+    float pmf;
+    if (useLights && !bsdfIsDelta(mat) &&
+        selectLight(sample1D(smp, bounceSlot(bounces, SLOT_LIGHT_SELECT)), hit.p, n, keepFront, li, pmf)) {
+        LightSample ls = sampleLight(li, hit.p, sample2D(smp, bounceSlot(bounces, SLOT_LIGHT)));
+        if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
+            vec3 wiL = toLocal(f, ls.wi);
+            float pdfBsdf;
+            vec3 fv = bsdfEvalPdf(mat, woL, wiL, pdfBsdf);
+            // Reflection and transmission as the geometry sees them must agree with the
+            // shading frame's (a shading normal must not leak light through the surface).
+            if ((woL.z * wiL.z > 0.0) != (ngWo * dot(hit.ng, ls.wi) > 0.0)) fv = vec3(0.0);
+            if (maxComponent(fv) > 0.0) {
+                // One call site for both kinds of shadow ray: each call inlines the whole
+                // traversal, and code size costs speed on the GPU (docs/performance.md).
+                Ray shadow;
+                float shadowTMax = FLT_MAX;
+                if (ls.dist >= FLT_MAX) {
+                    shadow.o = offsetRayOrigin(hit.p, hit.ng, ls.wi);
+                    shadow.d = ls.wi;
+                } else {
+                    shadow = segmentRay(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
+                    shadowTMax = 1.0;
+                }
+                if (!sceneOccluded(shadow, shadowTMax)) {
+                    float pl = pmf * ls.pdf;
+                    float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
+                    st.L += st.beta * fv * abs(wiL.z) * ls.Li * (w / pl);
+                }
+            }
+        }
+    }
+
+    // Continuation ray by BSDF sampling.
+    vec2 uDir = sample2D(smp, bounceSlot(bounces, SLOT_BSDF_DIR));
+    BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
+    if (bs.pdf <= 0.0) return true;
+    vec3 wiW = toWorld(f, bs.wi);
+    // Reflection or transmission as the geometry sees it must agree with the shading frame's.
+    bool ends = (woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0);
+
+    // Glass splitting: the lobe not taken is traced next, for the emission it sees alone. Only
+    // lobes that leave the medium are probed (wi.z > 0: the dielectric's frame keeps the outward
+    // normal): a probe that stays inside a closed glass object would see that object again.
+    // A lobe that is probed when not taken has its emission scaled by its probability when
+    // taken, so that in expectation its emission is counted once (docs/design.md). The probe
+    // is traced even when the continuation is refused or ended by Russian roulette.
+    st.emitScale = 1.0;
+    vec3 probeDir = vec3(0.0);
+    if (HAS_MATERIAL(MAT_DIELECTRIC) && split && mat.info.x == MAT_DIELECTRIC) {
+        if (bs.wi.z > 0.0) st.emitScale = bs.pdf;
+        BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
+        probeDir = toWorld(f, other.wi);
+        if (other.pdf > 0.0 && other.wi.z > 0.0 &&
+            (woL.z * other.wi.z > 0.0) == (ngWo * dot(hit.ng, probeDir) > 0.0)) {
+            st.probing = true;
+            st.probeBeta = st.beta * other.f * abs(other.wi.z);  // the lobe's weight, not over its pdf
+        }
+    }
+
+    if (!ends) {
+        st.beta *= bs.f * abs(bs.wi.z) / bs.pdf;
+        st.countEmitted = (bs.flags & BSDF_FLAG_DELTA) != 0u;
+        st.prevBsdfPdf = bs.pdf;
+        st.prevP = hit.p;
+        st.prevN = n;
+        st.prevTwoSided = keepFront;
+        if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
+            float eta = mat.params.y;
+            st.etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
+        }
+        st.ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
+        st.ray.d = wiW;
+        float q;
+        ends = russianRouletteEnds(bounces, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q);
+        if (!ends) {
+            st.beta /= q;
+            ends = maxComponent(st.beta) <= 0.0;
+        }
+    }
+    if (st.probing) {  // the probe goes first; the continuation waits (or ends after it)
+        st.pending = st.ray;
+        st.pendingEnds = ends;
+        st.ray.o = offsetRayOrigin(hit.p, hit.ng, probeDir);
+        st.ray.d = probeDir;
+    } else if (ends) {
+        return true;
+    }
+    st.bounces = bounces + 1u;
+    return false;
+}
+
+vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {
+    PathState st = pathBegin(ray);
+    while (!pathStep(st, smp)) {}
+    aov = st.aov;
+    return st.L;
 }
 
 #endif
