@@ -28,7 +28,12 @@ supp="$root/tests/sanitize"
 # -fno-omit-frame-pointer): Debian's libraries have none, so a stack ends a frame or two into
 # them, which is enough for the suppressions, matched by module. The slow unwinder gives whole
 # stacks but made the GPU tests crawl (Mesa allocates at every GL call: two tests took over 7
-# minutes each); CAUSTIC_ASAN_FULL_STACKS=1 uses it, for reading a report.
+# minutes each); CAUSTIC_ASAN_FULL_STACKS=1 uses it, for reading a report, but not for the GL
+# tests or the editor: the slow unwinder (libgcc's) allocates while it holds its own lock, and
+# llvmpipe's JIT registers each shader's unwind tables through the same lock, so the first
+# shader compiled under it deadlocks (seen 2026-12-02: an editor session waiting for ever in
+# _Unwind_Find_FDE). The GL stack's leaks are named by module instead: sanitizer builds keep
+# Mesa's driver loaded until exit (renderer/gl_context.cpp, pinGlDriversForLeakChecks).
 unwind=1
 [ "${CAUSTIC_ASAN_FULL_STACKS:-0}" = 1 ] && unwind=0
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:fast_unwind_on_malloc=$unwind:${ASAN_OPTIONS:-}"
