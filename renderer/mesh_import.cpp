@@ -427,7 +427,11 @@ std::string implausibleHeader(const std::string& path, std::uintmax_t size) {
             break;
         }
     }
-    if (head.rfind("ply", 0) == 0 && endHeader == std::string::npos)
+    // Assimp takes the magic number in any case ("pLy" hung it: tests/fuzz, fuzz_mesh_common).
+    const bool plyMagic = head.size() >= 3 && std::tolower(static_cast<unsigned char>(head[0])) == 'p' &&
+                          std::tolower(static_cast<unsigned char>(head[1])) == 'l' &&
+                          std::tolower(static_cast<unsigned char>(head[2])) == 'y';
+    if (plyMagic && endHeader == std::string::npos)
         return path + ": the PLY header has no end_header line" +
                (size > head.size() ? " in its first " + std::to_string(head.size()) + " bytes" : std::string());
     while ((pos = head.find("element ", pos)) != std::string::npos && pos < endHeader) {
