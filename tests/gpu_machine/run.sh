@@ -4,6 +4,7 @@
 # and leaves the results in $OUT (bench.txt, gpu-tests.txt, images). Never more than a few
 # seconds of GPU work queued at once: the renderer paces its dispatches.
 #   run.sh [quick|variants|compare]
+# A plain or quick run also benchmarks the 1M-triangle mesh scene that make_mesh_scene.py writes.
 # variants: only the integrator profile: caustic-bench on each copy of the shaders written by
 # shader_variants.py (pack.sh puts them in .gpu/variants), plus the driver's program binaries.
 # compare: only caustic against Mitsuba 3's cuda_ad_rgb in one interleaved run (compare.py: the
@@ -66,6 +67,11 @@ fi
   echo "## caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn"
   timeout 300 $B/caustic-bench --size 1024 --samples 64 --max-depth 8 --repeat 3 --rays --oidn --out "$OUT/images" $scenes 2>&1
   echo "rc=$?"
+  # Issue 16's mesh goal: two instances of a 1M-triangle mesh (make_mesh_scene.py; ~1 s to write),
+  # diffuse rays per second in the integrator (Mrays/s) and alone (--rays).
+  python3 tests/gpu_machine/make_mesh_scene.py /tmp/caustic-gpu/big-mesh > /dev/null
+  echo "## 1M-triangle mesh: caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays"
+  timeout 120 $B/caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays /tmp/caustic-gpu/big-mesh/mesh-big.json 2>&1
   echo "## the editor's frames: caustic-bench --size 1024 --interactive 300"
   timeout 120 $B/caustic-bench --size 1024 --samples 16 --repeat 1 --interactive 300 scenes/cornell-box.json scenes/mesh-knot.json 2>&1 | grep "^interactive"
   echo "## the editor's frames: caustic-bench --size 2048 --interactive 300"
