@@ -175,6 +175,21 @@ std::unique_ptr<OIIO::ImageInput> openChecked(const std::string& path, std::stri
                  ", not a 2D image";
         return nullptr;
     }
+    // OpenImageIO 2.4's TIFF reader allocates a strip buffer of RowsPerStrip scanlines, however few
+    // rows the image has: a damaged 4x3 file declaring 385,875,968 rows per strip made it allocate
+    // 4.6 GB (found by tests/fuzz, fuzz_image). More rows per strip than the image has is legal
+    // (the TIFF default, 2^32 - 1, means "one strip": OpenImageIO reads it as -1, which passes), so
+    // only a strip buffer beyond what the image itself needs at its largest is refused.
+    if (const OIIO::ParamValue* rows = spec.find_attribute("tiff:RowsPerStrip"); rows && rows->type() == OIIO::TypeDesc::INT) {
+        const long long perStrip = rows->get_int();
+        const long long scanline = static_cast<long long>(spec.scanline_bytes());
+        if (perStrip > spec.height && perStrip * scanline > kMaxImagePixels * 4 * 4) {
+            *error = path + ": the TIFF header declares " + std::to_string(perStrip) + " rows per strip for an image of " +
+                     std::to_string(spec.height) + " rows (its reader would allocate " +
+                     std::to_string(perStrip * scanline / (1 << 20)) + " MiB); the file is probably damaged";
+            return nullptr;
+        }
+    }
     return in;
 }
 

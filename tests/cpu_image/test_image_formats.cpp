@@ -8,6 +8,9 @@
 #include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include <memory>
 
 #include <filesystem>
 #include <fstream>
@@ -100,4 +103,43 @@ TEST_CASE("images: a BMP on which OpenImageIO's reader throws is refused with a 
         CHECK(error.rfind(path + ": cannot read image", 0) == 0);
         CHECK(image.pixels.empty());
     }
+}
+
+// Found by fuzz_image (docs/reliability.md): a damaged 4x3 TIFF declaring 385,875,968 rows per
+// strip, for which OpenImageIO 2.4's TIFF reader allocates a 4.6 GB strip buffer (a normal build
+// overcommits and survives; with overcommit off, a memory limit or the sanitizers it fails). It
+// must be refused from its header, naming the file, also when misnamed; a legal TIFF with one
+// strip for the whole image (RowsPerStrip at its default, or above the height) still reads.
+TEST_CASE("images: a TIFF declaring a strip far larger than its image is refused before its reader allocates",
+          "[image]") {
+    const std::string file = CAUSTIC_SOURCE_DIR "/tests/fuzz/seeds/image/rows-per-strip.tif";
+    test::TempDir dir;
+    std::filesystem::copy_file(file, dir.file("misnamed.pfm"));
+    for (const std::string& path : {file, dir.file("misnamed.pfm")}) {
+        INFO(path);
+        ImageData image;
+        std::string error;
+        CHECK_FALSE(readImage(path, &image, &error));
+        CHECK(error == path + ": the TIFF header declares 385875968 rows per strip for an image of 3 rows (its reader "
+                              "would allocate 4416 MiB); the file is probably damaged");
+        CHECK(image.pixels.empty());
+    }
+    // One strip of more rows than the image has, within reason: read as before.
+    const std::string good = dir.file("one-strip.tif");
+    {
+        std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(good);
+        REQUIRE(out);
+        OIIO::ImageSpec spec(4, 3, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("tiff:RowsPerStrip", 64);
+        REQUIRE(out->open(good, spec));
+        const std::vector<unsigned char> pixels(4 * 3 * 3, 200);
+        REQUIRE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+        out->close();
+    }
+    ImageData image;
+    std::string error;
+    INFO(error);
+    CHECK(readImage(good, &image, &error));
+    CHECK(image.width == 4);
+    CHECK(image.height == 3);
 }
