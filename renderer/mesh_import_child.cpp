@@ -25,10 +25,10 @@
 #include <cstdio>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/prctl.h>
@@ -206,31 +206,15 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     return true;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-namespace {
-// Whether the process runs more than one thread (/proc/self/task lists one entry per thread).
-bool otherThreadsRun() {
-    DIR* dir = ::opendir("/proc/self/task");
-    if (!dir) return true;
-    int threads = 0;
-    while (const dirent* e = ::readdir(dir))
-        if (e->d_name[0] != '.') ++threads;
-    ::closedir(dir);
-    return threads > 1;
-}
-}  // namespace
-#endif
 
 MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds) {
-#if defined(__SANITIZE_ADDRESS__)
-    // AddressSanitizer builds only (tests/sanitize.sh): GCC 12's sanitizer runtime does not lock
-    // its allocator around fork, so a child forked while another thread was inside it waits for
-    // that lock for ever at its first allocation (seen in the editor's background import under
-    // the sanitizers: every import ran into the time-out). A multi-threaded process imports in
-    // process there; a single-threaded one (the CPU tests of the crash containment) still forks.
-    // Normal builds always fork: glibc's malloc is made safe across fork by glibc itself.
-    if (otherThreadsRun()) return importMeshFileInProcess(path);
-#endif
+    // CAUSTIC_IMPORT_IN_PROCESS=1 imports in this process instead: for the sanitizer runs of the
+    // editor's sessions (tests/sanitize.sh sets it there: GCC 12's AddressSanitizer does not lock
+    // its allocator around fork, so a child forked while another thread allocates waits for ever
+    // at its first allocation) and for debugging Assimp under a debugger. Normal builds fork:
+    // glibc makes its own malloc safe across fork.
+    if (const char* env = std::getenv("CAUSTIC_IMPORT_IN_PROCESS"); env && std::strcmp(env, "1") == 0)
+        return importMeshFileInProcess(path);
     const auto t0 = std::chrono::steady_clock::now();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) return importMeshFileInProcess(path);
