@@ -206,7 +206,6 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     return true;
 }
 
-
 MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds) {
     // CAUSTIC_IMPORT_IN_PROCESS=1 imports in this process instead: for the sanitizer runs of the
     // editor's sessions (tests/sanitize.sh sets it there: GCC 12's AddressSanitizer does not lock

@@ -183,7 +183,7 @@ ShaderDefines integratorDefines() {
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
-    // run in lock step on the CPU (llvmpipe: the same driver test as the buffer textures);
+    // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
     // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
     if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
     return defines;
@@ -191,7 +191,6 @@ ShaderDefines integratorDefines() {
 
 bool regeneratesPaths() {
     if (const char* env = std::getenv("CAUSTIC_REGENERATE"); env && *env) return std::strcmp(env, "0") != 0;
-    if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) return std::strcmp(env, "0") != 0;
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
