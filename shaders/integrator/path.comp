@@ -14,6 +14,32 @@ layout(rgba32f, binding = BINDING_ACCUM_SQ_IMAGE) uniform image2D accumSqImage;
 layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
 layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
 
+// The pixel's sums over the dispatch's samples (the accumulation images' texels, added to).
+struct PixelSums {
+    vec4 sum, sumSq, albedo, normal;
+    uint dropped;
+};
+
+// Sample s of the dispatch at `pixel`: its sampler (the random numbers of seed, pixel and sample
+// index) and its camera ray.
+Ray sampleCameraRay(uvec2 pixel, uint pixelIndex, uint s, out Sampler smp) {
+    smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
+    vec2 uFilter = sample2D(smp, SLOT_FILTER);
+    return cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
+}
+
+// Adds a finished sample: its AOVs always, its radiance unless NaN or infinite (then counted).
+void addSample(inout PixelSums p, vec3 L, PathAov aov) {
+    p.albedo += vec4(aov.albedo, 1.0);
+    p.normal += vec4(aov.normal, 1.0);
+    if (any(isnan(L)) || any(isinf(L))) {
+        ++p.dropped;
+        return;
+    }
+    p.sum += vec4(L, 1.0);
+    p.sumSq += vec4(L * L, 0.0);
+}
+
 void main() {
     // One work group per 8x8 tile; a dispatch covers tiles [dispatch.z, dispatch.w), numbered row
     // by row, on a grid of work groups that may have a few too many (Renderer::dispatch).
@@ -28,12 +54,13 @@ void main() {
     if (local.x >= cropSize.x || local.y >= cropSize.y) return;
     uvec2 pixel = local + frame.options.yz;
     ivec2 ip = ivec2(local);
-    vec4 sum = imageLoad(accumImage, ip);
-    vec4 sumSq = imageLoad(accumSqImage, ip);
-    vec4 albedoSum = imageLoad(albedoImage, ip);
-    vec4 normalSum = imageLoad(normalImage, ip);
+    PixelSums px;
+    px.sum = imageLoad(accumImage, ip);
+    px.sumSq = imageLoad(accumSqImage, ip);
+    px.albedo = imageLoad(albedoImage, ip);
+    px.normal = imageLoad(normalImage, ip);
+    px.dropped = 0u;
     uint pixelIndex = pixel.y * frame.image.x + pixel.x;
-    uint dropped = 0u;
 #ifdef CAUSTIC_REGENERATE
     // Path regeneration (Novak, Havran and Dachsbacher 2010, "Path Regeneration for Interactive
     // Path Tracing"): one loop over bounces, in which a lane whose path has ended starts its
@@ -45,46 +72,30 @@ void main() {
     // image is the same as the nested loops' (docs/performance.md).
     if (frame.dispatch.x > 0u) {
         uint s = 0u;
-        Sampler smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z, frame.image.w);
-        vec2 uFilter = sample2D(smp, SLOT_FILTER);
-        PathState st = pathBegin(cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS)));
+        Sampler smp;
+        PathState st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp));
         while (true) {
             if (!pathStep(st, smp)) continue;
-            vec3 L = st.L;
-            albedoSum += vec4(st.aov.albedo, 1.0);
-            normalSum += vec4(st.aov.normal, 1.0);
-            if (any(isnan(L)) || any(isinf(L))) {
-                ++dropped;
-            } else {
-                sum += vec4(L, 1.0);
-                sumSq += vec4(L * L, 0.0);
-            }
+            addSample(px, st.L, st.aov);
             if (++s >= frame.dispatch.x) break;
-            smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
-            uFilter = sample2D(smp, SLOT_FILTER);
-            st = pathBegin(cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS)));
+            st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp));
         }
     }
 #else
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
-        Sampler smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
-        vec2 uFilter = sample2D(smp, SLOT_FILTER);
-        Ray ray = cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
+        Sampler smp;
+        Ray ray = sampleCameraRay(pixel, pixelIndex, s, smp);
         PathAov aov;
         vec3 L = pathRadiance(ray, smp, aov);
-        albedoSum += vec4(aov.albedo, 1.0);
-        normalSum += vec4(aov.normal, 1.0);
-        if (any(isnan(L)) || any(isinf(L))) { ++dropped; continue; }
-        sum += vec4(L, 1.0);
-        sumSq += vec4(L * L, 0.0);
+        addSample(px, L, aov);
     }
 #endif
-    if (dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], dropped);
+    if (px.dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], px.dropped);
     // A 64-bit ray count from two 32-bit words: carry into the high word on wrap-around.
     uint before = atomicAdd(counters[COUNTER_RAYS_LO], g_rayCount);
     if (before + g_rayCount < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
-    imageStore(accumImage, ip, sum);
-    imageStore(accumSqImage, ip, sumSq);
-    imageStore(albedoImage, ip, albedoSum);
-    imageStore(normalImage, ip, normalSum);
+    imageStore(accumImage, ip, px.sum);
+    imageStore(accumSqImage, ip, px.sumSq);
+    imageStore(albedoImage, ip, px.albedo);
+    imageStore(normalImage, ip, px.normal);
 }

@@ -45,13 +45,22 @@ unsigned kernel(const std::string& name) {
     return program;
 }
 
-Scene cornellBox(int size) {
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/cornell-box.json");
+Scene sceneFromFile(const std::string& file, int width, int height) {
+    SceneLoadResult loaded = loadScene(std::string(CAUSTIC_SOURCE_DIR "/scenes/") + file);
     INFO(loaded.error);
     REQUIRE(loaded);
     Scene s = *loaded.scene;
-    s.render.width = s.render.height = size;
+    s.render.width = width;
+    s.render.height = height;
     return s;
+}
+
+Scene cornellBox(int size) { return sceneFromFile("cornell-box.json", size, size); }
+
+bool hasDefine(const ShaderDefines& defines, const char* name) {
+    for (const auto& [n, v] : defines)
+        if (n == name) return true;
+    return false;
 }
 
 Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission) {

@@ -23,8 +23,14 @@ Film renderFilm(Renderer& renderer, const Scene& scene, int samples);
 // surface emits Le, so that every pixel sees L = Le / (1 - a). 16 x 16, max depth 100.
 Scene closedEmittingSphere(glm::vec3 albedo, glm::vec3 emission);
 
+// scenes/<file> at width x height pixels (REQUIREs that it loads).
+Scene sceneFromFile(const std::string& file, int width, int height);
+
 // scenes/cornell-box.json at size x size pixels (REQUIREs that it loads).
 Scene cornellBox(int size);
+
+// Whether `defines` holds the define `name`.
+bool hasDefine(const ShaderDefines& defines, const char* name);
 
 // A floor: the canonical quad turned to face +y, [-halfSize, halfSize]^2 at y = 0.
 Object floorQuad(const std::string& material, float halfSize);

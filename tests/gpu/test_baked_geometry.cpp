@@ -40,12 +40,6 @@ Scene withKnot(Scene s) {
     return s;
 }
 
-bool hasDefine(const ShaderDefines& defines, const char* name) {
-    for (const auto& [n, v] : defines)
-        if (n == name) return true;
-    return false;
-}
-
 // A renderer that specialises (the default on llvmpipe; forced elsewhere, e.g. NVIDIA), with
 // baking on or off.
 std::unique_ptr<Renderer> specialisingRenderer(bool bake) {
@@ -99,8 +93,8 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     const Film film = test::renderFilm(*baked, scene, 4);
     // The baked renderer really baked (and the other did not): otherwise this compares a program
     // with itself.
-    CHECK_FALSE(hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
-    CHECK(hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
+    CHECK_FALSE(test::hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
+    CHECK(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
     requireSameFilm(film, reference);
     // Something was rendered: the box is lit.
     CHECK(test::imageStats(film).mean.r > 0.01);
@@ -110,9 +104,9 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     const Scene withMesh = withKnot(scene);
     const Film meshReference = test::renderFilm(*fetching, withMesh, 2);
     const Film meshFilm = test::renderFilm(*baked, withMesh, 2);
-    CHECK_FALSE(hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
-    CHECK(hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
-    CHECK_FALSE(hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    CHECK_FALSE(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
+    CHECK(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    CHECK_FALSE(test::hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
     requireSameFilm(meshFilm, meshReference);
     // The knot is in the picture: the image differs from the box's without it (same seed and
     // sample count, so only pixels whose paths meet the knot differ).

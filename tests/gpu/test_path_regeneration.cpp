@@ -15,12 +15,6 @@ using namespace caustic;
 
 namespace {
 
-bool hasDefine(const ShaderDefines& defines, const char* name) {
-    for (const auto& [n, v] : defines)
-        if (n == name) return true;
-    return false;
-}
-
 // Renders `scene` with regeneration forced on or off. CAUSTIC_DISPATCH_SECONDS makes each
 // dispatch after the first hold as many samples as the renderer allows (64), so that lanes do
 // start later samples within a dispatch.
@@ -28,7 +22,7 @@ Film renderWith(bool regenerate, const Scene& scene, int samples) {
     ::setenv("CAUSTIC_REGENERATE", regenerate ? "1" : "0", 1);
     ::setenv("CAUSTIC_DISPATCH_SECONDS", "60", 1);
     auto r = test::makeRenderer();
-    CHECK(hasDefine(integratorDefines(), "CAUSTIC_REGENERATE") == regenerate);
+    CHECK(test::hasDefine(integratorDefines(), "CAUSTIC_REGENERATE") == regenerate);
     const Film film = test::renderFilm(*r, scene, samples);
     ::unsetenv("CAUSTIC_REGENERATE");
     ::unsetenv("CAUSTIC_DISPATCH_SECONDS");
@@ -57,12 +51,7 @@ void requireSameImage(const Scene& scene, int samples) {
 TEST_CASE("path regeneration: two knots under a sky give the nested loops' image bit for bit", "[regenerate]") {
     // Paths that escape to the environment map after 0 to 7 bounces: the lanes' paths end at
     // different times, which is what regeneration fills.
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/mesh-knot.json");
-    INFO(loaded.error);
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = 40;
-    s.render.height = 24;
+    Scene s = test::sceneFromFile("mesh-knot.json", 40, 24);
     // The GPU tests read no image files: the procedural sky instead of the HDR map (escaping
     // paths are what matters here).
     s.environment = Environment{};

@@ -181,12 +181,7 @@ TEST_CASE("Sobol sampler: scrambling differs per pixel, slot and seed, and point
 
 TEST_CASE("both samplers give the same bytes however the samples are split, and different samplers agree", "[gpu][sampler]") {
     auto renderer = test::makeRenderer();
-    SceneLoadResult loaded = loadScene(CAUSTIC_SOURCE_DIR "/scenes/dof.json");
-    INFO(loaded.error);
-    REQUIRE(loaded);
-    Scene s = *loaded.scene;
-    s.render.width = 48;
-    s.render.height = 27;
+    Scene s = test::sceneFromFile("dof.json", 48, 27);
     s.render.maxDepth = 4;
     s.render.seed = 9;
     Film films[2];
