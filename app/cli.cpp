@@ -32,8 +32,10 @@ std::string cliUsage() {
 options:
   --scene <file.json>   the scene to render in batch mode
   --samples <n>         samples per pixel (default: the scene's, else 256)
-  --width <px>          image width (default: the scene's, else 800)
-  --height <px>         image height (default: the scene's, else 600)
+  --width <px>          image width (default: the scene's, else 800); given alone, the height
+                        follows the scene's aspect ratio
+  --height <px>         image height (default: the scene's, else 600); given alone, the width
+                        follows
   --max-depth <n>       maximum scattering events per path (default: the scene's, else 10)
   --seed <n>            random seed, 0..4294967295 (default: the scene's, else 0)
   --output <dir>        output folder, created if missing (default: renders); files are named
@@ -112,8 +114,8 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
              return true;
          }},
         {"--samples", intFlag(&o.samples, 1, 1 << 24)},
-        {"--width", intFlag(&o.width, 1, 16384)},
-        {"--height", intFlag(&o.height, 1, 16384)},
+        {"--width", intFlag(&o.width, 1, kMaxRenderSide)},
+        {"--height", intFlag(&o.height, 1, kMaxRenderSide)},
         {"--max-depth", intFlag(&o.maxDepth, 0, 1024)},
         {"--seed", intFlag(&o.seed, 0, 4294967295LL)},
         {"--output", [&](const std::string& v, std::string* why) {
@@ -188,8 +190,8 @@ CliParseResult parseCli(const std::vector<std::string>& args) {
              const auto comma = v.find(',');
              auto pair = [](const std::string& t, int* a, int* b) {
                  const auto colon = t.find(':');
-                 return colon != std::string::npos && parseInt(t.substr(0, colon), 0, 16384, a) &&
-                        parseInt(t.substr(colon + 1), 1, 16384, b) && *a < *b;
+                 return colon != std::string::npos && parseInt(t.substr(0, colon), 0, kMaxRenderSide, a) &&
+                        parseInt(t.substr(colon + 1), 1, kMaxRenderSide, b) && *a < *b;
              };
              if (comma == std::string::npos || !pair(v.substr(0, comma), &c.x0, &c.x1) ||
                  !pair(v.substr(comma + 1), &c.y0, &c.y1)) {

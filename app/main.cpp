@@ -110,8 +110,16 @@ bool makeVariants(const CliOptions& o, std::vector<Variant>* out, std::string* e
 // The command line's own settings on top of the (overridden) scene file.
 void applyFlags(const CliOptions& o, Scene& scene) {
     if (o.samples) scene.render.samples = *o.samples;
+    // One of --width and --height alone keeps the scene's aspect ratio (the other is scaled and
+    // rounded, at least 1 and at most the largest image); both set the size as given.
+    const int sceneWidth = scene.render.width, sceneHeight = scene.render.height;
+    const auto scaled = [](int given, int num, int den) {
+        return int(std::clamp<long long>((2LL * given * num + den) / (2LL * den), 1, kMaxRenderSide));
+    };
     if (o.width) scene.render.width = *o.width;
     if (o.height) scene.render.height = *o.height;
+    if (o.width && !o.height && sceneWidth > 0) scene.render.height = scaled(*o.width, sceneHeight, sceneWidth);
+    if (o.height && !o.width && sceneHeight > 0) scene.render.width = scaled(*o.height, sceneWidth, sceneHeight);
     if (o.maxDepth) scene.render.maxDepth = *o.maxDepth;
     if (o.seed) scene.render.seed = *o.seed;
     if (o.envmap) {  // --envmap wins over --sky

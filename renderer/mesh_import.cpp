@@ -2,7 +2,9 @@
 #include "renderer/mesh_import_gltf.h"
 
 #include <assimp/GltfMaterial.h>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -176,6 +178,27 @@ bool isGltfPath(const std::string& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext == ".gltf" || ext == ".glb";
 }
+
+// Assimp's file access, except that one file reads as the given bytes (prepareGltfForAssimp's
+// replacement for a glTF file Assimp cannot read as it is); every other file (a .gltf's buffers
+// and images) is read from disk.
+class ReplacingIOSystem : public Assimp::DefaultIOSystem {
+public:
+    ReplacingIOSystem(std::string file, std::string bytes) : file_(std::move(file)), bytes_(std::move(bytes)) {}
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        if (file && isReplaced(file))
+            return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes_.data()), bytes_.size());
+        return Assimp::DefaultIOSystem::Open(file, mode);
+    }
+
+private:
+    bool isReplaced(const char* file) const {
+        if (file_ == file) return true;
+        std::error_code ec;
+        return fs::equivalent(fs::path(file_), fs::path(file), ec) && !ec;
+    }
+    std::string file_, bytes_;
+};
 
 // glTF files: what Assimp 5.2 does not pass on, from the file's JSON (mesh_import_gltf.h), laid
 // over the materials Assimp made (the same order: Assimp's glTF importer makes material i from
@@ -488,6 +511,16 @@ MeshImportResult importImpl(const std::string& path) {
     }
 
     Assimp::Importer importer;
+    if (isGltfPath(path)) {
+        GltfForAssimp gltf = prepareGltfForAssimp(path);
+        if (!gltf.error.empty()) {
+            r.error = gltf.error;
+            return r;
+        }
+        r.warnings.insert(r.warnings.end(), gltf.warnings.begin(), gltf.warnings.end());
+        if (!gltf.replacement.empty())
+            importer.SetIOHandler(new ReplacingIOSystem(path, std::move(gltf.replacement)));  // the importer owns it
+    }
     // Points and lines are kept by SortByPType (so they can be counted and reported) and skipped
     // in the conversion.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, 0);

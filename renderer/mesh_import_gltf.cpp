@@ -4,6 +4,8 @@
 // _sheen, _transmission, _volume and _emissive_strength.
 #include "renderer/mesh_import_gltf.h"
 
+#include "renderer/json_depth.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -176,29 +178,52 @@ bool isMappedGltfExtension(const std::string& name) {
     return std::any_of(std::begin(kMapped), std::end(kMapped), [&](const char* k) { return name == k; });
 }
 
-bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
+namespace {
+
+// The file's JSON: for a .glb its first chunk (then *glb is set and *rest holds the bytes after
+// that chunk: the BIN chunk and any others), else the whole file. False with *error.
+bool readGltfJson(const std::string& path, std::string* text, bool* glb, std::string* rest, std::string* error) {
     std::string bytes;
     if (!readFile(path, &bytes)) {
         *error = path + ": cannot read the file";
         return false;
     }
-    std::string text;
-    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
-        // GLB: a 12-byte header (magic, version, length), then chunks of (length, type, data);
-        // the first is the JSON (glTF 2.0 section 4.4).
-        if (bytes.size() < 20) {
-            *error = path + ": a GLB file shorter than its header";
-            return false;
-        }
-        const std::uint32_t length = le32(bytes, 12), type = le32(bytes, 16);
-        if (type != 0x4E4F534Au || length > bytes.size() - 20) {
-            *error = path + ": the GLB's first chunk is not a complete JSON chunk";
-            return false;
-        }
-        text = bytes.substr(20, length);
-    } else {
-        text = std::move(bytes);
+    *glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    if (!*glb) {
+        *text = std::move(bytes);
+        return true;
     }
+    // GLB: a 12-byte header (magic, version, length), then chunks of (length, type, data); the
+    // first is the JSON (glTF 2.0 section 4.4).
+    if (bytes.size() < 20) {
+        *error = path + ": a GLB file shorter than its header";
+        return false;
+    }
+    const std::uint32_t length = le32(bytes, 12), type = le32(bytes, 16);
+    if (type != 0x4E4F534Au || length > bytes.size() - 20) {
+        *error = path + ": the GLB's first chunk is not a complete JSON chunk";
+        return false;
+    }
+    *text = bytes.substr(20, length);
+    *rest = bytes.substr(20 + size_t(length));
+    return true;
+}
+
+void putLe32(std::string& s, std::uint32_t v) {
+    char b[4];
+    std::memcpy(b, &v, 4);
+    s.append(b, 4);
+}
+
+// Arrays and objects nested deeper than this are not written back (nlohmann's dump recurses).
+constexpr int kMaxRewriteDepth = 64;
+
+}  // namespace
+
+bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
+    std::string text, rest;
+    bool glb = false;
+    if (!readGltfJson(path, &text, &glb, &rest, error)) return false;
     const Json root = Json::parse(text, nullptr, false);
     if (root.is_discarded() || !root.is_object()) {
         *error = path + ": its JSON does not parse";
@@ -212,6 +237,82 @@ bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
         for (const Json& m : materials) info.materials.push_back(materialInfo(root, m));
     *out = std::move(info);
     return true;
+}
+
+GltfForAssimp prepareGltfForAssimp(const std::string& path) {
+    GltfForAssimp out;
+    std::string text, rest;
+    bool glb = false;
+    if (!readGltfJson(path, &text, &glb, &rest, &out.error)) return out;
+    Json root;
+    try {
+        root = Json::parse(text);
+    } catch (const Json::exception& e) {
+        // what(): "[json.exception.parse_error.101] parse error at line 3, column 7: ..."
+        std::string what = e.what();
+        if (const std::size_t close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
+            what = what.substr(close + 2);
+        // nlohmann quotes what it last read, raw: bytes outside printable ASCII become \xNN.
+        std::string printable;
+        for (const char c : what) {
+            const unsigned char u = static_cast<unsigned char>(c);
+            if (u >= 0x20 && u < 0x7f) {
+                printable += c;
+            } else {
+                static const char* const kHex = "0123456789ABCDEF";
+                printable += {'\\', 'x', kHex[u >> 4], kHex[u & 15u]};
+            }
+        }
+        out.error = path + ": its JSON is not valid (glTF is UTF-8 JSON, RFC 8259): " + printable;
+        return out;
+    }
+    if (!root.is_object()) {
+        out.error = path + ": its JSON is not an object, so not glTF";
+        return out;
+    }
+    // glTF 1.0 (Assimp has a separate reader for it) is left as it is.
+    if (const Json& version = member(member(root, "asset"), "version");
+        version.is_string() && version.get<std::string>().rfind("2", 0) != 0)
+        return out;
+    // A skin without inverseBindMatrices is valid glTF 2.0 (section 5.28: each matrix is then the
+    // identity), but Assimp 5.2.5 dereferences the missing accessor and crashes (found by the
+    // mesh fuzzer, docs/reliability.md). caustic ignores skinning (meshes in bind pose), so the
+    // nodes' references to such skins are dropped in the bytes Assimp reads.
+    const Json& skins = member(root, "skins");
+    const auto nodes = root.find("nodes");
+    std::vector<long long> dropped;
+    if (skins.is_array() && nodes != root.end() && nodes->is_array())
+        for (Json& node : *nodes) {
+            const Json& skin = member(node, "skin");
+            if (!skin.is_number_integer()) continue;
+            const long long k = skin.get<long long>();
+            if (k < 0 || k >= (long long)skins.size() || !skins[size_t(k)].is_object() ||
+                skins[size_t(k)].contains("inverseBindMatrices"))
+                continue;
+            node.erase("skin");
+            if (std::find(dropped.begin(), dropped.end(), k) == dropped.end()) dropped.push_back(k);
+        }
+    if (dropped.empty() || jsonTooDeepAt(text, kMaxRewriteDepth) != std::string_view::npos) return out;
+    std::string list;
+    for (const long long k : dropped) list += (list.empty() ? "" : ", ") + std::to_string(k);
+    out.warnings.push_back(path + ": skin" + (dropped.size() > 1 ? "s " : " ") + list +
+                           " without inverseBindMatrices left out (Assimp 5.2.5 cannot read such a skin; "
+                           "skinning is ignored: meshes in bind pose)");
+    std::string json = root.dump();
+    if (!glb) {
+        out.replacement = std::move(json);
+        return out;
+    }
+    while (json.size() % 4 != 0) json.push_back(' ');  // chunks are 4-byte aligned, JSON padded with spaces
+    std::string bytes = "glTF";
+    putLe32(bytes, 2);
+    putLe32(bytes, std::uint32_t(12 + 8 + json.size() + rest.size()));
+    putLe32(bytes, std::uint32_t(json.size()));
+    putLe32(bytes, 0x4E4F534Au);
+    bytes += json;
+    bytes += rest;
+    out.replacement = std::move(bytes);
+    return out;
 }
 
 }  // namespace caustic

@@ -58,6 +58,18 @@ struct GltfInfo {
 // goes on with what Assimp gives.
 bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error);
 
+// What Assimp 5.2.5 is to read of a glTF file (mesh_import.cpp hands it `replacement` instead of
+// the file's bytes when that is not empty): valid glTF 2.0 that it cannot read safely, made
+// readable where caustic loses nothing by it (a skin without inverseBindMatrices: the nodes'
+// references to it dropped), with a warning each. `error` ("<path>: ...") refuses the file: its
+// JSON does not parse (Assimp's reader crashes on some such files; glTF is UTF-8 JSON).
+struct GltfForAssimp {
+    std::string error;
+    std::string replacement;
+    std::vector<std::string> warnings;
+};
+GltfForAssimp prepareGltfForAssimp(const std::string& path);
+
 // The material extensions this importer maps (the others in extensionsUsed are reported).
 bool isMappedGltfExtension(const std::string& name);
 

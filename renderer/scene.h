@@ -61,6 +61,10 @@ enum class RussianRoulette { Original, Mitsuba, Pbrt, Off };
 // sigma 0.5 pixel truncated at 1.5 pixels.
 enum class PixelFilter { Box, Tent, Gaussian };
 
+// The largest image side a scene, the command line or the editor accepts (a render of
+// 16384 x 16384 is 268 M pixels; the film is read back in bands, renderer.h).
+inline constexpr int kMaxRenderSide = 16384;
+
 struct RenderSettings {
     int width = 800;
     int height = 600;

@@ -9,6 +9,7 @@
 #include "renderer/scene_io.h"
 
 #include "renderer/file_util.h"
+#include "renderer/json_depth.h"
 #include "renderer/scene_schema.h"
 
 #include <nlohmann/json.hpp>
@@ -774,27 +775,6 @@ std::string syntaxError(const std::string& file, const std::string& text, std::s
 // overflow the stack in an error message.
 constexpr int kMaxJsonDepth = 64;
 
-// The offset of the first '[' or '{' that opens level kMaxJsonDepth + 1, or npos. A linear scan
-// that skips strings (and their escapes); everything else about the syntax is the parser's job.
-std::size_t tooDeepAt(std::string_view text) {
-    int depth = 0;
-    bool inString = false;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (inString) {
-            if (c == '\\') ++i;
-            else if (c == '"') inString = false;
-        } else if (c == '"') {
-            inString = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > kMaxJsonDepth) return i;
-        } else if (c == ']' || c == '}') {
-            --depth;  // unbalanced input goes negative; the parser reports it
-        }
-    }
-    return std::string_view::npos;
-}
-
 std::string tooDeepMessage() {
     return "arrays and objects nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
 }
@@ -809,7 +789,7 @@ std::string shortened(const std::string& text) {
 SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages) {
     SceneLoadResult result;
     try {
-        if (const std::size_t at = tooDeepAt(jsonText); at != std::string_view::npos) {
+        if (const std::size_t at = jsonTooDeepAt(jsonText, kMaxJsonDepth); at != std::string_view::npos) {
             result.error = oneLine(textPosition(fileForMessages, jsonText, at + 1) + ": " + tooDeepMessage());
             return result;
         }
@@ -931,7 +911,7 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
         if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
         Json root;
         try {
-            if (tooDeepAt(*text) != std::string_view::npos) return parseScene(*text, file);  // says where
+            if (jsonTooDeepAt(*text, kMaxJsonDepth) != std::string_view::npos) return parseScene(*text, file);  // says where
             root = Json::parse(*text);
         } catch (const std::exception&) {
             return parseScene(*text, file);  // reports the syntax error with line and column
@@ -940,7 +920,7 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
             const std::string what = "--set " + shortened(o.path + "=" + o.value) + ": ";
             Json* target = resolveOverridePath(root, o.path, &error);
             if (!target) return SceneLoadResult{std::nullopt, oneLine(what + error)};
-            if (tooDeepAt(o.value) != std::string_view::npos)
+            if (jsonTooDeepAt(o.value, kMaxJsonDepth) != std::string_view::npos)
                 return SceneLoadResult{std::nullopt, oneLine(what + "the value has " + tooDeepMessage())};
             try {
                 *target = Json::parse(o.value);

@@ -222,9 +222,9 @@ template <>
 std::span<const Param<RenderSettings>> schemaOf<RenderSettings>() {
     using R = RenderSettings;
     static const Param<R> k[] = {
-        {.key = "width", .label = "Width", .kind = ParamKind::Int, .member = &R::width, .range = between(1, 16384),
+        {.key = "width", .label = "Width", .kind = ParamKind::Int, .member = &R::width, .range = between(1, kMaxRenderSide),
          .unit = "px", .doc = "image width", .deferred = true},
-        {.key = "height", .label = "Height", .kind = ParamKind::Int, .member = &R::height, .range = between(1, 16384),
+        {.key = "height", .label = "Height", .kind = ParamKind::Int, .member = &R::height, .range = between(1, kMaxRenderSide),
          .unit = "px", .doc = "image height", .deferred = true},
         {.key = "samples", .label = "Target samples", .kind = ParamKind::Int, .member = &R::samples,
          .range = between(1, 1 << 24), .doc = "samples per pixel (at most 2^24)", .speed = 1.0f},

@@ -392,6 +392,20 @@ class TestOutput(CliTestCase):
             _, resolution, _ = decode_hdr(f.read())
         self.assertEqual(resolution, "-Y 8 +X 16")
 
+    def test_width_or_height_alone_keeps_the_aspect_ratio(self):
+        scene = json.loads(Path(CORNELL).read_text())
+        scene["render"]["width"], scene["render"]["height"] = 300, 200
+        path = os.path.join(self.tmp, "wide.json")
+        Path(path).write_text(json.dumps(scene))
+        for flags, size in ((["--width", "30"], (30, 20)), (["--height", "7"], (11, 7)),  # 10.5 rounds up
+                            (["--width", "1"], (1, 1)), (["--width", "16", "--height", "5"], (16, 5))):
+            out = os.path.join(self.tmp, "aspect-" + "-".join(flags))
+            r = run_caustic("--scene", path, *flags, "--samples", "1", "--output", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "wide.png"), "rb") as f:
+                ihdr, _ = decode_png(f.read())
+            self.assertEqual((ihdr["width"], ihdr["height"]), size, flags)
+
     def test_same_seed_same_bytes_other_seed_other_bytes(self):
         def render(seed, folder):
             out = os.path.join(self.tmp, folder)

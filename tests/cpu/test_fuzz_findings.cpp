@@ -5,8 +5,13 @@
 #include "renderer/mesh_import.h"
 #include "tests/support/meshes.h"
 
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cstdint>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -237,4 +242,109 @@ TEST_CASE("fuzz findings: a model on which Assimp loops for ever is stopped afte
     CHECK(r.seconds < 30.0);   // the child was killed, not waited for (a generous bound: a loaded machine)
     // A normal file is not affected by a short time-out.
     CHECK(importMeshFile(std::string(CAUSTIC_SOURCE_DIR) + "/assets/knot.obj", 30.0).ok());
+}
+
+namespace {
+
+const std::string kSimpleSkin = "/usr/share/assimp/models/glTF2/simple_skin/simple_skin.gltf";  // assimp-testmodels
+
+nlohmann::json readJson(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    return nlohmann::json::parse(in);
+}
+
+void putLe32(std::string& s, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) s.push_back(char((v >> (8 * i)) & 0xffu));
+}
+
+// The glTF as a .glb: its JSON as the first chunk and a 4-byte BIN chunk, which becomes buffer 0
+// (the file's own buffers keep their data URIs, one index up).
+std::string asGlb(nlohmann::json j) {
+    j["buffers"].insert(j["buffers"].begin(), nlohmann::json{{"byteLength", 4}});
+    for (auto& view : j["bufferViews"]) view["buffer"] = view["buffer"].get<int>() + 1;
+    std::string json = j.dump();
+    while (json.size() % 4 != 0) json.push_back(' ');
+    std::string glb = "glTF";
+    putLe32(glb, 2);
+    putLe32(glb, std::uint32_t(12 + 8 + json.size() + 8 + 4));
+    putLe32(glb, std::uint32_t(json.size()));
+    putLe32(glb, 0x4E4F534Au);  // JSON
+    glb += json;
+    putLe32(glb, 4);
+    putLe32(glb, 0x004E4942u);  // BIN
+    glb += std::string(4, '\0');
+    return glb;
+}
+
+// How Assimp itself ends on the file, in a forked child: the signal that killed it, else 0.
+int assimpAloneSignal(const std::string& file) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        ::alarm(60);
+        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+        Assimp::Importer importer;
+        importer.ReadFile(file, aiProcess_Triangulate);
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+}
+
+}  // namespace
+
+TEST_CASE("fuzz findings: a glTF skin without inverseBindMatrices (valid glTF) imports instead of crashing Assimp",
+          "[fuzz][mesh][gltf]") {
+    // glTF 2.0 lets a skin leave out inverseBindMatrices (identities then); Assimp 5.2.5 then
+    // dereferences the missing accessor (SIGSEGV). Found by fuzz_mesh_open, whose input damaged
+    // the key's name; caustic drops the nodes' references to such skins in the bytes Assimp reads.
+    test::TempDir dir;
+    nlohmann::json j = readJson(kSimpleSkin);
+    REQUIRE(j["skins"][0].contains("inverseBindMatrices"));
+    j["skins"][0].erase("inverseBindMatrices");
+    const std::string gltf = dir.file("no-inverse-bind.gltf"), glb = dir.file("no-inverse-bind.glb");
+    std::ofstream(gltf, std::ios::binary) << j.dump(2);
+    std::ofstream(glb, std::ios::binary) << asGlb(j);
+    const MeshImportResult reference = importMeshFile(kSimpleSkin);
+    REQUIRE(reference.ok());
+    REQUIRE_FALSE(reference.meshes.empty());
+    for (const std::string& file : {gltf, glb}) {
+        INFO(file);
+        // The test's point: without the repair, Assimp alone dies on this file.
+        CHECK(assimpAloneSignal(file) == SIGSEGV);
+        for (const MeshImportResult& r : {importMeshFile(file), importMeshFileInProcess(file)}) {
+            INFO(r.error);
+            REQUIRE(r.ok());
+            CHECK(std::count_if(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) {
+                      return w.rfind(file + ": skin 0 without inverseBindMatrices left out", 0) == 0;
+                  }) == 1);
+            // The same geometry as the file with its inverse bind matrices (caustic imports the
+            // bind pose either way).
+            REQUIRE(r.meshes.size() == reference.meshes.size());
+            for (std::size_t m = 0; m < r.meshes.size(); ++m) {
+                CHECK(r.meshes[m].positions == reference.meshes[m].positions);
+                CHECK(r.meshes[m].triangles == reference.meshes[m].triangles);
+            }
+        }
+    }
+    // The original file (its skin complete) is read as it is, without that warning.
+    for (const std::string& w : reference.warnings) CHECK(w.find("inverseBindMatrices") == std::string::npos);
+}
+
+TEST_CASE("fuzz findings: a glTF whose JSON is not valid UTF-8 is refused before Assimp reads it", "[fuzz][mesh][gltf]") {
+    // fuzz_mesh_open's other input: the same file with a byte of the key damaged into 0xD8, which
+    // Assimp's JSON reader accepted before it crashed on the skin.
+    test::TempDir dir;
+    std::string text = readJson(kSimpleSkin).dump(2);
+    const std::size_t key = text.find("inverseBindMatrices");
+    REQUIRE(key != std::string::npos);
+    text[key + 7] = char(0xD8);
+    const std::string file = dir.file("bad-utf8.gltf");
+    std::ofstream(file, std::ios::binary) << text;
+    CHECK(assimpAloneSignal(file) == SIGSEGV);
+    const MeshImportResult r = importMeshFile(file);
+    CHECK_FALSE(r.ok());
+    CHECK(r.error.rfind(file + ": its JSON is not valid (glTF is UTF-8 JSON, RFC 8259): parse error at line", 0) == 0);
+    CHECK(r.error.find("ill-formed UTF-8") != std::string::npos);
+    CHECK(r.error.find(char(0xD8)) == std::string::npos);  // the message is text, without the raw byte
 }

@@ -4,7 +4,7 @@
 # assets/, Debian's assimp-testmodels and tests/fuzz/seeds/. docs/reliability.md has the figures.
 #
 #   tests/fuzz/run.sh                        every harness, 10^6 executions each, one after another
-#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh mesh_common image)
+#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh mesh_common mesh_open image)
 #
 # Needs clang and its sanitizer runtimes (Debian: clang libclang-rt-14-dev); the normal build and
 # test suite do not. Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs), crashes go
@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     *) harnesses+=("$1"); shift ;;
   esac
 done
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh mesh_common image)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh mesh_common mesh_open image)
 command -v clang++ >/dev/null || { echo "run.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -70,6 +70,10 @@ for h in "${harnesses[@]}"; do
       mapfile -t files < <(find "$models" -type f \( -iname '*.obj' -o -iname '*.ply' -o -iname '*.stl' -o -iname '*.off' \
         -o -iname '*.gltf' -o -iname '*.glb' -o -iname '*.fbx' \) | sort)
       seed_with_ext mesh_common 65536 "${files[@]}" "$root/assets/knot.obj" ;;
+    mesh_open)  # the same without FBX
+      mapfile -t files < <(find "$models" -type f \( -iname '*.obj' -o -iname '*.ply' -o -iname '*.stl' -o -iname '*.off' \
+        -o -iname '*.gltf' -o -iname '*.glb' \) | sort)
+      seed_with_ext mesh_open 65536 "${files[@]}" "$root/assets/knot.obj" ;;
     image)
       mapfile -t files < <(find "$models" -type f \( -iname '*.png' -o -iname '*.jpg' -o -iname '*.bmp' -o -iname '*.tga' \
         -o -iname '*.dds' -o -iname '*.tif' -o -iname '*.exr' -o -iname '*.hdr' \) | sort)
@@ -81,7 +85,7 @@ done
 # Per harness: the longest input and extra options. Time-outs are per input (a hang is an input
 # that takes longer than 10 s); rss_limit_mb is above the largest image the readers accept
 # (16384 x 8192 x 4 floats = 2 GiB).
-declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [mesh_common]=65536 [image]=65536)
+declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [mesh_common]=65536 [mesh_open]=65536 [image]=65536)
 # The image harness's resident memory grows in steps over a long run under AddressSanitizer (1.3
 # GB after 12,000 inputs, 2.5 GB after 81,000: the sanitizer allocator keeps what the largest
 # images took; LeakSanitizer finds 62 bytes lost, in OpenImageIO) without anything leaking, so its
@@ -90,8 +94,8 @@ declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 
 # 1.3 s under the sanitizers on a quiet machine, and twice on 2026-12-02 such an input passed 10 s
 # while the machine was loaded (the fuzzer at low priority beside the sanitizer suite). That is a
 # time-out with no hang behind it, and it ended the run.
-declare -A timeout=([scene]=10 [scene_override]=10 [hdr]=10 [mesh]=10 [mesh_common]=10 [image]=30)
-declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 [mesh_common]=4096 [image]=8192)
+declare -A timeout=([scene]=10 [scene_override]=10 [hdr]=10 [mesh]=10 [mesh_common]=10 [mesh_open]=10 [image]=30)
+declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 [mesh_common]=4096 [mesh_open]=4096 [image]=8192)
 # Mesh and image inputs reach Assimp and OpenImageIO, which allocate what a corrupt header
 # declares (64 GB for one glTF accessor): a normal build gets std::bad_alloc and refuses the file,
 # but under AddressSanitizer a failed throwing new always aborts; Assimp's importers also crash
@@ -99,8 +103,9 @@ declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 
 # records such inputs (and any crash or time-out) under artifacts/ and goes on; each recorded
 # crash must be looked at (the summary counts them). The image harness runs in the normal mode
 # (each fork-mode job restarts OpenImageIO, 100x slower); CAUSTIC_FUZZ_IMAGE_FORK=1 forks it too.
-fork="-fork=1 -ignore_ooms=1 -ignore_crashes=1 -ignore_timeouts=1"
-declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [mesh_common]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}")
+# CAUSTIC_FUZZ_FORK_JOBS: parallel fork-mode jobs (default 1; -runs counts all of them together).
+fork="-fork=${CAUSTIC_FUZZ_FORK_JOBS:-1} -ignore_ooms=1 -ignore_crashes=1 -ignore_timeouts=1"
+declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [mesh_common]="$fork" [mesh_open]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}")
 summary=()
 for h in "${harnesses[@]}"; do
   log="$build/logs/$h.log"
