@@ -41,7 +41,11 @@ std::string suggestSaveAsName(const std::string& folder, const std::string& curr
     const std::string stem = currentFile.empty() ? "scene" : fs::path(currentFile).stem().string();
     std::error_code ec;
     for (int i = currentFile.empty() ? 1 : 2; i < 100000; ++i) {
-        const std::string name = stem + (i == 1 ? std::string() : "-" + std::to_string(i)) + ".json";
+        // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) about
+        // "-" + std::to_string(i) inlined into operator+.
+        std::string name = stem;
+        if (i != 1) name.append("-").append(std::to_string(i));
+        name.append(".json");
         if (!fs::exists(fs::path(folder) / name, ec)) return name;
     }
     return stem + "-copy.json";   // a folder with 100000 of them: the overwrite prompt still asks

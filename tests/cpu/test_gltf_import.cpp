@@ -256,7 +256,7 @@ TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the 
         CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) == 0u);
         // Light selection weighs the light by the texture's mean: the two texels' linear RGB
         // averaged, times the factor, over the quad's area 4, both faces (a file's materials).
-        auto lin = [](double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+        auto lin = [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };
         const glm::dvec3 mean(0.5, 0.5 * (lin(128.0 / 255.0) + lin(64.0 / 255.0)), 0.5);
         const glm::dvec3 radiance = glm::dvec3(3.0, 1.5, 0.75) * mean;
         const double y = 0.2126 * radiance.r + 0.7152 * radiance.g + 0.0722 * radiance.b;
