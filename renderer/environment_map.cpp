@@ -15,6 +15,18 @@ namespace caustic {
 
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
+
+// guide[k], k = 0 ... g: the largest i < n with cdf[i] <= k / g (cdf: n + 1 non-decreasing
+// entries from 0). k / g and the float entries compare exactly in double, as u and the entries do
+// in the shader's float comparisons.
+void buildGuide(const float* cdf, int n, int g, float* guide) {
+    int i = 0;
+    for (int k = 0; k <= g; ++k) {
+        const double x = double(k) / g;
+        while (i + 1 < n && double(cdf[i + 1]) <= x) ++i;
+        guide[k] = float(i);
+    }
+}
 }  // namespace
 
 bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error) {
@@ -118,6 +130,18 @@ bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::strin
         m.marginalCdf[size_t(j) + 1] = float(run);
     }
     m.marginalCdf[H] = 1.0f;
+    // Guide tables (gpu_scene.h): as many buckets as intervals, rounded down to a power of two,
+    // and for the rows' together at most about 2^22 entries (a map too large for 4 cells per
+    // texel gets coarser guides, still far shorter searches than the whole row).
+    const auto floorLog2 = [](std::size_t v) { int l = 0; while ((std::size_t(2) << l) <= v) ++l; return l; };
+    m.marginalGuideLog2 = floorLog2(size_t(H));
+    m.conditionalGuideLog2 = std::min(floorLog2(size_t(W)), floorLog2(std::max<std::size_t>(1, (std::size_t(1) << 22) / H)));
+    const int gm = 1 << m.marginalGuideLog2, gc = 1 << m.conditionalGuideLog2;
+    m.marginalGuide.resize(size_t(gm) + 1);
+    buildGuide(m.marginalCdf.data(), H, gm, m.marginalGuide.data());
+    m.conditionalGuide.resize(size_t(H) * (gc + 1));
+    for (int j = 0; j < H; ++j)
+        buildGuide(&m.conditionalCdf[size_t(j) * (W + 1)], W, gc, &m.conditionalGuide[size_t(j) * (gc + 1)]);
     *out = std::move(m);
     return true;
 }

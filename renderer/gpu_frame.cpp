@@ -15,12 +15,15 @@
 
 namespace caustic {
 
-std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets) {
+std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets, glm::uvec2* guideOffsets) {
     const size_t a = c.lightCdf.size(), b = c.envMap.marginalCdf.size(), d = c.envMap.conditionalCdf.size();
+    const size_t e = c.meshLightCdf.size(), g = c.envMap.marginalGuide.size();
     if (offsets) *offsets = glm::uvec4(0, a, a + b, a + b + d);
+    if (guideOffsets) *guideOffsets = glm::uvec2(a + b + d + e, a + b + d + e + g);
     std::vector<float> out;
-    out.reserve(a + b + d + c.meshLightCdf.size());
-    for (const auto* t : {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf})
+    out.reserve(a + b + d + e + g + c.envMap.conditionalGuide.size());
+    for (const auto* t : {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf,
+                          &c.envMap.marginalGuide, &c.envMap.conditionalGuide})
         out.insert(out.end(), t->begin(), t->end());
     return out;
 }
@@ -72,7 +75,9 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
         for (int k = 0; k < 3; ++k)
             if (std::isfinite(v[k])) extent = std::max(extent, std::abs(double(v[k])));
     f.rayOffset = glm::vec4(static_cast<float>(std::clamp(extent, 1e-30, 1.0)), 0, 0, 0);
-    packTables(compiled, &f.tables);
+    glm::uvec2 guides(0u);
+    packTables(compiled, &f.tables, &guides);
+    f.envGuide = glm::uvec4(guides, compiled.envMap.marginalGuideLog2, compiled.envMap.conditionalGuideLog2);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

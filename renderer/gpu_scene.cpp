@@ -26,7 +26,7 @@ static_assert(sizeof(GpuMaterial) == 128);
 static_assert(offsetof(GpuMaterial, textures) == 96);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuLight) == 96);
-static_assert(sizeof(GpuFrame) == 320);
+static_assert(sizeof(GpuFrame) == 336);
 static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));

@@ -32,6 +32,15 @@ struct EnvironmentMap {
     std::vector<glm::vec4> texels;       // RGB radiance (alpha unused), row 0 = the zenith
     std::vector<float> marginalCdf;      // s height + 1 entries, 0 ... 1
     std::vector<float> conditionalCdf;   // s height rows of s width + 1 entries, 0 ... 1
+    // Guide tables (Chen and Asau 1974, "On generating random variates from an empirical
+    // distribution"): for a CDF of n intervals and G = 2^log2 buckets, guide[k] (k = 0 ... G) is
+    // the largest i < n with cdf[i] <= k / G, so the interval of any u in [k / G, (k + 1) / G)
+    // lies in [guide[k], guide[k + 1]] and the sampler searches only there (u G is exact in
+    // float for a power of two G; the interval found is the full binary search's, bit for bit).
+    // Indices stored as floats (exact below 2^24).
+    std::vector<float> marginalGuide;    // 2^marginalGuideLog2 + 1 entries
+    std::vector<float> conditionalGuide; // s height rows of 2^conditionalGuideLog2 + 1 entries
+    int marginalGuideLog2 = 0, conditionalGuideLog2 = 0;
     glm::vec3 average{0.0f};             // mean radiance over the sphere (before intensity)
 };
 
@@ -188,7 +197,9 @@ bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float 
 
 // The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
 // selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
-std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr);
+// `offsets`: frame.tables; `guideOffsets`: frame.envGuide's x and y.
+std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr,
+                              glm::uvec2* guideOffsets = nullptr);
 
 // For scenes that name no files.
 inline bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {

@@ -45,9 +45,16 @@ vec3 environmentRadiance(vec3 dir) {
     return vec3(0.0);
 }
 
-// Index i with cdf[offset + i] <= u < cdf[offset + i + 1], for a CDF of n + 1 entries.
-uint envFindInterval(bool marginal, uint offset, uint n, float u) {
-    uint lo = 0u, hi = n - 1u;
+// Index i with cdf[offset + i] <= u < cdf[offset + i + 1], for a CDF of n + 1 entries: the
+// largest i < n with cdf[offset + i] <= u. The guide table at `guide` (2^guideLog2 + 1 entries,
+// renderer/gpu_scene.h) bounds it to [guide[k], guide[k + 1]] for the bucket k of u (u 2^guideLog2
+// is exact), and a binary search finds it there: the same index as a search over the whole CDF,
+// in a step or two instead of log2 n (each a storage-buffer load, a loop over the lanes on
+// llvmpipe).
+uint envFindInterval(bool marginal, uint offset, uint guide, uint guideLog2, float u) {
+    uint buckets = 1u << guideLog2;
+    uint k = min(uint(u * float(buckets)), buckets - 1u);
+    uint lo = uint(sceneTables[guide + k]), hi = uint(sceneTables[guide + k + 1u]);
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1;
         float c = marginal ? envMarginalCdf(offset + mid) : envConditionalCdf(offset + mid);
@@ -59,10 +66,10 @@ uint envFindInterval(bool marginal, uint offset, uint n, float u) {
 // Samples a direction from the map's luminance; returns the solid-angle pdf (0 if degenerate).
 vec3 sampleEnvironmentMap(vec2 u, out float pdf) {
     uint w = frame.envInfo.y * frame.envInfo.w, h = frame.envInfo.z * frame.envInfo.w;
-    uint j = envFindInterval(true, 0u, h, u.y);
+    uint j = envFindInterval(true, 0u, frame.envGuide.x, frame.envGuide.z, u.y);
     float r0 = envMarginalCdf(j), r1 = envMarginalCdf(j + 1u);
     uint rowOffset = j * (w + 1u);
-    uint i = envFindInterval(false, rowOffset, w, u.x);
+    uint i = envFindInterval(false, rowOffset, frame.envGuide.y + j * ((1u << frame.envGuide.w) + 1u), frame.envGuide.w, u.x);
     float c0 = envConditionalCdf(rowOffset + i), c1 = envConditionalCdf(rowOffset + i + 1u);
     float pRow = r1 - r0, pCol = c1 - c0;
     // Continuous position inside the chosen texel (reusing the leftover of each random number).

@@ -17,7 +17,8 @@ layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight 
 // The CDF tables, one after another (offsets in frame.tables):
 //   lightCdf(i): probability of choosing a light with index <= i (the last entry is 1);
 //   envMarginalCdf(j), envConditionalCdf(k): the environment map's sampling tables;
-//   meshLightCdf(k): per emissive mesh instance, the CDF over its triangles' areas.
+//   meshLightCdf(k): per emissive mesh instance, the CDF over its triangles' areas;
+//   then the environment map's guide tables (offsets in frame.envGuide; lights/environment.glsl).
 layout(std430, binding = BINDING_TABLES) readonly buffer TableBuffer { float sceneTables[]; };
 #define lightCdf(i) sceneTables[frame.tables.x + (i)]
 #define envMarginalCdf(i) sceneTables[frame.tables.y + (i)]

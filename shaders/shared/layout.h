@@ -316,6 +316,10 @@ CAUSTIC_STRUCT(GpuFrame) {
                        //    magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
     uvec4 options;     // x: OPTION_* bits (integrator options); y, z: the origin of the crop the
                        // accumulation images hold (path.comp); w: unused
+    uvec4 envGuide;    // the environment map's guide tables in the tables buffer (environment.glsl,
+                       // envFindInterval): x: offset of the row CDF's (2^z + 1 entries), y: offset
+                       // of the column CDFs' (one of 2^w + 1 entries per row), z, w: log2 of their
+                       // bucket counts
 };
 
 #ifdef __cplusplus

@@ -38,9 +38,28 @@ ImageData generatedSky(bool constant) {
     return img;
 }
 
+// A 40 x 15 map (sampling tables of 160 x 60 cells: neither a power of two) with black runs in
+// both directions: the lower rows and a band of columns, so that some CDF entries repeat.
+ImageData oddSky() {
+    ImageData img;
+    img.width = 40;
+    img.height = 15;
+    img.channels = 3;
+    img.pixels.resize(size_t(img.width) * img.height * 3);
+    for (int j = 0; j < img.height; ++j)
+        for (int i = 0; i < img.width; ++i) {
+            float* p = &img.pixels[(size_t(j) * img.width + i) * 3];
+            const bool black = j >= 11 || (i >= 14 && i < 22);
+            const float v = black ? 0.0f : (i == 30 && j == 3 ? 500.0f : 0.1f + 0.05f * float((i * 7 + j * 3) % 11));
+            p[0] = p[1] = p[2] = v;
+        }
+    return img;
+}
+
 ImageReader generatedReader() {
     return [](const std::string& path, ImageData* out, std::string* error) {
-        if (path.find("constant") != std::string::npos) *out = generatedSky(true);
+        if (path.find("odd") != std::string::npos) *out = oddSky();
+        else if (path.find("constant") != std::string::npos) *out = generatedSky(true);
         else if (path.find("sky") != std::string::npos) *out = generatedSky(false);
         else { *error = path + ": no such generated image"; return false; }
         return true;
@@ -58,11 +77,11 @@ Scene envScene(const std::string& file, float rotation) {
 
 GLuint envKernel() { return test::kernel("env_sampling.comp"); }
 
-std::vector<glm::vec4> runKernel(Renderer& r, GLuint mode, GLuint count) {
+std::vector<glm::vec4> runKernel(Renderer& r, GLuint mode, GLuint count, const std::vector<glm::vec4>& input = {}) {
     GLuint program = envKernel();
     GLuint out = 0;
     glCreateBuffers(1, &out);
-    glNamedBufferData(out, count * sizeof(glm::vec4), nullptr, GL_DYNAMIC_READ);
+    glNamedBufferData(out, count * sizeof(glm::vec4), input.empty() ? nullptr : input.data(), GL_DYNAMIC_READ);
     r.bindScene(0, 1);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, out);
     glUseProgram(program);
@@ -152,6 +171,48 @@ TEST_CASE("environment map: mean 1/pdf is the solid angle of its support", "[gpu
     double support = 2.0 * kPi * (1.0 - std::cos(12.5 * kPi / kH));
     INFO("mean 1/pdf " << mean << " +- " << se << ", support " << support);
     CHECK(std::abs(mean - support) < 4.0 * se + 1e-4 * support);
+}
+
+TEST_CASE("environment map: the guided interval search finds what a search of the whole CDF finds", "[gpu][lights][envmap]") {
+    // Every entry of both CDFs, every bucket boundary k / G of their guide tables, each also one
+    // float step below and above, and random u: the shader's guided search (envFindInterval)
+    // against a binary search over the whole CDF, on the GPU, index for index.
+    auto renderer = test::makeRenderer();
+    renderer->setImageReader(generatedReader());
+    std::string error;
+    REQUIRE(renderer->setScene(envScene("odd", 0.0f), &error));
+    const EnvironmentMap& env = renderer->compiled().envMap;
+    const int w = env.width * env.tableScale, h = env.height * env.tableScale;
+    REQUIRE(w == 160);
+    REQUIRE(h == 60);
+    CHECK(env.marginalGuideLog2 == 5);      // 32 buckets for 60 rows
+    CHECK(env.conditionalGuideLog2 == 7);   // 128 for 160 columns
+    std::vector<glm::vec4> queries;
+    auto add = [&](float u, int row, int table) {
+        for (float v : {u, std::nextafter(u, 0.0f), std::nextafter(u, 1.0f)})
+            if (v >= 0.0f && v < 1.0f) queries.emplace_back(v, float(row), float(table), 0.0f);
+    };
+    std::uint32_t state = 12345u;
+    auto random = [&] { state = state * 1664525u + 1013904223u; return float(state >> 8) * 0x1p-24f; };
+    for (int table = 0; table < 2; ++table)
+        for (int row = 0; row < (table == 0 ? 1 : h); ++row) {
+            const float* cdf = table == 0 ? env.marginalCdf.data() : &env.conditionalCdf[size_t(row) * (w + 1)];
+            const int n = table == 0 ? h : w, buckets = 1 << (table == 0 ? env.marginalGuideLog2 : env.conditionalGuideLog2);
+            for (int k = 0; k <= n; ++k) add(cdf[k], row, table);
+            for (int k = 0; k <= buckets; ++k) add(float(k) / float(buckets), row, table);
+            for (int r = 0; r < 64; ++r) add(random(), row, table);
+        }
+    const std::vector<glm::vec4> results = runKernel(*renderer, 2, GLuint(queries.size()), queries);
+    int mismatches = 0;
+    for (size_t q = 0; q < queries.size(); ++q)
+        if (results[q].x != results[q].y) {
+            if (++mismatches <= 5)
+                UNSCOPED_INFO("u " << queries[q].x << " row " << queries[q].y << " table " << queries[q].z << ": guided "
+                                   << results[q].x << ", whole " << results[q].y);
+        }
+    INFO(queries.size() << " queries");
+    CHECK(queries.size() > 50000);
+    CHECK(mismatches == 0);
 }
 
 TEST_CASE("a constant environment map is a white furnace", "[gpu][integrator][envmap]") {
