@@ -215,6 +215,89 @@ void putLe32(std::string& s, std::uint32_t v) {
     s.append(b, 4);
 }
 
+// A non-negative integer at j[key], else `fallback` (absent) or -1 (present and not one).
+long long nonNegative(const Json& j, const char* key, long long fallback) {
+    const Json& v = member(j, key);
+    if (v.is_null()) return fallback;
+    return v.is_number_integer() && v.get<long long>() >= 0 ? v.get<long long>() : -1;
+}
+
+// The bytes one element of an accessor takes in its buffer view: glTF 2.0 section 3.6.2.4 (the
+// columns of a matrix start on 4-byte boundaries); 0 for an unknown type or component type.
+long long elementBytes(const Json& accessor) {
+    long long component = 0;
+    switch (nonNegative(accessor, "componentType", 0)) {
+    case 5120: case 5121: component = 1; break;   // BYTE, UNSIGNED_BYTE
+    case 5122: case 5123: component = 2; break;   // SHORT, UNSIGNED_SHORT
+    case 5125: case 5126: component = 4; break;   // UNSIGNED_INT, FLOAT
+    default: return 0;
+    }
+    const Json& type = member(accessor, "type");
+    const std::string t = type.is_string() ? type.get<std::string>() : "";
+    const auto column = [&](long long rows) { return (rows * component + 3) / 4 * 4; };
+    if (t == "SCALAR") return component;
+    if (t == "VEC2") return 2 * component;
+    if (t == "VEC3") return 3 * component;
+    if (t == "VEC4") return 4 * component;
+    if (t == "MAT2") return 2 * column(2);
+    if (t == "MAT3") return 3 * column(3);
+    if (t == "MAT4") return 4 * column(4);
+    return 0;
+}
+
+// "" when every accessor's elements (and sparse indices and values) lie inside their buffer views
+// (glTF 2.0 section 3.6.2.4); else which does not, named by JSON path. Assimp 5.2.5 checks buffer views against their
+// buffers but not strided accessors against their views, and reads past the buffer: the fuzzer
+// found a heap overflow (docs/reliability.md), in a normal build silently garbage data.
+std::string accessorOutOfBounds(const Json& root) {
+    const Json& accessors = member(root, "accessors");
+    const Json& views = member(root, "bufferViews");
+    // The length of view v, or -1 (no such view: Assimp reports that).
+    const auto viewLength = [&](long long v, long long* stride) -> long long {
+        if (!views.is_array() || v < 0 || v >= (long long)views.size()) return -1;
+        const Json& view = views[size_t(v)];
+        *stride = nonNegative(view, "byteStride", 0);
+        return nonNegative(view, "byteLength", -1);
+    };
+    if (!accessors.is_array()) return "";
+    for (size_t a = 0; a < accessors.size(); ++a) {
+        const Json& acc = accessors[a];
+        const std::string name = "accessors[" + std::to_string(a) + "]";
+        const long long n = nonNegative(acc, "count", -1), element = elementBytes(acc);
+        if (n < 0 || element == 0) continue;   // Assimp refuses these itself
+        const auto fits = [&](const Json& where, long long items, long long itemBytes, bool strided,
+                              const std::string& what) -> std::string {
+            const long long v = nonNegative(where, "bufferView", -2);
+            if (v == -2 || items == 0) return "";
+            long long stride = 0;
+            const long long length = viewLength(v, &stride);
+            const long long offset = nonNegative(where, "byteOffset", 0);
+            if (length < 0 || offset < 0 || stride < 0) return "";
+            const long long step = strided && stride > 0 ? stride : itemBytes;
+            // Each term below 2^62: counts and offsets come from JSON integers, bounded here first.
+            if (items > (1LL << 40) || step > (1LL << 20) || offset > (1LL << 40)) return what + " is larger than any buffer";
+            const long long end = offset + step * (items - 1) + itemBytes;
+            if (end <= length) return "";
+            return what + " reads " + std::to_string(end) + " bytes of bufferViews[" + std::to_string(v) + "], which has " +
+                   std::to_string(length);
+        };
+        if (std::string why = fits(acc, n, element, true, name); !why.empty()) return why;
+        const Json& sparse = member(acc, "sparse");
+        if (sparse.is_object()) {
+            const long long k = nonNegative(sparse, "count", -1);
+            if (k < 0) continue;
+            const long long indexBytes = nonNegative(member(sparse, "indices"), "componentType", 0) == 5121   ? 1
+                                         : nonNegative(member(sparse, "indices"), "componentType", 0) == 5123 ? 2
+                                                                                                         : 4;
+            if (std::string why = fits(member(sparse, "indices"), k, indexBytes, false, name + ".sparse.indices"); !why.empty())
+                return why;
+            if (std::string why = fits(member(sparse, "values"), k, element, false, name + ".sparse.values"); !why.empty())
+                return why;
+        }
+    }
+    return "";
+}
+
 // Arrays and objects nested deeper than this are not written back (nlohmann's dump recurses).
 constexpr int kMaxRewriteDepth = 64;
 
@@ -274,6 +357,10 @@ GltfForAssimp prepareGltfForAssimp(const std::string& path) {
     if (const Json& version = member(member(root, "asset"), "version");
         version.is_string() && version.get<std::string>().rfind("2", 0) != 0)
         return out;
+    if (std::string why = accessorOutOfBounds(root); !why.empty()) {
+        out.error = path + ": " + why;
+        return out;
+    }
     // A skin without inverseBindMatrices is valid glTF 2.0 (section 5.28: each matrix is then the
     // identity), but Assimp 5.2.5 dereferences the missing accessor and crashes (found by the
     // mesh fuzzer, docs/reliability.md). caustic ignores skinning (meshes in bind pose), so the

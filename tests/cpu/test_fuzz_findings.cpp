@@ -348,3 +348,39 @@ TEST_CASE("fuzz findings: a glTF whose JSON is not valid UTF-8 is refused before
     CHECK(r.error.find("ill-formed UTF-8") != std::string::npos);
     CHECK(r.error.find(char(0xD8)) == std::string::npos);  // the message is text, without the raw byte
 }
+
+TEST_CASE("fuzz findings: a glTF accessor that reads past its buffer view is refused, naming it", "[fuzz][mesh][gltf]") {
+    // fuzz_mesh_open: the joints' and weights' view given a byte stride of 32 instead of 16, so
+    // the weights accessor (10 VEC4 floats from byte 160) ends at byte 464 of a 320-byte view.
+    // Assimp 5.2.5 read on past the buffer: a heap overflow under AddressSanitizer, garbage data
+    // (imported without a word) in a normal build.
+    test::TempDir dir;
+    const auto write = [&](const std::string& name, const nlohmann::json& j) {
+        const std::string file = dir.file(name);
+        std::ofstream(file, std::ios::binary) << j.dump(2);
+        return file;
+    };
+    nlohmann::json strided = readJson(kSimpleSkin);
+    REQUIRE(strided["bufferViews"][2]["byteStride"] == 16);
+    strided["bufferViews"][2]["byteStride"] = 32;
+    const std::string file = write("strided.gltf", strided);
+    MeshImportResult r = importMeshFile(file);
+    CHECK_FALSE(r.ok());
+    CHECK(r.error == file + ": accessors[3] reads 464 bytes of bufferViews[2], which has 320");
+    // Sparse accessors: two positions replaced, their indices and values inside their views, are
+    // not refused by the check; values that end past their view are.
+    nlohmann::json sparse = readJson(kSimpleSkin);
+    sparse["accessors"][1]["sparse"] = {{"count", 2},
+                                        {"indices", {{"bufferView", 0}, {"byteOffset", 0}, {"componentType", 5123}}},
+                                        {"values", {{"bufferView", 1}, {"byteOffset", 0}}}};
+    const std::string inside = write("sparse.gltf", sparse);
+    r = importMeshFile(inside);
+    INFO(r.error);
+    CHECK(r.error.find("sparse") == std::string::npos);
+    sparse["accessors"][1]["sparse"]["values"]["byteOffset"] = 100;   // 100 + 2 x 12 > 120
+    const std::string outside = write("sparse-outside.gltf", sparse);
+    r = importMeshFile(outside);
+    CHECK(r.error == outside + ": accessors[1].sparse.values reads 124 bytes of bufferViews[1], which has 120");
+    // The file as it is imports.
+    CHECK(importMeshFile(kSimpleSkin).ok());
+}
