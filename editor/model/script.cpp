@@ -67,6 +67,7 @@ const std::map<std::string, Signature>& commands() {
         {"preview_lighting", {1, 1, ""}},     // scene | studio: the material preview's lighting
         {"wait_preview", {1, 2, "nn"}},       // until the material preview has N samples of the current material [timeout s]
         {"write_preview", {1, 1, ""}},        // the material preview as PNG
+        {"shader_dir", {1, 1, ""}},           // the folder F5 (key F5) reloads the shaders from (tests of the reload)
         {"pick_file", {2, 2, ""}},            // pick_file SLOT NAME: the file picker's entry NAME for a slot (albedo_texture, normal_texture, roughness_texture of the selected material; environment)
         {"expect_picker_lists", {2, 2, ""}},  // expect_picker_lists SLOT NAME: the picker for SLOT lists NAME
         {"set_focus", {1, 1, "n"}},           // the camera's focal distance (the focus point cleared): one edit

@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace caustic::editor {
 
@@ -21,6 +22,10 @@ public:
     unsigned texture() const { return m_texture; }
     int width() const { return m_width; }
     int height() const { return m_height; }
+
+    // F5: uses `from`'s program (a fresh compile) and gives it this one's to delete; the image
+    // and the snapshot stay.
+    void takeProgram(Display& from) { std::swap(m_program, from.m_program); }
 
     void takeSnapshot();   // copies the current display image
     bool hasSnapshot() const { return m_snapshot != 0; }

@@ -487,20 +487,26 @@ int runEditor(const std::optional<std::string>& sceneFile) {
     return exitCode;
 }
 
+ImGuiKey imguiKey(std::string_view k) {
+    if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') return static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
+    if (k.size() >= 2 && k.size() <= 3 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos) {
+        const int n = std::stoi(std::string(k.substr(1)));
+        return n >= 1 && n <= 12 ? static_cast<ImGuiKey>(ImGuiKey_F1 + (n - 1)) : ImGuiKey_None;
+    }
+    if (k == "Delete") return ImGuiKey_Delete;
+    if (k == "Escape") return ImGuiKey_Escape;
+    if (k == "Enter") return ImGuiKey_Enter;
+    if (k.size() == 7 && k.substr(0, 6) == "Numpad" && k[6] >= '0' && k[6] <= '9')
+        return static_cast<ImGuiKey>(ImGuiKey_Keypad0 + (k[6] - '0'));
+    return ImGuiKey_None;
+}
+
 // A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
 bool chordPressed(const Chord& chord) {
     const ImGuiIO& io = ImGui::GetIO();
     if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift || io.KeyAlt != chord.alt) return false;
-    ImGuiKey key = ImGuiKey_None;
-    const std::string_view k = chord.key;
-    if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
-    else if (k.size() >= 2 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos)
-        key = static_cast<ImGuiKey>(ImGuiKey_F1 + (std::stoi(std::string(k.substr(1))) - 1));
-    else if (k == "Delete") key = ImGuiKey_Delete;
-    else if (k == "Escape") key = ImGuiKey_Escape;
-    else if (k == "Enter") return ImGui::IsKeyPressed(ImGuiKey_Enter, false) || ImGui::IsKeyPressed(ImGuiKey_KeypadEnter, false);
-    else if (k.size() == 7 && k.substr(0, 6) == "Numpad" && k[6] >= '0' && k[6] <= '9')
-        key = static_cast<ImGuiKey>(ImGuiKey_Keypad0 + (k[6] - '0'));
+    if (chord.key == "Enter") return ImGui::IsKeyPressed(ImGuiKey_Enter, false) || ImGui::IsKeyPressed(ImGuiKey_KeypadEnter, false);
+    const ImGuiKey key = imguiKey(chord.key);
     return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 
@@ -610,16 +616,22 @@ void frameSelection(EditorUi& ui) {
 }
 
 void reloadShaders(EditorUi& ui) {
+    // Every program is compiled before any is replaced: a failed compile keeps all of the last
+    // working ones (the viewport's tone mapping included), never a mix.
     std::string error;
     auto fresh = Renderer::create(ui.shaderDir, &error);
-    if (!fresh) {
+    std::unique_ptr<Display> display = fresh ? Display::create(ui.shaderDir, &error) : nullptr;
+    if (!fresh || !display) {
         showError(ui, "shader reload failed; the last working shaders stay in use.\n" + error);
         return;
     }
     fresh->setImageReader(readImage);
     if (ui.renderer) fresh->meshCache() = std::move(ui.renderer->meshCache());   // no re-import of meshes
     ui.renderer = std::move(fresh);
+    if (ui.display) ui.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against
+    else ui.display = std::move(display);
     ui.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
+    if (ui.preview) ui.preview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
     notify(ui, "shaders reloaded");
 }
 

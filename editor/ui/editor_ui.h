@@ -14,6 +14,9 @@
 
 #include <functional>
 #include <memory>
+#include <string_view>
+
+enum ImGuiKey : int;   // imgui.h
 #include <optional>
 #include <string>
 #include <vector>
@@ -136,6 +139,9 @@ void drawFileBrowser(EditorUi& ui);
 struct Chord;
 // A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
 bool chordPressed(const Chord& chord);
+// The ImGui key of a key map name ("Z", "F5", "Delete", "Escape", "Enter", "Numpad7"), or
+// ImGuiKey_None: the one list of names, for the key map and for scripts' `key`.
+ImGuiKey imguiKey(std::string_view name);
 
 // Actions shared by menus, shortcuts and scripts.
 // Saved camera views of the current scene: store the camera under `name`, recall one (one undo

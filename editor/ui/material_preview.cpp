@@ -77,6 +77,15 @@ void MaterialPreview::tick(EditorUi& ui) {
     m_display->update(m_renderer->accumulationTexture(), kSize, kSize, ui.state.view.toneMap, ui.state.view.exposure);
 }
 
+void MaterialPreview::reloadShaders() {
+    m_renderer.reset();
+    m_display.reset();
+    m_shown.reset();
+    m_failedFor.reset();
+    m_createFailed = false;
+    m_error.clear();
+}
+
 bool MaterialPreview::converging() const {
     return m_shownLastFrame && m_renderer && m_shown && m_error.empty() && m_renderer->samplesDone() < kSamples;
 }

@@ -44,6 +44,9 @@ public:
     // Shown last frame and still short of its samples: the frame loop must not sleep for input.
     bool converging() const;
     const std::string& error() const { return m_error; }   // why the last preview scene failed ("" if not)
+    // F5: the next tick renders with a renderer and a display made from the shaders as they are
+    // now (until then the inspector shows no preview image).
+    void reloadShaders();
     // The preview as PNG, tone mapped as the viewport's images (scripts, tests).
     bool writeImage(const std::string& file, const EditorUi& ui, std::string* error) const;
 

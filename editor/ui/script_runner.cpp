@@ -370,6 +370,10 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         if (ui.modal.active != (a[0] == "yes")) fail(ui, line, ui.modal.active ? "a transform is in progress" : "no transform is in progress");
         return true;
     }
+    if (op == "shader_dir") {   // where the next reload (F5) reads the shaders from
+        ui.shaderDir = resolve(a[0]);
+        return true;
+    }
     if (op == "write_preview") {
         std::string why;
         if (!ui.preview->writeImage(resolve(a[0]), ui, &why)) fail(ui, line, why);
@@ -562,9 +566,6 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         return false;
     }
     if (op == "key") {   // through ImGui's input queue, as GLFW's key callback feeds it
-        static const std::pair<const char*, ImGuiKey> keys[] = {
-            {"Delete", ImGuiKey_Delete}, {"F6", ImGuiKey_F6}, {"Escape", ImGuiKey_Escape}, {"Enter", ImGuiKey_Enter},
-            {"Numpad1", ImGuiKey_Keypad1}, {"Numpad3", ImGuiKey_Keypad3}, {"Numpad7", ImGuiKey_Keypad7}};
         // Shift+, Ctrl+, Alt+ prefixes hold the modifier around the key.
         std::string name = a[0];
         std::vector<ImGuiKey> mods;
@@ -573,10 +574,7 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
                 mods.push_back(mod);
                 name = name.substr(std::string(prefix).size());
             }
-        ImGuiKey key = ImGuiKey_None;
-        if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') key = static_cast<ImGuiKey>(ImGuiKey_A + (name[0] - 'A'));
-        for (const auto& [n, k] : keys)
-            if (name == n) key = k;
+        const ImGuiKey key = imguiKey(name);
         if (key == ImGuiKey_None) { fail(ui, line, "unknown key '" + a[0] + "'"); return true; }
         for (ImGuiKey m : mods) ImGui::GetIO().AddKeyEvent(m, true);
         ImGui::GetIO().AddKeyEvent(key, true);

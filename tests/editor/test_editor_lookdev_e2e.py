@@ -68,6 +68,15 @@ expect_focus_overlay 200
 screenshot focus.png
 set_focus 40
 expect_focus_overlay 0
+# F5 reloads every program, the preview's too: shaders whose every sample is dark red.
+select material red
+wait_preview 8
+shader_dir red-shaders
+key F5
+wait_preview 8
+write_preview preview-after-reload.png
+wait_samples 4
+write_image viewport-after-reload.png
 quit
 """
 
@@ -89,6 +98,15 @@ class EditorLookdev(EditorSessionCase):
         shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
         with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
             f.write(SCRIPT)
+        # The shaders the script reloads (F5): path.comp adds (0.5, 0, 0) for every sample.
+        red = os.path.join(cls.tmp, "red-shaders")
+        shutil.copytree(os.path.join(SOURCE_DIR, "shaders"), red)
+        path_comp = os.path.join(red, "integrator", "path.comp")
+        with open(path_comp) as f:
+            text = f.read()
+        assert "p.sum += vec4(L, 1.0);" in text
+        with open(path_comp, "w") as f:
+            f.write(text.replace("p.sum += vec4(L, 1.0);", "p.sum += vec4(0.5, 0.0, 0.0, 1.0);"))
         cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
 
     def test_1_session_succeeds(self):
@@ -122,6 +140,15 @@ class EditorLookdev(EditorSessionCase):
         row = white[120]
         lum = [sum(p) for p in row]
         self.assertGreater(max(lum) - min(lum), 120, lum)
+
+    def test_5_reloaded_shaders_reach_the_viewport_and_the_preview(self):
+        # Before the fix the preview kept its own renderer with the old shaders: a lit ball.
+        for name in ("preview-after-reload.png", "viewport-after-reload.png"):
+            rows = self.image(name)
+            r, g, b = mean_rgb(rows, 0, 0, len(rows[0]), len(rows))
+            self.assertGreater(r, 100, (name, r, g, b))
+            self.assertLess(g, 5, (name, r, g, b))
+            self.assertLess(b, 5, (name, r, g, b))
 
     def test_4_recalled_view_is_the_stored_camera_and_is_kept(self):
         with open(CORNELL) as f:
