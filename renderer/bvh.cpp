@@ -564,9 +564,10 @@ struct InstanceRay {
     explicit InstanceRay(const Ray& r) : box(r), tri(r) {}
 };
 
+// keep: null, or the any-hit filter (intersectScene with a HitFilter) with this BLAS's instance.
 template <bool kAnyHit>
 bool traverseBlas(const MeshBlas& blas, std::span<const glm::vec3> pos, const Ray& ray, float& tMax,
-                  RayHit* hit) {
+                  RayHit* hit, const HitFilter* keep = nullptr, std::uint32_t instance = 0) {
     InstanceRay ir(ray);
     return traverse(blas.bvh.nodes, ir.box, tMax,
                     [&](std::uint32_t first, std::uint32_t count, float& tm) {
@@ -575,7 +576,8 @@ bool traverseBlas(const MeshBlas& blas, std::span<const glm::vec3> pos, const Ra
             const glm::uvec3 tri = blas.triangles[k];
             if (tri.x >= n || tri.y >= n || tri.z >= n) continue;  // vertices changed size
             float t, u, v;
-            if (intersectTriangle(ir.tri, pos[tri.x], pos[tri.y], pos[tri.z], tm, &t, &u, &v)) {
+            if (intersectTriangle(ir.tri, pos[tri.x], pos[tri.y], pos[tri.z], tm, &t, &u, &v) &&
+                (!keep || (*keep)(instance, k, u, v))) {
                 tm = t;
                 if constexpr (kAnyHit) return true;
                 hit->t = t;
@@ -590,7 +592,7 @@ bool traverseBlas(const MeshBlas& blas, std::span<const glm::vec3> pos, const Ra
 
 template <bool kAnyHit>
 bool traverseScene(const SceneBvh& scene, MeshPositions positions, const Ray& ray, float& tMax,
-                   RayHit* hit) {
+                   RayHit* hit, const HitFilter* keep = nullptr) {
     BoxRay br(ray);
     return traverse(scene.tlas.nodes, br, tMax,
                     [&](std::uint32_t first, std::uint32_t count, float& tm) {
@@ -600,7 +602,7 @@ bool traverseScene(const SceneBvh& scene, MeshPositions positions, const Ray& ra
             if (inst.mesh >= scene.blases.size() || inst.mesh >= positions.size()) continue;
             const Ray local = transformRay(scene.worldToObject[id], ray);
             RayHit h;
-            const bool any = traverseBlas<kAnyHit>(scene.blases[inst.mesh], positions[inst.mesh], local, tm, &h);
+            const bool any = traverseBlas<kAnyHit>(scene.blases[inst.mesh], positions[inst.mesh], local, tm, &h, keep, id);
             if constexpr (kAnyHit) {
                 if (any) return true;
             } else if (h.hit()) {
@@ -948,6 +950,12 @@ RayHit intersectScene(const SceneBvh& scene, MeshPositions positions, const Ray&
 
 bool occludedScene(const SceneBvh& scene, MeshPositions positions, const Ray& ray, float tMax) {
     return traverseScene<true>(scene, positions, ray, tMax, nullptr);
+}
+
+RayHit intersectScene(const SceneBvh& scene, MeshPositions positions, const Ray& ray, float tMax, const HitFilter& keep) {
+    RayHit hit;
+    traverseScene<false>(scene, positions, ray, tMax, &hit, keep ? &keep : nullptr);
+    return hit;
 }
 
 }  // namespace caustic

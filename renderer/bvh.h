@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
@@ -240,6 +241,13 @@ RayHit intersectScene(const SceneBvh& scene, MeshPositions positions, const Ray&
                       float tMax = std::numeric_limits<float>::infinity());
 bool occludedScene(const SceneBvh& scene, MeshPositions positions, const Ray& ray,
                    float tMax = std::numeric_limits<float>::infinity());
+// The closest hit that `keep` accepts: asked of every triangle hit nearer than the closest one
+// kept so far (as the GPU traversal asks geometry/alpha_mask.glsl), with the instance, the
+// triangle's slot in its BLAS's reordered `triangles` and the barycentrics; a hit it refuses is
+// passed through, and what lies behind is found by the same walk.
+using HitFilter = std::function<bool(std::uint32_t instance, std::uint32_t slot, float u, float v)>;
+RayHit intersectScene(const SceneBvh& scene, MeshPositions positions, const Ray& ray, float tMax,
+                      const HitFilter& keep);
 
 // The object-space ray of an instance: origin and direction through worldToObject (the direction
 // is not normalised, so t is the same in both spaces). Shared by the traversal and the tests'

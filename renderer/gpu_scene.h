@@ -130,6 +130,18 @@ std::string meshCacheKey(const Scene& scene, const std::string& file);
 // file and the reason ("<file>: ...").
 bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* error);
 
+// Level 0 of material texture `index` (0-based), bilinear with its wrap modes: the CPU twin of
+// bsdf/texture.glsl textureBilinear (renderer/textures.cpp). White for a bad index.
+glm::vec4 sampleTextureLevel0(const CompiledScene& c, std::uint32_t index, glm::vec2 uv);
+// The CPU twin of geometry/alpha_mask.glsl alphaMaskKeeps, for a hit of the CPU traversal (the
+// triangle's slot in its BLAS, which is its place after the instance's first GPU triangle): false
+// where the triangle's material cuts the point out. The editor's picking filters with it
+// (intersectScene's HitFilter), so a click passes through the holes the renderer shows.
+bool alphaMaskKeeps(const CompiledScene& c, std::uint32_t instance, std::uint32_t slot, float u, float v);
+// The closest mesh surface the renderer shows along the ray (CPU traversal of c.meshBvh, through
+// alpha cut-outs): what the editor's picking and focus overlay ask.
+RayHit intersectVisibleMeshes(const CompiledScene& c, const Ray& ray);
+
 // How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
 enum class TextureEncoding { Srgb, Linear };
 

@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -228,6 +229,75 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
     t.info.w |= (wrap & 15u) << 8;  // TEXTURE_WRAP_* of u (bits 8-9) and v (10-11)
     out->textures.push_back(t);
     return true;
+}
+
+namespace {
+
+// One texel coordinate of an axis of n texels, wrapped by mode (bsdf/texture.glsl textureWrapCoord).
+int wrapCoord(int x, int n, std::uint32_t mode) {
+    if (mode == TEXTURE_WRAP_CLAMP) return std::clamp(x, 0, n - 1);
+    if (mode == TEXTURE_WRAP_MIRROR) {
+        const int p = ((x % (2 * n)) + 2 * n) % (2 * n);
+        return p < n ? p : 2 * n - 1 - p;
+    }
+    return ((x % n) + n) % n;
+}
+
+}  // namespace
+
+glm::vec4 sampleTextureLevel0(const CompiledScene& c, std::uint32_t index, glm::vec2 uv) {
+    if (index >= c.textures.size()) return glm::vec4(1.0f);
+    const glm::uvec4 info = c.textures[index].info;
+    const int w = int(info.y), h = int(info.z);
+    const std::uint32_t wrapU = (info.w >> 8) & 3u, wrapV = (info.w >> 10) & 3u;
+    if (w <= 0 || h <= 0 || size_t(info.x) + size_t(w) * size_t(h) > c.texels.size()) return glm::vec4(1.0f);
+    const auto texel = [&](int x, int y) {
+        const int px = wrapCoord(x, w, wrapU), py = wrapCoord(y, h, wrapV);
+        const glm::uvec2 t = c.texels[info.x + size_t(py) * size_t(w) + size_t(px)];
+        return glm::vec4(glm::unpackHalf2x16(t.x), glm::unpackHalf2x16(t.y));
+    };
+    // As textureBilinear: v up (the image's top row is v = 1), texel centres at half integers,
+    // the integer corner reduced by the wrap's period so the modulo stays exact far from [0, 1].
+    const glm::vec2 x = glm::vec2(uv.x, 1.0f - uv.y) * glm::vec2(float(w), float(h)) - 0.5f;
+    const glm::vec2 x0 = glm::floor(x), t = x - x0;
+    const glm::vec2 n = glm::vec2(float(w), float(h));
+    const glm::vec2 period = glm::vec2(wrapU == TEXTURE_WRAP_MIRROR ? 2.0f : 1.0f, wrapV == TEXTURE_WRAP_MIRROR ? 2.0f : 1.0f) * n;
+    const glm::vec2 reduced = x0 - period * glm::floor(x0 / period);   // GLSL mod
+    const int i = int(wrapU == TEXTURE_WRAP_CLAMP ? std::clamp(x0.x, -1.0f, n.x) : reduced.x);
+    const int j = int(wrapV == TEXTURE_WRAP_CLAMP ? std::clamp(x0.y, -1.0f, n.y) : reduced.y);
+    const glm::vec4 a = texel(i, j), b = texel(i + 1, j), cc = texel(i, j + 1), d = texel(i + 1, j + 1);
+    return glm::mix(glm::mix(a, b, t.x), glm::mix(cc, d, t.x), t.y);
+}
+
+bool alphaMaskKeeps(const CompiledScene& c, std::uint32_t instance, std::uint32_t slot, float u, float v) {
+    if (instance >= c.instances.size()) return true;
+    const gpu::GpuInstance& inst = c.instances[instance];
+    if ((inst.info2.w & PRIM_FLAG_ALPHA_MASK) == 0u) return true;
+    const std::size_t k = std::size_t(inst.info.y) + slot;
+    if (k >= c.triangles.size()) return true;
+    const gpu::GpuTriangle& tri = c.triangles[k];
+    // geometry/surface.glsl triangleMaterial and triangleUv.
+    const std::uint32_t material = inst.info.z + (inst.info2.z != 0u ? std::bit_cast<std::uint32_t>(tri.p0.w) : 0u);
+    if (material >= c.materials.size()) return true;
+    const gpu::GpuMaterial& m = c.materials[material];
+    if ((m.info.y & MAT_FLAG_ALPHA_MASK) == 0u) return true;
+    float alpha = 1.0f;
+    if (m.textures.x != 0u) {
+        const auto uvOf = [&](std::uint32_t vertex) {
+            return vertex < c.vertices.size() ? glm::vec2(c.vertices[vertex].normalU.w, c.vertices[vertex].tangentV.w)
+                                              : glm::vec2(0.0f);
+        };
+        const glm::vec2 uv = (1.0f - u - v) * uvOf(tri.v.x) + u * uvOf(tri.v.y) + v * uvOf(tri.v.z);
+        alpha = sampleTextureLevel0(c, m.textures.x - 1u, uv).a;
+    }
+    return alpha >= std::bit_cast<float>(m.info.z);
+}
+
+RayHit intersectVisibleMeshes(const CompiledScene& c, const Ray& ray) {
+    return intersectScene(c.meshBvh, c.meshPositions, ray, std::numeric_limits<float>::infinity(),
+                          [&c](std::uint32_t instance, std::uint32_t slot, float u, float v) {
+                              return alphaMaskKeeps(c, instance, slot, u, v);
+                          });
 }
 
 }  // namespace caustic

@@ -190,7 +190,7 @@ void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     if (ui.renderer) {
         const CompiledScene& c = ui.renderer->compiled();
         meshHit = [&c](const Ray& r) -> std::optional<float> {
-            const RayHit h = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{r.origin, r.direction});
+            const RayHit h = intersectVisibleMeshes(c, caustic::Ray{r.origin, r.direction});
             return h.hit() ? std::optional<float>(h.t) : std::nullopt;
         };
     }
@@ -485,10 +485,11 @@ void drawViewportPanel(EditorUi& ui) {
                                                        : pick(withoutHidden(ui.state.scene, ui.hidden, &shown), ray);
         if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
         // Meshes: the renderer's own CPU copy of their BVHs (the canonical shapes know no
-        // triangles), whose objects are the renderer's (session.renderedObjects maps them).
+        // triangles), whose objects are the renderer's (session.renderedObjects maps them),
+        // through the alpha cut-outs as the render shows them.
         if (ui.renderer) {
             const CompiledScene& c = ui.renderer->compiled();
-            const RayHit mh = intersectScene(c.meshBvh, c.meshPositions, caustic::Ray{ray.origin, ray.direction});
+            const RayHit mh = intersectVisibleMeshes(c, caustic::Ray{ray.origin, ray.direction});
             if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance)) {
                 int object = static_cast<int>(c.instanceObject[mh.instance]);
                 const std::vector<int>& map = ui.session.renderedObjects;

@@ -324,3 +324,42 @@ TEST_CASE("a missing emission texture is reported with its material, its key and
     CHECK(error.find("materials[0].emission_texture (material 'sign')") != std::string::npos);
     CHECK(error.find("no-such-sign.png: cannot open") != std::string::npos);
 }
+
+TEST_CASE("picking through alpha cut-outs: the CPU query sees the holes the renderer shows", "[gltf][alpha]") {
+    // The leaf of the GPU test "alpha cut-outs: camera rays pass where ...": a quad x, y in [-1, 1]
+    // at z = 0 whose mask keeps glTF u = (x + 1) / 2 where u mod 1/4 < 1/8. Behind it at z = -1 the
+    // same mesh with an opaque material. Rays along -z through the kept stripes hit the leaf
+    // (t 4); through the holes they go on to the backing (t 5), never to nothing.
+    const fs::path data = fs::path(CAUSTIC_SOURCE_DIR) / "tests" / "data" / "gltf";
+    Scene s;
+    Object leaf;
+    leaf.shape = Shape::Mesh;
+    leaf.file = (data / "leaf.glb").string();
+    s.objects.push_back(leaf);
+    s.materials.push_back({"black", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(0.0f)});
+    Object back = leaf;
+    back.material = "black";
+    back.transform.translate = glm::vec3(0.0f, 0.0f, -1.0f);
+    s.objects.push_back(back);
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, ImageReader{}, &c, &error));
+    INFO(error);
+    REQUIRE(c.instances.size() == 2);
+    int kept = 0, cut = 0;
+    for (int i = 0; i < 256; ++i) {
+        const float x = -1.0f + (float(i) + 0.5f) / 128.0f;   // centres of 256 columns of width 1/128
+        const float u = (x + 1.0f) / 2.0f;
+        const bool expectKept = std::fmod(u, 0.25f) < 0.125f;
+        const RayHit h = intersectVisibleMeshes(c, Ray{glm::vec3(x, 0.3f, 4.0f), glm::vec3(0.0f, 0.0f, -1.0f)});
+        INFO("x " << x);
+        REQUIRE(h.hit());
+        CHECK(c.instanceObject[h.instance] == (expectKept ? 0u : 1u));
+        CHECK(h.t == Approx(expectKept ? 4.0 : 5.0));
+        (expectKept ? kept : cut)++;
+        // Without the filter every ray stops at the leaf.
+        CHECK(c.instanceObject[intersectScene(c.meshBvh, c.meshPositions, Ray{glm::vec3(x, 0.3f, 4.0f), glm::vec3(0.0f, 0.0f, -1.0f)}).instance] == 0u);
+    }
+    CHECK(kept == 128);
+    CHECK(cut == 128);
+}

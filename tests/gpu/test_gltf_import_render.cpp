@@ -110,3 +110,32 @@ TEST_CASE("a .glb and its .gltf twin import and render the same image", "[gpu][m
     CHECK(glm::length(v[2] - v[4]) > 0.3f);   // and those are different checker squares
     REQUIRE(glDebugErrorCount() == 0);
 }
+
+TEST_CASE("the CPU texture sampler (picking's alpha masks) agrees with the shader's", "[gpu][gltf][alpha]") {
+    // sampleTextureLevel0 (renderer/textures.cpp) against textureSampleLod at level 0, texel for
+    // texel: the quad's base colour (u clamped, v mirrored) and the leaf's (repeating), at random
+    // uv far outside [0, 1] too, and at texel centres and edges.
+    const fs::path data = fs::path(CAUSTIC_SOURCE_DIR) / "tests" / "data" / "gltf";
+    auto renderer = test::makeRenderer();
+    for (const char* file : {"quad.glb", "leaf.glb"}) {
+        INFO(file);
+        std::string why;
+        REQUIRE(renderer->setScene(quadScene(data / file), &why));
+        const CompiledScene& c = renderer->compiled();
+        const GLuint texture = c.materials[0].textures.x - 1;
+        std::vector<glm::vec4> uv;
+        std::uint32_t s = 99u;
+        auto random = [&] { s = s * 1664525u + 1013904223u; return float(s >> 8) * 0x1p-24f; };
+        for (int i = 0; i < 2000; ++i) uv.emplace_back(6.0f * random() - 3.0f, 6.0f * random() - 3.0f, 0.0f, 0.0f);
+        const int w = int(c.textures[texture].info.y), h = int(c.textures[texture].info.z);
+        for (int k = -2 * w; k <= 2 * w; ++k) uv.emplace_back(float(k) / float(2 * w), float(k) / float(2 * h), 0.0f, 0.0f);
+        const std::vector<glm::vec4> gpu = sampleTexture(*renderer, texture, uv);
+        float worst = 0.0f;
+        for (size_t i = 0; i < uv.size(); ++i) {
+            const glm::vec4 cpu = sampleTextureLevel0(c, texture, glm::vec2(uv[i]));
+            for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(cpu[k] - gpu[i][k]));
+        }
+        INFO("largest difference " << worst);
+        CHECK(worst < 1e-5f);
+    }
+}
