@@ -180,32 +180,47 @@ bool isMappedGltfExtension(const std::string& name) {
 
 namespace {
 
-// The file's JSON: for a .glb its first chunk (then *glb is set and *rest holds the bytes after
-// that chunk: the BIN chunk and any others), else the whole file. False with *error.
-bool readGltfJson(const std::string& path, std::string* text, bool* glb, std::string* rest, std::string* error) {
-    std::string bytes;
-    if (!readFile(path, &bytes)) {
+// The file's JSON: for a .glb its first chunk (then *glb is set and *restOffset is where the
+// bytes after that chunk start: the BIN chunk and any others), else the whole file. Of a .glb only
+// the header and the JSON chunk are read (its binary chunk may be large). False with *error.
+bool readGltfJson(const std::string& path, std::string* text, bool* glb, std::size_t* restOffset, std::string* error) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
         *error = path + ": cannot read the file";
         return false;
     }
-    *glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    char head[20] = {};
+    f.read(head, 4);
+    *glb = f.gcount() == 4 && std::memcmp(head, "glTF", 4) == 0;
+    f.clear();
     if (!*glb) {
-        *text = std::move(bytes);
+        if (!readFile(path, text)) {
+            *error = path + ": cannot read the file";
+            return false;
+        }
         return true;
     }
     // GLB: a 12-byte header (magic, version, length), then chunks of (length, type, data); the
     // first is the JSON (glTF 2.0 section 4.4).
-    if (bytes.size() < 20) {
+    f.seekg(0, std::ios::end);
+    const std::uint64_t size = std::uint64_t(f.tellg());
+    f.seekg(0);
+    if (size < 20 || !f.read(head, 20)) {
         *error = path + ": a GLB file shorter than its header";
         return false;
     }
-    const std::uint32_t length = le32(bytes, 12), type = le32(bytes, 16);
-    if (type != 0x4E4F534Au || length > bytes.size() - 20) {
+    const std::string header(head, 20);
+    const std::uint32_t length = le32(header, 12), type = le32(header, 16);
+    if (type != 0x4E4F534Au || length > size - 20) {
         *error = path + ": the GLB's first chunk is not a complete JSON chunk";
         return false;
     }
-    *text = bytes.substr(20, length);
-    *rest = bytes.substr(20 + size_t(length));
+    text->resize(length);
+    if (!f.read(text->data(), std::streamsize(length))) {
+        *error = path + ": cannot read the file";
+        return false;
+    }
+    *restOffset = 20 + std::size_t(length);
     return true;
 }
 
@@ -304,9 +319,10 @@ constexpr int kMaxRewriteDepth = 64;
 }  // namespace
 
 bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
-    std::string text, rest;
+    std::string text;
     bool glb = false;
-    if (!readGltfJson(path, &text, &glb, &rest, error)) return false;
+    std::size_t restOffset = 0;
+    if (!readGltfJson(path, &text, &glb, &restOffset, error)) return false;
     const Json root = Json::parse(text, nullptr, false);
     if (root.is_discarded() || !root.is_object()) {
         *error = path + ": its JSON does not parse";
@@ -324,9 +340,10 @@ bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
 
 GltfForAssimp prepareGltfForAssimp(const std::string& path) {
     GltfForAssimp out;
-    std::string text, rest;
+    std::string text;
     bool glb = false;
-    if (!readGltfJson(path, &text, &glb, &rest, &out.error)) return out;
+    std::size_t restOffset = 0;
+    if (!readGltfJson(path, &text, &glb, &restOffset, &out.error)) return out;
     Json root;
     try {
         root = Json::parse(text);
@@ -390,6 +407,12 @@ GltfForAssimp prepareGltfForAssimp(const std::string& path) {
         out.replacement = std::move(json);
         return out;
     }
+    std::string rest;   // the chunks after the JSON, as they are
+    if (!readFile(path, &rest) || rest.size() < restOffset) {
+        out.error = path + ": cannot read the file";
+        return out;
+    }
+    rest.erase(0, restOffset);
     while (json.size() % 4 != 0) json.push_back(' ');  // chunks are 4-byte aligned, JSON padded with spaces
     std::string bytes = "glTF";
     putLe32(bytes, 2);
