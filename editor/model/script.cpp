@@ -83,6 +83,7 @@ const std::map<std::string, Signature>& commands() {
         {"window_size", {2, 2, "nn"}},        // resize the window (W H)
         {"idle", {1, 1, ""}},                 // on | off: idle pacing (off in scripts unless asked: they measure frames)
         {"keymap", {1, 1, ""}},               // default | blender: View > Key map
+        {"expect_keymap", {1, 1, ""}},        // default | blender: the key map in use (kept between sessions)
         {"mouse_move", {2, 2, "nn"}},         // move the mouse by (dx dy) pixels over the viewport (from its centre the first time)
         {"mouse_click", {1, 1, ""}},          // left | right: click where the mouse is
         {"expect_hidden", {1, 1, "n"}},       // N objects are hidden in the viewport

@@ -1,6 +1,7 @@
 #include "editor/ui/editor_app.h"
 
 #include "editor/model/keymap.h"
+#include "editor/model/preferences.h"
 #include "editor/model/shortcuts.h"
 #include "editor/model/viewport_math.h"
 #include "editor/ui/editor_ui.h"
@@ -9,6 +10,7 @@
 #include "editor/ui/mesh_import.h"
 #include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
+#include "renderer/file_util.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/scene_io.h"
@@ -28,6 +30,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <utility>
@@ -290,6 +293,51 @@ void autosaveTick(EditorUi& ui) {
     else ++ui.autosaveWrites;
 }
 
+// The preferences' section of layout.ini (editor/model/preferences.h), through an ImGui settings
+// handler: read with the layout, written whenever ImGui saves it.
+struct PreferenceSettings {
+    EditorUi* ui = nullptr;
+    Preferences stored;   // as layout.ini had them
+    // The session's changes are saved: not in a script without $CAUSTIC_EDITOR_HOME (a test that
+    // switches key maps must not change the next session's, nor the user's).
+    bool live = false;
+    Preferences saved;    // last written (a change marks the settings dirty)
+};
+
+Preferences currentPreferences(const EditorUi& ui) { return {ui.keymap, ui.uiScaleChoice}; }
+
+void registerPreferenceSettings(PreferenceSettings* ps) {
+    ImGuiSettingsHandler h;
+    h.TypeName = "Caustic";
+    h.TypeHash = ImHashStr("Caustic");
+    h.UserData = ps;
+    h.ReadOpenFn = [](ImGuiContext*, ImGuiSettingsHandler*, const char* name) -> void* {
+        return std::strcmp(name, "Preferences") == 0 ? reinterpret_cast<void*>(1) : nullptr;
+    };
+    h.ReadLineFn = [](ImGuiContext*, ImGuiSettingsHandler* handler, void*, const char* line) {
+        readPreferenceLine(line, &static_cast<PreferenceSettings*>(handler->UserData)->stored);
+    };
+    h.WriteAllFn = [](ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
+        auto* settings = static_cast<PreferenceSettings*>(handler->UserData);
+        const Preferences p = settings->live ? currentPreferences(*settings->ui) : settings->stored;
+        buf->append("[Caustic][Preferences]\n");
+        buf->append(writePreferenceLines(p).c_str());
+        buf->append("\n");
+        settings->saved = p;
+    };
+    ImGui::AddSettingsHandler(&h);
+}
+
+// layout.ini written as every other file of caustic's: whole or not at all (ImGui's own writer
+// truncates the file first, so a kill in between lost the layout and the preferences).
+void saveLayout(const std::string& path) {
+    std::size_t size = 0;
+    const char* data = ImGui::SaveIniSettingsToMemory(&size);
+    std::string error;
+    if (!writeFileAtomically(path, data, size, &error)) std::fprintf(stderr, "caustic: warning: %s\n", error.c_str());
+    ImGui::GetIO().WantSaveIniSettings = false;
+}
+
 // The UI scale (View > UI scale): the window's content scale (HiDPI), or the chosen factor; the
 // style's sizes are scaled from the base style each time it changes, the fonts by FontScaleDpi.
 void applyUiScale(EditorUi& ui) {
@@ -368,7 +416,10 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         ImGui::CreateContext();
         ImGuiIO& io = ImGui::GetIO();
         io.ConfigFlags |= ImGuiConfigFlags_DockingEnable | ImGuiConfigFlags_NavEnableKeyboard;
-        io.IniFilename = iniPath.c_str();
+        io.IniFilename = nullptr;   // loaded below, once the driver is known; saved by saveLayout
+        PreferenceSettings preferences;
+        preferences.ui = ui.get();
+        registerPreferenceSettings(&preferences);
         applyStyle();
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450 core");
@@ -391,6 +442,14 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ui->quit = true;
             }
         }
+        // The layout and the preferences (View > Key map, UI scale) of the last session.
+        ImGui::LoadIniSettingsFromDisk(iniPath.c_str());
+        preferences.live = ui->driver->offersRecovery();
+        if (preferences.live) {
+            ui->keymap = preferences.stored.keymap;
+            ui->uiScaleChoice = preferences.stored.uiScale;
+        }
+        preferences.saved = currentPreferences(*ui);
         // Saved camera views (camera_views.h), in the config folder; like the autosave, a script
         // touches them only with $CAUSTIC_EDITOR_HOME set (offersRecovery says so).
         if (ui->driver->offersRecovery()) {
@@ -467,7 +526,10 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             ui->driver->afterSwap(*ui, ui->session.frameSeconds);
             updateTitle(*ui);
             if (ui->driver->usesAutosave()) autosaveTick(*ui);
+            if (preferences.live && !(currentPreferences(*ui) == preferences.saved)) ImGui::MarkIniSettingsDirty();
+            if (ImGui::GetIO().WantSaveIniSettings) saveLayout(iniPath);
         }
+        saveLayout(iniPath);
         if (ui->driver->failed()) exitCode = 1;
         // A clean exit: nothing to recover next time (unless the offer was never answered, or a
         // script ran without `autosave on`, which never touches the autosave).

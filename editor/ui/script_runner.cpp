@@ -337,6 +337,11 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         m_idle = a[0] == "on";
         return true;
     }
+    if (op == "expect_keymap") {
+        const char* in = ui.keymap == KeymapStyle::Blender ? "blender" : "default";
+        if (a[0] != in) fail(ui, line, std::string("the key map is ") + in);
+        return true;
+    }
     if (op == "keymap") {
         if (a[0] != "default" && a[0] != "blender") { fail(ui, line, "expected default or blender"); return true; }
         ui.keymap = a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;

@@ -283,6 +283,24 @@ class EditorBlenderKeys(EditorSessionCase):
         with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
             f.write(BLENDER_SCRIPT.format(n=n, m=n + 1))
         cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+        # The next session (same config folder) starts with the key map and UI scale chosen above.
+        cls.layout = ""
+        ini = os.path.join(cls.tmp, "home", "layout.ini")
+        if os.path.exists(ini):
+            with open(ini) as f:
+                cls.layout = f.read()
+        with open(os.path.join(cls.tmp, "again.txt"), "w") as f:
+            f.write("expect_keymap blender\nexpect_font_size 26\nkeymap default\nui_scale 0\nquit\n")
+        cls.again = run_editor(cls.tmp, "again.txt", os.path.join(cls.tmp, "scene.json"))
+        with open(os.path.join(cls.tmp, "again-2.txt"), "w") as f:
+            f.write("expect_keymap default\nexpect_font_size 13\nquit\n")
+        cls.again2 = run_editor(cls.tmp, "again-2.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def test_6_key_map_and_ui_scale_are_kept_between_sessions(self):
+        self.assertIn("[Caustic][Preferences]\nKeymap=blender\nUiScale=2\n", self.layout)
+        self.assertIn("[Window]", self.layout)   # the layout is in the same file, written whole
+        self.assertEqual(self.again.returncode, 0, self.again.stderr)
+        self.assertEqual(self.again2.returncode, 0, self.again2.stderr)
 
     def box(self, name):
         return [o for o in self.load(name)["objects"] if o["name"] == "small box"][0]["transform"]["translate"]
