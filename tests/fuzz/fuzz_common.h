@@ -85,6 +85,14 @@ private:
     std::string m_written[kSlots];
 };
 
+// ".<ext>", appended piece by piece: GCC 12 warns (-Wrestrict, a false positive, GCC bug 105329)
+// about "." + std::string(ext) once it is inlined.
+inline std::string dotted(std::string_view ext) {
+    std::string s(1, '.');
+    s.append(ext);
+    return s;
+}
+
 // Splits "<first line>\n<rest>" (the harnesses whose input starts with a file extension or
 // option lines). No newline: the whole input is the first line and the rest is empty.
 inline std::pair<std::string_view, std::string_view> splitFirstLine(std::string_view in) {

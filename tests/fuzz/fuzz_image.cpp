@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const char c : ext)
         if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) return 0;
     const std::string file = fuzz::ScratchDir::get().write(reinterpret_cast<const std::uint8_t*>(body.data()),
-                                                            body.size(), "." + std::string(ext));
+                                                            body.size(), fuzz::dotted(ext));
     ImageData image;
     std::string error;
     if (!readImage(file, &image, &error)) {

@@ -45,7 +45,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!listed) return 0;
     }
 #endif
-    const std::string dotExt = "." + std::string(ext);
+    const std::string dotExt = fuzz::dotted(ext);
     if (!isMeshFileExtensionSupported("input" + dotExt)) return 0;
     const std::string file = fuzz::ScratchDir::get().write(reinterpret_cast<const std::uint8_t*>(body.data()),
                                                             body.size(), dotExt);
