@@ -204,13 +204,8 @@ private:
 // over the materials Assimp made (the same order: Assimp's glTF importer makes material i from
 // the file's material i and may append a default one). Reports, once per file, the material
 // extensions and properties that are not mapped.
-void applyGltfInfo(const std::string& path, MeshImportResult* r, std::vector<GltfTextureRef>* uvTransforms) {
-    GltfInfo info;
-    std::string why;
-    if (!readGltfInfo(path, &info, &why)) {
-        r->warnings.push_back(why + " (material extensions, texture transforms and samplers not read)");
-        return;
-    }
+void applyGltfInfo(const std::string& path, const GltfInfo& info, MeshImportResult* r,
+                   std::vector<GltfTextureRef>* uvTransforms) {
     std::vector<std::string> unsupported;
     for (const std::string& e : info.extensionsUsed)
         if (!isMappedGltfExtension(e)) unsupported.push_back(e);
@@ -511,8 +506,9 @@ MeshImportResult importImpl(const std::string& path) {
     }
 
     Assimp::Importer importer;
+    GltfForAssimp gltf;   // for glTF files: the file's JSON, read once, before and after Assimp
     if (isGltfPath(path)) {
-        GltfForAssimp gltf = prepareGltfForAssimp(path);
+        gltf = prepareGltfForAssimp(path);
         if (!gltf.error.empty()) {
             r.error = gltf.error;
             return r;
@@ -562,7 +558,7 @@ MeshImportResult importImpl(const std::string& path) {
         r.embedded.push_back(std::move(e));
     }
     std::vector<GltfTextureRef> uvTransforms(r.materials.size());
-    if (isGltfPath(path)) applyGltfInfo(path, &r, &uvTransforms);
+    if (isGltfPath(path)) applyGltfInfo(path, gltf.info, &r, &uvTransforms);
 
     Converter conv;
     conv.scene = scene;

@@ -318,26 +318,6 @@ constexpr int kMaxRewriteDepth = 64;
 
 }  // namespace
 
-bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error) {
-    std::string text;
-    bool glb = false;
-    std::size_t restOffset = 0;
-    if (!readGltfJson(path, &text, &glb, &restOffset, error)) return false;
-    const Json root = Json::parse(text, nullptr, false);
-    if (root.is_discarded() || !root.is_object()) {
-        *error = path + ": its JSON does not parse";
-        return false;
-    }
-    GltfInfo info;
-    if (const Json& used = member(root, "extensionsUsed"); used.is_array())
-        for (const Json& e : used)
-            if (e.is_string()) info.extensionsUsed.push_back(e.get<std::string>());
-    if (const Json& materials = member(root, "materials"); materials.is_array())
-        for (const Json& m : materials) info.materials.push_back(materialInfo(root, m));
-    *out = std::move(info);
-    return true;
-}
-
 GltfForAssimp prepareGltfForAssimp(const std::string& path) {
     GltfForAssimp out;
     std::string text;
@@ -370,6 +350,11 @@ GltfForAssimp prepareGltfForAssimp(const std::string& path) {
         out.error = path + ": its JSON is not an object, so not glTF";
         return out;
     }
+    if (const Json& used = member(root, "extensionsUsed"); used.is_array())
+        for (const Json& e : used)
+            if (e.is_string()) out.info.extensionsUsed.push_back(e.get<std::string>());
+    if (const Json& materials = member(root, "materials"); materials.is_array())
+        for (const Json& m : materials) out.info.materials.push_back(materialInfo(root, m));
     // glTF 1.0 (Assimp has a separate reader for it) is left as it is.
     if (const Json& version = member(member(root, "asset"), "version");
         version.is_string() && version.get<std::string>().rfind("2", 0) != 0)

@@ -54,19 +54,18 @@ struct GltfInfo {
     std::vector<std::string> extensionsUsed;
 };
 
-// False with *error ("<path>: ...") when the file is not readable glTF JSON; the import then
-// goes on with what Assimp gives.
-bool readGltfInfo(const std::string& path, GltfInfo* out, std::string* error);
-
 // What Assimp 5.2.5 is to read of a glTF file (mesh_import.cpp hands it `replacement` instead of
 // the file's bytes when that is not empty): valid glTF 2.0 that it cannot read safely, made
 // readable where caustic loses nothing by it (a skin without inverseBindMatrices: the nodes'
 // references to it dropped), with a warning each. `error` ("<path>: ...") refuses the file: its
 // JSON does not parse (Assimp's reader crashes on some such files; glTF is UTF-8 JSON).
+// `info`: what the file says of its materials beyond what Assimp passes on, from the same parse
+// (mesh_import.cpp lays it over Assimp's materials after the import).
 struct GltfForAssimp {
     std::string error;
     std::string replacement;
     std::vector<std::string> warnings;
+    GltfInfo info;
 };
 GltfForAssimp prepareGltfForAssimp(const std::string& path);
 

@@ -15,6 +15,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,21 @@ const char* const kHdrHead = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
 const char* const kPlyCubeHeader =
     "ply\nformat ascii 1.0\nelement vertex 8\nproperty float32 x\nproperty float32 y\nproperty float32 z\n"
     "element face 6\nproperty list uint8 int32 vertex_index\n";
+
+// Runs `work` in a forked child (60 s alarm, the default action of fatal signals, not Catch2's
+// handlers): the signal that killed the child, else 0.
+int signalInChild(const std::function<void()>& work) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        ::alarm(60);
+        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+        work();
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+}
 
 // Imports the file in a forked child that must finish within `seconds` (an abort or a hang
 // fails the test instead of ending or stalling the suite); true when the child reported an
@@ -123,16 +139,7 @@ const std::string kCrashDir = std::string(CAUSTIC_SOURCE_DIR) + "/tests/data/ass
 
 // Whether importing in this process kills it by a signal (run in a forked child with an alarm).
 int inProcessSignal(const std::string& file) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        ::alarm(60);
-        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);  // not Catch2's
-        importMeshFileInProcess(file);
-        ::_exit(0);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    return WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+    return signalInChild([&] { importMeshFileInProcess(file); });
 }
 
 }  // namespace
@@ -279,17 +286,10 @@ std::string asGlb(nlohmann::json j) {
 
 // How Assimp itself ends on the file, in a forked child: the signal that killed it, else 0.
 int assimpAloneSignal(const std::string& file) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        ::alarm(60);
-        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+    return signalInChild([&] {
         Assimp::Importer importer;
         importer.ReadFile(file, aiProcess_Triangulate);
-        ::_exit(0);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    return WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+    });
 }
 
 }  // namespace

@@ -172,11 +172,13 @@ TEST_CASE("broken embedded images and broken glTF JSON are reported by name, not
     std::string glb = bytesOf(kData / "quad.glb");
     glb.resize(40);
     std::ofstream(dir / "cut.glb", std::ios::binary) << glb;
-    GltfInfo info;
-    CHECK_FALSE(readGltfInfo((dir / "bad.gltf").string(), &info, &error));
-    CHECK(error.find("bad.gltf") != std::string::npos);
-    CHECK_FALSE(readGltfInfo((dir / "cut.glb").string(), &info, &error));
-    CHECK(error.find("cut.glb") != std::string::npos);
+    for (const char* name : {"bad.gltf", "cut.glb"}) {
+        const std::string file = (dir / name).string();
+        const GltfForAssimp g = prepareGltfForAssimp(file);
+        CHECK(g.error.rfind(file + ": ", 0) == 0);
+        const MeshImportResult r = importMeshFile(file);   // refused before Assimp, with the same message
+        CHECK(r.error == g.error);
+    }
     fs::remove_all(dir);
 }
 
