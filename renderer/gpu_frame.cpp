@@ -6,6 +6,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,16 +16,29 @@
 
 namespace caustic {
 
-std::vector<float> packTables(const CompiledScene& c, glm::uvec4* offsets, glm::uvec2* guideOffsets) {
-    const size_t a = c.lightCdf.size(), b = c.envMap.marginalCdf.size(), d = c.envMap.conditionalCdf.size();
-    const size_t e = c.meshLightCdf.size(), g = c.envMap.marginalGuide.size();
-    if (offsets) *offsets = glm::uvec4(0, a, a + b, a + b + d);
-    if (guideOffsets) *guideOffsets = glm::uvec2(a + b + d + e, a + b + d + e + g);
+namespace {
+// The tables in the order they are packed.
+std::array<const std::vector<float>*, 6> packedTables(const CompiledScene& c) {
+    return {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf, &c.envMap.marginalGuide,
+            &c.envMap.conditionalGuide};
+}
+}  // namespace
+
+TableOffsets tableOffsets(const CompiledScene& c) {
+    std::array<std::size_t, 7> at{};
+    const auto tables = packedTables(c);
+    for (std::size_t i = 0; i < tables.size(); ++i) at[i + 1] = at[i] + tables[i]->size();
+    TableOffsets o;
+    o.tables = glm::uvec4(at[0], at[1], at[2], at[3]);
+    o.guides = glm::uvec2(at[4], at[5]);
+    o.total = at[6];
+    return o;
+}
+
+std::vector<float> packTables(const CompiledScene& c) {
     std::vector<float> out;
-    out.reserve(a + b + d + e + g + c.envMap.conditionalGuide.size());
-    for (const auto* t : {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf,
-                          &c.envMap.marginalGuide, &c.envMap.conditionalGuide})
-        out.insert(out.end(), t->begin(), t->end());
+    out.reserve(tableOffsets(c).total);
+    for (const std::vector<float>* t : packedTables(c)) out.insert(out.end(), t->begin(), t->end());
     return out;
 }
 
@@ -75,9 +89,9 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
         for (int k = 0; k < 3; ++k)
             if (std::isfinite(v[k])) extent = std::max(extent, std::abs(double(v[k])));
     f.rayOffset = glm::vec4(static_cast<float>(std::clamp(extent, 1e-30, 1.0)), 0, 0, 0);
-    glm::uvec2 guides(0u);
-    packTables(compiled, &f.tables, &guides);
-    f.envGuide = glm::uvec4(guides, compiled.envMap.marginalGuideLog2, compiled.envMap.conditionalGuideLog2);
+    const TableOffsets offsets = tableOffsets(compiled);
+    f.tables = offsets.tables;
+    f.envGuide = glm::uvec4(offsets.guides, compiled.envMap.marginalGuideLog2, compiled.envMap.conditionalGuideLog2);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

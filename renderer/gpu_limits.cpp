@@ -48,7 +48,7 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
                " pixels; this GPU's textures may be at most " + std::to_string(side) + " per side (GL_MAX_TEXTURE_SIZE)";
     }
     if (limits.maxStorageBlockSize <= 0) return {};
-    const std::vector<float> tables = packTables(c);
+    const double tableBytes = double(tableOffsets(c).total) * sizeof(float);   // packTables' size, not packed here
     const struct {
         const char* what;
         double size;
@@ -57,7 +57,7 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
         {"materials", sizeOf(c.materials)},
         {"lights", sizeOf(c.lights)},
         {"light tree", sizeOf(c.lightTree.nodes)},
-        {"light and environment sampling tables", sizeOf(tables)},
+        {"light and environment sampling tables", tableBytes},
         {"BVH nodes", sizeOf(c.bvhNodes)},
         {"4-wide BVH nodes", sizeOf(c.wideNodes)},
         {"top-level BVH entries", sizeOf(c.tlasRefs)},

@@ -208,10 +208,17 @@ bool bakeMetallicRoughness(const ImageData& image, float roughnessFactor, float 
                            MetallicRoughnessMap* out, std::string* error);
 
 // The CDF tables as the GPU reads them: one array, in the order of GpuFrame::tables (light
-// selection, environment rows, environment columns, mesh lights); offsets returned in *offsets.
-// `offsets`: frame.tables; `guideOffsets`: frame.envGuide's x and y.
-std::vector<float> packTables(const CompiledScene& compiled, glm::uvec4* offsets = nullptr,
-                              glm::uvec2* guideOffsets = nullptr);
+// selection, environment rows, environment columns, mesh lights), then the environment's guide
+// tables (GpuFrame::envGuide).
+std::vector<float> packTables(const CompiledScene& compiled);
+// Where packTables puts each table, without packing them (makeFrame, every dispatch):
+// `tables` is frame.tables, `guides` frame.envGuide's x and y.
+struct TableOffsets {
+    glm::uvec4 tables{0u};
+    glm::uvec2 guides{0u};
+    std::size_t total = 0;
+};
+TableOffsets tableOffsets(const CompiledScene& compiled);
 
 // For scenes that name no files.
 inline bool compileScene(const Scene& scene, CompiledScene* out, std::string* error) {

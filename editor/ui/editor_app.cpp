@@ -345,7 +345,7 @@ void applyUiScale(EditorUi& ui) {
     if (scale <= 0.0f) {
         float sx = 1.0f, sy = 1.0f;
         glfwGetWindowContentScale(ui.window, &sx, &sy);
-        scale = std::clamp(std::max(sx, sy), 0.5f, 4.0f);
+        scale = std::clamp(std::max(sx, sy), kMinUiScale, kMaxUiScale);
     }
     if (scale == ui.uiScaleApplied) return;
     static ImGuiStyle base = ImGui::GetStyle();   // applyStyle's, before any scaling
