@@ -113,7 +113,7 @@ std::string bakedPrimitiveTests(const CompiledScene& c) {
 }
 
 // The same for mesh instances (a few meshes and primitives: CAUSTIC_BAKED_TOP_LEVEL), one
-// BAKED_INSTANCE(index, the record's nine rows) each.
+// BAKED_INSTANCE(index, the record's nine rows, its tree's root box min and max) each.
 std::string bakedInstanceTests(const CompiledScene& c) {
     std::string out;
     for (std::size_t i = 0; i < c.instances.size(); ++i) {
@@ -122,7 +122,9 @@ std::string bakedInstanceTests(const CompiledScene& c) {
         for (const glm::vec4& r : {in.worldToObject0, in.worldToObject1, in.worldToObject2, in.objectToWorld0,
                                    in.objectToWorld1, in.objectToWorld2})
             out += glslRow(r) + ",";
-        out += glslRow(in.info) + "," + glslRow(in.info2) + "," + glslRow(in.info3) + ") ";
+        out += glslRow(in.info) + "," + glslRow(in.info2) + "," + glslRow(in.info3) + ",";
+        const gpu::GpuBvhNode& root = c.bvhNodes[in.info.x];
+        out += glslRow(glm::vec4(root.boundsMin, 0.0f)) + "," + glslRow(glm::vec4(root.boundsMax, 0.0f)) + ") ";
     }
     return out;
 }
@@ -159,7 +161,10 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
     if (bake && !bruteForce && !c.instances.empty() && c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX)
+    {
         defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
+        defines.push_back({"CAUSTIC_BAKED_INSTANCE_COUNT", std::to_string(c.instances.size())});
+    }
     return defines;
 }
 
@@ -555,7 +560,8 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
         {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
         {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
-        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI}};
+        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI},
+        {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

@@ -210,16 +210,11 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
 // and the instance entry at every step through a mesh (docs/performance.md).
 // With CAUSTIC_WIDE_BVH (and buffer textures) the mesh's 4-wide BVH is walked instead of the
 // binary one: half as many steps, each testing four boxes (docs/performance.md).
-bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
-    vec3 o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
-                  dot(inst.worldToObject2, vec4(rayO, 1.0)));
-    vec3 d = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD),
-                  dot(inst.worldToObject2.xyz, rayD));
-    vec3 invD = safeInverse(d);
-    float tEnter;
-    uint node = inst.info.x;
-    if (!slabTest(loadBvhNode(node), o, invD, hit.t, tEnter)) return false;
+// The instance's tree below its root, whose box the ray (o, d in object space) is known to hit.
+bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 invD, bool anyHit, int base,
+                       inout TraceHit hit) {
     WatertightRay wr = makeWatertightRay(o, d);
+    uint node = inst.info.x;
     uint firstTriangle = inst.info.y;
     int sp = base;
     bool found = false;
@@ -260,6 +255,23 @@ bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, 
     return found;
 }
 
+// The ray in the instance's object space (t keeps its meaning: d is not renormalised).
+void rayToObject(GpuInstance inst, vec3 rayO, vec3 rayD, out vec3 o, out vec3 d) {
+    o = vec3(dot(inst.worldToObject0, vec4(rayO, 1.0)), dot(inst.worldToObject1, vec4(rayO, 1.0)),
+             dot(inst.worldToObject2, vec4(rayO, 1.0)));
+    d = vec3(dot(inst.worldToObject0.xyz, rayD), dot(inst.worldToObject1.xyz, rayD), dot(inst.worldToObject2.xyz, rayD));
+}
+
+// The instance's root box, then its tree.
+bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
+    vec3 o, d;
+    rayToObject(inst, rayO, rayD, o, d);
+    vec3 invD = safeInverse(d);
+    float tEnter;
+    if (!slabTest(loadBvhNode(inst.info.x), o, invD, hit.t, tEnter)) return false;
+    return traceInstanceTree(inst, instance, o, d, invD, anyHit, base, hit);
+}
+
 bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, inout TraceHit hit) {
     return traceInstanceRecord(loadInstance(instance), instance, rayO, rayD, anyHit, base, hit);
 }
@@ -283,8 +295,31 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
                 if (anyHit) return true;                                                      \
             }                                                                                 \
         }
-#define BAKED_INSTANCE(index, w0, w1, w2, o0, o1, o2, i1, i2, i3) {                             \
-            GpuInstance inst;                                                                 \
+// A baked instance (CAUSTIC_BAKED_TOP_LEVEL), expanded three times by traceScene with these
+// meanings in turn: BAKED_INSTANCE_SCAN tests the ray against the instance's root box (its last
+// two rows, object space) and makes it a candidate; BAKED_INSTANCE_PICK finds the nearest
+// candidate; BAKED_INSTANCE_SELECT makes `inst` that candidate's record.
+#define BAKED_INSTANCE_SCAN(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax) {             \
+            vec3 bo = vec3(dot(uintBitsToFloat(w0), vec4(rayO, 1.0)), dot(uintBitsToFloat(w1), vec4(rayO, 1.0)), \
+                           dot(uintBitsToFloat(w2), vec4(rayO, 1.0)));                        \
+            vec3 bd = vec3(dot(uintBitsToFloat(w0).xyz, rayD), dot(uintBitsToFloat(w1).xyz, rayD), \
+                           dot(uintBitsToFloat(w2).xyz, rayD));                               \
+            GpuBvhNode root;                                                                  \
+            root.boundsMin = uintBitsToFloat(bmin).xyz;                                       \
+            root.boundsMax = uintBitsToFloat(bmax).xyz;                                       \
+            float te;                                                                         \
+            if (slabTest(root, bo, safeInverse(bd), hit.t, te)) {                             \
+                candidates |= 1u << (index);                                                  \
+                enter[index] = te;                                                            \
+            }                                                                                 \
+        }
+#define BAKED_INSTANCE_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)              \
+        if ((candidates & (1u << (index))) != 0u && enter[index] < pickT) {                  \
+            pickT = enter[index];                                                             \
+            pick = index;                                                                     \
+        }
+#define BAKED_INSTANCE_SELECT(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)            \
+        if (pick == (index)) {                                                                \
             inst.worldToObject0 = uintBitsToFloat(w0);                                        \
             inst.worldToObject1 = uintBitsToFloat(w1);                                        \
             inst.worldToObject2 = uintBitsToFloat(w2);                                        \
@@ -294,10 +329,6 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
             inst.info = i1;                                                                   \
             inst.info2 = i2;                                                                  \
             inst.info3 = i3;                                                                  \
-            if (traceInstanceRecord(inst, index, rayO, rayD, anyHit, 0, hit)) {               \
-                found = true;                                                                 \
-                if (anyHit) return true;                                                      \
-            }                                                                                 \
         }
 #endif
 
@@ -335,16 +366,46 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     }
 #if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
     {
-        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests),
-        // in a fixed order instead of the tree: a scene of a few meshes and primitives. Each
-        // instance is entered by all the lanes that hit its box at once, where the walk entered
-        // it at whatever step each lane reached it (llvmpipe runs the instance's loop once per
-        // such step).
+        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests):
+        // a scene of a few meshes and primitives. The primitives are tested in a fixed order,
+        // instead of walking the tree. The instances whose root box the ray hits become
+        // candidates, and one loop walks them nearest first, each through the same code: on
+        // llvmpipe a loop costs at least one pass of its body under the lane mask, so one tree
+        // walk per instance (each instance's walk inlined, as before) cost every ray a pass of
+        // each, and lanes in different instances waited for each other in turn, where here they
+        // walk their own instance's tree in the same pass (docs/performance.md).
         bool found = false;
         Ray bakedRay;
         bakedRay.o = rayO;
         bakedRay.d = rayD;
+        uint candidates = 0u;
+        float enter[CAUSTIC_BAKED_INSTANCE_COUNT];
+#define BAKED_INSTANCE BAKED_INSTANCE_SCAN
         CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+#undef BAKED_PRIMITIVE
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index)
+        while (candidates != 0u) {
+            float pickT = uintBitsToFloat(0x7f800000u);
+            uint pick = 0u;
+#define BAKED_INSTANCE BAKED_INSTANCE_PICK
+            CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+            candidates &= ~(1u << pick);
+            // The rest start no nearer: once a candidate starts beyond the closest hit, done (the
+            // root box test's own rule, tEnter <= tMax).
+            if (!(pickT <= hit.t)) break;
+            GpuInstance inst;
+#define BAKED_INSTANCE BAKED_INSTANCE_SELECT
+            CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+            vec3 o, d;
+            rayToObject(inst, rayO, rayD, o, d);
+            if (traceInstanceTree(inst, pick, o, d, safeInverse(d), anyHit, 0, hit)) {
+                found = true;
+                if (anyHit) return true;
+            }
+        }
         return found;
     }
 #endif

@@ -61,7 +61,7 @@ vec3 instanceNormalToWorld(GpuInstance inst, vec3 n) {
 // The interpolated shading normal at barycentrics (b1, b2) (world, unit, on the side of the
 // geometric normal ng), or ng where the mesh has no normals.
 vec3 triangleShadingNormal(GpuInstance inst, GpuTriangle tri, vec2 b, vec3 ng) {
-    GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
+    GpuVertex v0 = loadVertex(tri.v.x), v1 = loadVertex(tri.v.y), v2 = loadVertex(tri.v.z);
     vec3 nObj = (1.0 - b.x - b.y) * v0.normalU.xyz + b.x * v1.normalU.xyz + b.y * v2.normalU.xyz;
     vec3 ns = dot(nObj, nObj) > 0.0 ? normalize(instanceNormalToWorld(inst, nObj)) : ng;
     return dot(ns, ng) < 0.0 ? -ns : ns;
@@ -69,14 +69,14 @@ vec3 triangleShadingNormal(GpuInstance inst, GpuTriangle tri, vec2 b, vec3 ng) {
 
 // The texture coordinates of triangle `tri` at barycentrics (b1, b2) (triangleSurface's uv alone).
 vec2 triangleUv(GpuTriangle tri, vec2 b) {
-    GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
+    GpuVertex v0 = loadVertex(tri.v.x), v1 = loadVertex(tri.v.y), v2 = loadVertex(tri.v.z);
     return (1.0 - b.x - b.y) * vec2(v0.normalU.w, v0.tangentV.w) + b.x * vec2(v1.normalU.w, v1.tangentV.w) +
            b.y * vec2(v2.normalU.w, v2.tangentV.w);
 }
 
 // The triangle's surface at barycentrics (b1, b2) (p = (1-b1-b2) p0 + b1 p1 + b2 p2).
 SurfacePoint triangleSurface(GpuInstance inst, GpuTriangle tri, vec2 b) {
-    GpuVertex v0 = vertices[tri.v.x], v1 = vertices[tri.v.y], v2 = vertices[tri.v.z];
+    GpuVertex v0 = loadVertex(tri.v.x), v1 = loadVertex(tri.v.y), v2 = loadVertex(tri.v.z);
     float b0 = 1.0 - b.x - b.y;
     vec2 uv0 = vec2(v0.normalU.w, v0.tangentV.w), uv1 = vec2(v1.normalU.w, v1.tangentV.w),
          uv2 = vec2(v2.normalU.w, v2.tangentV.w);

@@ -42,7 +42,7 @@ layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVer
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 
-// Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadTlasRef, loadInstance,
+// Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef, loadInstance,
 // loadMaterial. With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
 // shader_loader.h, integratorDefines) they read buffer textures over the same buffers
 // (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
@@ -61,6 +61,7 @@ layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexe
 // traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where the
 // buffer textures are used anyway.
 layout(binding = TEXUNIT_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
+layout(binding = TEXUNIT_VERTICES) uniform usamplerBuffer vertexTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
@@ -118,6 +119,17 @@ GpuTriangle loadTriangle(uint i) {
     return t;
 #else
     return triangles[i];
+#endif
+}
+
+GpuVertex loadVertex(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuVertex v;
+    v.normalU = FETCH_F4(vertexTexels, 2u * i);
+    v.tangentV = FETCH_F4(vertexTexels, 2u * i + 1u);
+    return v;
+#else
+    return vertices[i];
 #endif
 }
 

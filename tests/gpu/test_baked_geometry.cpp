@@ -40,6 +40,27 @@ Scene withKnot(Scene s) {
     return s;
 }
 
+// Three knots whose boxes overlap (one inside another's box, one crossing it), so that rays meet
+// several instances in one traversal and the nearest-first order among them decides the hit.
+Scene withKnots(Scene s) {
+    s = withKnot(std::move(s));
+    Object second = s.objects.back();
+    second.name = "knot 2";
+    second.material = "mirror ball";
+    second.transform.translate = glm::vec3(0.0f, 0.25f, 0.45f);
+    second.transform.rotate = glm::vec3(0.0f, 40.0f, 10.0f);
+    second.transform.scale = glm::vec3(0.2f);
+    s.objects.push_back(second);
+    Object third = second;
+    third.name = "knot 3";
+    third.material = s.materials.front().name;
+    third.transform.translate = glm::vec3(-0.35f, -0.3f, 0.1f);
+    third.transform.rotate = glm::vec3(90.0f, 0.0f, 0.0f);
+    third.transform.scale = glm::vec3(0.3f, 0.2f, 0.25f);
+    s.objects.push_back(third);
+    return s;
+}
+
 // A renderer that specialises (the default on llvmpipe; forced elsewhere, e.g. NVIDIA), with
 // baking on or off.
 std::unique_ptr<Renderer> specialisingRenderer(bool bake) {
@@ -114,6 +135,17 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     const int knotPixels = differingPixels(meshFilm, box);
     INFO(knotPixels << " pixels see the knot");
     CHECK(knotPixels > 30);
+
+    // Several instances with overlapping boxes: the baked top level walks the instances a ray
+    // meets nearest first, in one loop; the image is still the fetching program's.
+    const Scene knots = withKnots(scene);
+    const Film knotsReference = test::renderFilm(*fetching, knots, 2);
+    const Film knotsFilm = test::renderFilm(*baked, knots, 2);
+    CHECK(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    requireSameFilm(knotsFilm, knotsReference);
+    const int morePixels = differingPixels(knotsFilm, meshFilm);
+    INFO(morePixels << " pixels see the second and third knots");
+    CHECK(morePixels > 30);
 }
 
 TEST_CASE("baked primitives: an edit that moves a primitive builds a new program, never renders the old geometry",
