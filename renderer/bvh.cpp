@@ -26,6 +26,7 @@
 #include "renderer/bvh.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -839,7 +840,37 @@ struct WideCollapse {
     const std::vector<BvhNode>& nodes;
     std::uint32_t base;
     std::vector<WideBvhNode>& out;
+    std::uint32_t mergeMax;
     bool ok = true;
+
+    // Whether binary node b is an interior node whose subtree holds at most mergeMax primitives,
+    // as one range [first, first + count) (the builder partitions in place, so a subtree's leaves
+    // are consecutive; checked all the same): the 4-wide tree makes it one leaf.
+    bool smallSubtree(std::uint32_t b, std::uint32_t& first, std::uint32_t& count) const {
+        if (nodes[b].isLeaf()) return false;
+        std::uint32_t l = b, r = b;
+        while (!nodes[l].isLeaf()) l = l + 1;
+        while (!nodes[r].isLeaf()) r = nodes[r].rightOrFirst;
+        first = nodes[l].rightOrFirst;
+        const std::uint32_t end = nodes[r].rightOrFirst + nodes[r].count();
+        if (end <= first || end - first > mergeMax) return false;
+        count = end - first;
+        std::uint32_t sum = 0, stack[64], sp = 0;
+        stack[sp++] = b;
+        while (sp > 0) {
+            const std::uint32_t i = stack[--sp];
+            const BvhNode& n = nodes[i];
+            if (n.isLeaf()) {
+                if (n.rightOrFirst < first || n.rightOrFirst + n.count() > end) return false;
+                sum += n.count();
+            } else {
+                if (sp + 2 > 64) return false;
+                stack[sp++] = i + 1;
+                stack[sp++] = n.rightOrFirst;
+            }
+        }
+        return sum == count;
+    }
 
     static void setBox(WideBvhNode& w, int k, const glm::vec3& lo, const glm::vec3& hi) {
         w.minX[k] = lo.x; w.maxX[k] = hi.x;
@@ -894,7 +925,8 @@ struct WideCollapse {
             int best = -1;
             float bestArea = -1.0f;
             for (int k = 0; k < n; ++k) {
-                if (nodes[kids[k]].isLeaf()) continue;
+                std::uint32_t f, c;
+                if (nodes[kids[k]].isLeaf() || smallSubtree(kids[k], f, c)) continue;
                 const float a = nodes[kids[k]].bounds().halfArea();
                 if (a > bestArea) { bestArea = a; best = k; }
             }
@@ -907,8 +939,10 @@ struct WideCollapse {
         }
         for (int k = 0; k < n; ++k) {
             const BvhNode& c = nodes[kids[k]];
+            std::uint32_t first = 0, count = 0;
             const std::uint32_t ref = c.isLeaf() ? leafRef(c.rightOrFirst, c.count(), c.boundsMin, c.boundsMax)
-                                                 : node(kids[k]);
+                                      : smallSubtree(kids[k], first, count) ? leafRef(first, count, c.boundsMin, c.boundsMax)
+                                                                             : node(kids[k]);
             setBox(out[index], k, c.boundsMin, c.boundsMax);  // (out may have grown: index, not a reference)
             out[index].child[k] = ref;
         }
@@ -921,7 +955,11 @@ struct WideCollapse {
 bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out) {
     if (bvh.nodes.empty()) return true;
     const std::size_t start = out.size();
-    WideCollapse c{bvh.nodes, base - static_cast<std::uint32_t>(start), out};
+    // $CAUSTIC_WIDE_MERGE overrides kWideMergeMax, for measuring (docs/performance.md).
+    std::uint32_t mergeMax = kWideMergeMax;
+    if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
+        mergeMax = static_cast<std::uint32_t>(std::min(std::strtoul(env, nullptr, 10), 15ul));
+    WideCollapse c{bvh.nodes, base - static_cast<std::uint32_t>(start), out, mergeMax};
     c.node(0);
     if (!c.ok) out.resize(start);
     return c.ok;

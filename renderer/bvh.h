@@ -109,11 +109,18 @@ inline constexpr std::uint32_t kWideEmpty = 0xffffffffu;
 inline constexpr std::uint32_t kWideLeaf = 0x80000000u;
 inline constexpr std::uint32_t kWideLeafMaxCount = 15u;
 inline constexpr std::uint32_t kWideLeafMaxFirst = (1u << 27) - 1u;
+// Subtrees of at most this many primitives become one leaf of the 4-wide tree. The binary tree's
+// SAH (traversal cost 0.125) makes leaves of ~1 triangle, right for a GPU's cheap box tests; on
+// llvmpipe each leaf costs a pass of the traversal's outer loop for all 8 lanes, and leaves of
+// two made the knot scene 1.05x faster per CPU second (3 and 4 about as much, 6 less;
+// docs/performance.md, session 10).
+inline constexpr std::uint32_t kWideMergeMax = 2u;
 
 // Appends the 4-wide form of `bvh` to `out`, its root first; child node indices are absolute
 // (base + the node's position among those appended). Each node takes the children of a binary
 // node and, while it has fewer than four, replaces the child of largest surface area that is an
-// interior node by that node's two children. Binary leaves of more than kWideLeafMaxCount
+// interior node by that node's two children; an interior node whose subtree holds at most
+// kWideMergeMax primitives becomes one leaf. Binary leaves of more than kWideLeafMaxCount
 // primitives become nodes of shorter leaves (the same box). An empty tree appends nothing. False
 // when a leaf's first primitive is beyond kWideLeafMaxFirst (nothing appended then).
 bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out);

@@ -608,7 +608,7 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
             REQUIRE(collapseBvh4(blas.bvh, base, wide));
             REQUIRE(wide.size() > 5);
             std::vector<int> seen(blas.triangles.size(), 0);
-            std::size_t reached = 0;
+            std::size_t reached = 0, leaves = 0, mergedLeaves = 0;
             // Walk from the root with each child's box; every box must contain what is below it.
             struct Item { std::uint32_t ref; glm::vec3 lo, hi; };
             std::vector<Item> todo{{base, glm::vec3(-1e30f), glm::vec3(1e30f)}};
@@ -633,6 +633,10 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
                         const std::uint32_t first = w.child[k] & kWideLeafMaxFirst, count = (w.child[k] >> 27) & 15u;
                         REQUIRE(count >= 1);
                         REQUIRE(first + count <= seen.size());
+                        ++leaves;
+                        // Binary leaves of one triangle: a longer leaf is a merged subtree.
+                        if (s.opt.maxLeafSize == 1) CHECK(count <= kWideMergeMax);
+                        mergedLeaves += count == kWideMergeMax;
                         for (std::uint32_t t = first; t < first + count; ++t) {
                             ++seen[t];
                             const Aabb tb = boxes[blas.triangleIds[t]];
@@ -646,6 +650,8 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
                 CHECK(children >= 1);
             }
             CHECK(reached == wide.size() - 5);  // no node unreached
+            // Small subtrees were merged into leaves (most pairs of sibling leaves are).
+            if (s.opt.maxLeafSize == 1 && n > 100) CHECK(mergedLeaves * 4 > leaves);
             for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
             // Fewer steps: about a third of the binary tree's interior nodes (2 to 4 children each).
             const std::size_t interior = (blas.bvh.nodes.size() - 1) / 2;
