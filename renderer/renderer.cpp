@@ -142,7 +142,11 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
     for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
     if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
     const bool bruteForce = frame.geometry.y == 0 && frame.counts.x <= BVH_BRUTE_FORCE_MAX;
-    const bool singleLight = c.lights.size() == 1 && c.lights[0].info.x != LIGHT_ENV;
+    // One light, the environment included: every selection rule picks it with probability 1
+    // (power and uniform selection give 1 exactly; the tree gives the environment 1 when it holds
+    // no other light), and the program need not carry the selection code, which llvmpipe would
+    // run under a lane mask at every vertex (docs/performance.md, session 10).
+    const bool singleLight = c.lights.size() == 1;
     auto hex = [](std::uint32_t v) {
         char b[16];
         std::snprintf(b, sizeof b, "0x%xu", unsigned(v));
@@ -561,7 +565,8 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
         {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
         {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI},
-        {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}};
+        {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}, {TEXUNIT_TABLES, m_tables, GL_R32UI},
+        {TEXUNIT_LIGHTS, m_lights, GL_RGBA32UI}, {TEXUNIT_LIGHT_TREE, m_lightTree, GL_RGBA32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

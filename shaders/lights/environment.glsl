@@ -54,7 +54,7 @@ vec3 environmentRadiance(vec3 dir) {
 uint envFindInterval(bool marginal, uint offset, uint guide, uint guideLog2, float u) {
     uint buckets = 1u << guideLog2;
     uint k = min(uint(u * float(buckets)), buckets - 1u);
-    uint lo = uint(sceneTables[guide + k]), hi = uint(sceneTables[guide + k + 1u]);
+    uint lo = uint(sceneTable(guide + k)), hi = uint(sceneTable(guide + k + 1u));
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1;
         float c = marginal ? envMarginalCdf(offset + mid) : envConditionalCdf(offset + mid);

@@ -25,6 +25,19 @@
 
 layout(std430, binding = BINDING_LIGHT_TREE) readonly buffer LightTreeBuffer { GpuLightNode lightTree[]; };
 
+GpuLightNode loadLightNode(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuLightNode n;
+    n.boundsMin = FETCH_F4(lightNodeTexels, 4u * i);
+    n.boundsMax = FETCH_F4(lightNodeTexels, 4u * i + 1u);
+    n.axis = FETCH_F4(lightNodeTexels, 4u * i + 2u);
+    n.info = FETCH_U4(lightNodeTexels, 4u * i + 3u);
+    return n;
+#else
+    return lightTree[i];
+#endif
+}
+
 const float ONE_MINUS_EPSILON = 0.99999994;  // the largest float below 1
 
 // cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of angles a, b in [0, pi].
@@ -37,7 +50,7 @@ float sinSubClamped(float sinA, float cosA, float sinB, float cosB) {
 
 // The importance of tree node `i` for the point p with normal n (see the header).
 float lightNodeImportance(uint i, vec3 p, vec3 n, bool twoSided) {
-    GpuLightNode node = lightTree[i];
+    GpuLightNode node = loadLightNode(i);
     float intensity = node.boundsMin.w;
     if (!(intensity > 0.0)) return 0.0;
     vec3 c = 0.5 * (node.boundsMin.xyz + node.boundsMax.xyz);
@@ -74,8 +87,8 @@ float envSelectProbability(vec3 p, vec3 n, bool twoSided) {
     uint nodes = frame.sampling.w;
     if (nodes == 0u) return 1.0;
     float local = lightNodeImportance(0u, p, n, twoSided);
-    if (nodes > 1u && (lightTree[0].info.x & LIGHT_TREE_LEAF) == 0u)
-        local = lightNodeImportance(1u, p, n, twoSided) + lightNodeImportance(lightTree[0].info.x, p, n, twoSided);
+    if (nodes > 1u && (loadLightNode(0u).info.x & LIGHT_TREE_LEAF) == 0u)
+        local = lightNodeImportance(1u, p, n, twoSided) + lightNodeImportance(loadLightNode(0u).info.x, p, n, twoSided);
     float env = frame.envSelect.x;
     return env + local > 0.0 ? env / (env + local) : 0.0;
 }
@@ -95,7 +108,7 @@ bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out flo
     pmf = 0.0;
     uint count = frame.counts.y;
     if (count == 0u) return false;
-    // One light and no environment: every rule picks it with probability 1.
+    // One light (the environment counts): every rule picks it with probability 1.
     if (CAUSTIC_SINGLE_LIGHT != 0u) { pmf = 1.0; return true; }
     if (lightSelectionByCdf()) {
         uint lo = 0u, hi = count - 1u;  // invert the CDF (binary search)
@@ -104,7 +117,7 @@ bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out flo
             if (u < lightCdf(mid)) hi = mid; else lo = mid + 1u;
         }
         light = lo;
-        pmf = lights[lo].color.w;
+        pmf = loadLight(lo).color.w;
         return pmf > 0.0;
     }
     float pEnv = envSelectProbability(p, n, twoSided);
@@ -118,7 +131,7 @@ bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out flo
     pmf = 1.0 - pEnv;
     uint node = 0u;
     for (uint depth = 0u; depth < 32u; ++depth) {
-        uint right = lightTree[node].info.x;
+        uint right = loadLightNode(node).info.x;
         if ((right & LIGHT_TREE_LEAF) != 0u) {
             light = right & ~LIGHT_TREE_LEAF;
             return pmf > 0.0;
@@ -143,14 +156,14 @@ bool selectLight(float u, vec3 p, vec3 n, bool twoSided, out uint light, out flo
 // The probability that selectLight(., p, n, twoSided) chooses `light`.
 float lightSelectPmf(uint light, vec3 p, vec3 n, bool twoSided) {
     if (CAUSTIC_SINGLE_LIGHT != 0u) return 1.0;
-    if (lightSelectionByCdf()) return lights[light].color.w;
+    if (lightSelectionByCdf()) return loadLight(light).color.w;
     float pEnv = envSelectProbability(p, n, twoSided);
     if (light + 1u == frame.dispatch.y) return pEnv;
     float pmf = 1.0 - pEnv;
-    uint trail = lights[light].tree.x;
+    uint trail = loadLight(light).tree.x;
     uint node = 0u;
     for (uint depth = 0u; depth < 32u; ++depth) {
-        uint right = lightTree[node].info.x;
+        uint right = loadLightNode(node).info.x;
         if ((right & LIGHT_TREE_LEAF) != 0u) return (right & ~LIGHT_TREE_LEAF) == light ? pmf : 0.0;
         float il = lightNodeImportance(node + 1u, p, n, twoSided);
         float ir = lightNodeImportance(right, p, n, twoSided);

@@ -63,7 +63,7 @@ float areaToSolidAngle(float pdfArea, vec3 p, vec3 q, vec3 nl) {
 }
 
 LightSample sampleLight(uint index, vec3 p, vec2 u) {
-    GpuLight l = lights[index];
+    GpuLight l = loadLight(index);
     LightSample s;
     s.isDelta = false;
     s.pdf = 0.0;
@@ -197,7 +197,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
 // Solid-angle pdf that sampleLight(index, p, .) produces direction wi hitting the light at q
 // (with unit geometric normal nl there). For the environment q and nl are unused.
 float lightPdf(uint index, vec3 p, vec3 wi, vec3 q, vec3 nl) {
-    GpuLight l = lights[index];
+    GpuLight l = loadLight(index);
     uint type = l.info.x;
     if (HAS_LIGHT(LIGHT_RECT) && type == LIGHT_RECT) {
         if (dot(nl, wi) >= 0.0 && (l.info.y & LIGHT_FLAG_TWO_SIDED) == 0u) return 0.0;

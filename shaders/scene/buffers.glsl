@@ -20,10 +20,11 @@ layout(std430, binding = BINDING_LIGHTS) readonly buffer LightBuffer { GpuLight 
 //   meshLightCdf(k): per emissive mesh instance, the CDF over its triangles' areas;
 //   then the environment map's guide tables (offsets in frame.envGuide; lights/environment.glsl).
 layout(std430, binding = BINDING_TABLES) readonly buffer TableBuffer { float sceneTables[]; };
-#define lightCdf(i) sceneTables[frame.tables.x + (i)]
-#define envMarginalCdf(i) sceneTables[frame.tables.y + (i)]
-#define envConditionalCdf(i) sceneTables[frame.tables.z + (i)]
-#define meshLightCdf(i) sceneTables[frame.tables.w + (i)]
+// sceneTable(i) reads entry i (a buffer texture with CAUSTIC_FETCH_TEXELS, below).
+#define lightCdf(i) sceneTable(frame.tables.x + (i))
+#define envMarginalCdf(i) sceneTable(frame.tables.y + (i))
+#define envConditionalCdf(i) sceneTable(frame.tables.z + (i))
+#define meshLightCdf(i) sceneTable(frame.tables.w + (i))
 // The environment map and its sampling tables (see EnvironmentMap in renderer/gpu_scene.h).
 layout(binding = TEXUNIT_ENV_MAP) uniform sampler2D envMapTexture;
 // Material textures: every texture's mip chain in one buffer (RGBA as two packHalf2x16 words),
@@ -43,7 +44,7 @@ layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVer
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 
 // Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef, loadInstance,
-// loadMaterial. With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
+// loadMaterial, loadLight, sceneTable (and loadLightNode in lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
 // shader_loader.h, integratorDefines) they read buffer textures over the same buffers
 // (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
 // llvmpipe runs 8 invocations as the lanes of one SIMD register, and turns every storage-buffer
@@ -62,10 +63,16 @@ layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexe
 // buffer textures are used anyway.
 layout(binding = TEXUNIT_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
 layout(binding = TEXUNIT_VERTICES) uniform usamplerBuffer vertexTexels;
+layout(binding = TEXUNIT_TABLES) uniform usamplerBuffer tableTexels;
+layout(binding = TEXUNIT_LIGHTS) uniform usamplerBuffer lightTexels;
+layout(binding = TEXUNIT_LIGHT_TREE) uniform usamplerBuffer lightNodeTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
 #define FETCH_F4(tex, i) uintBitsToFloat(texelFetch(tex, int(i)))
+#define sceneTable(i) uintBitsToFloat(texelFetch(tableTexels, int(i)).x)
+#else
+#define sceneTable(i) sceneTables[i]
 #endif
 
 #ifdef CAUSTIC_FETCH_TEXELS
@@ -156,6 +163,21 @@ GpuInstance loadInstance(uint i) {
     return s;
 #else
     return instances[i];
+#endif
+}
+
+GpuLight loadLight(uint i) {
+#ifdef CAUSTIC_FETCH_TEXELS
+    GpuLight l;
+    l.p0 = FETCH_F4(lightTexels, 6u * i);
+    l.p1 = FETCH_F4(lightTexels, 6u * i + 1u);
+    l.p2 = FETCH_F4(lightTexels, 6u * i + 2u);
+    l.color = FETCH_F4(lightTexels, 6u * i + 3u);
+    l.info = FETCH_U4(lightTexels, 6u * i + 4u);
+    l.tree = FETCH_U4(lightTexels, 6u * i + 5u);
+    return l;
+#else
+    return lights[i];
 #endif
 }
 

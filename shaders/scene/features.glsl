@@ -44,7 +44,7 @@
 #define CAUSTIC_ALPHA_MASK 1u              // 0: no mesh has an alpha-masked material (geometry/alpha_mask.glsl)
 #endif
 #ifndef CAUSTIC_SINGLE_LIGHT
-#define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light and no environment light
+#define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)
 #endif
 #ifndef CAUSTIC_TRAVERSAL
 #define CAUSTIC_TRAVERSAL 0u               // 0: chosen per scene at run time, 1: test every primitive, 2: the BVH
