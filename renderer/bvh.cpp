@@ -26,8 +26,9 @@
 #include "renderer/bvh.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <atomic>
+#include <bit>
+#include <cstdlib>
 #include <cmath>
 #include <mutex>
 #include <thread>
@@ -963,6 +964,78 @@ bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& 
     c.node(0);
     if (!c.ok) out.resize(start);
     return c.ok;
+}
+
+namespace {
+
+float scaleOf(std::uint32_t biasedExponent) { return std::bit_cast<float>(biasedExponent << 23); }
+
+}  // namespace
+
+float decodeWideBound(const QuantizedWideNode& node, int axis, std::uint32_t q) {
+    const float s = scaleOf((node.exponents >> (8 * axis)) & 0xffu);
+    // The product is exact (q < 2^8, s a power of two, no overflow for the bounds used): fused
+    // or not, the sum is the one rounding, as in the shader.
+    const volatile float product = static_cast<float>(q) * s;
+    return node.origin[axis] + product;
+}
+
+void decodeWideBox(const QuantizedWideNode& node, int k, glm::vec3& lo, glm::vec3& hi) {
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = decodeWideBound(node, a, (node.q[2 * a] >> (8 * k)) & 0xffu);
+        hi[a] = decodeWideBound(node, a, (node.q[2 * a + 1] >> (8 * k)) & 0xffu);
+    }
+}
+
+QuantizedWideNode quantizeWideNode(const WideBvhNode& w) {
+    QuantizedWideNode out{};
+    for (int k = 0; k < 4; ++k) out.child[k] = w.child[k];
+    const float* mins[3] = {w.minX, w.minY, w.minZ};
+    const float* maxs[3] = {w.maxX, w.maxY, w.maxZ};
+    for (int a = 0; a < 3; ++a) {
+        // The grid spans the union of the children that are there.
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        for (int k = 0; k < 4; ++k) {
+            if (w.child[k] == kWideEmpty || !(mins[a][k] <= maxs[a][k])) continue;
+            lo = std::min(lo, mins[a][k]);
+            hi = std::max(hi, maxs[a][k]);
+        }
+        if (!(lo <= hi)) lo = hi = 0.0f;  // no child (not made by collapseBvh4)
+        out.origin[a] = lo;
+        // The smallest power-of-two scale whose top byte reaches the union's upper bound, and lies
+        // above the origin (so that an empty child's box, lo = byte 255 and hi = byte 0, is
+        // inverted even where the union is a single point).
+        int e = 1;
+        const float extent = hi - lo;
+        if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / 255.0f) + 127, 1, 254);
+        out.exponents &= ~(0xffu << (8 * a));
+        out.exponents |= static_cast<std::uint32_t>(e) << (8 * a);
+        while (e < 254 && !(decodeWideBound(out, a, 255) >= hi && decodeWideBound(out, a, 255) > lo)) {
+            ++e;
+            out.exponents &= ~(0xffu << (8 * a));
+            out.exponents |= static_cast<std::uint32_t>(e) << (8 * a);
+        }
+        const float s = scaleOf(static_cast<std::uint32_t>(e));
+        std::uint32_t qlo = 0, qhi = 0;
+        for (int k = 0; k < 4; ++k) {
+            std::uint32_t bl = 255, bh = 0;  // empty: inverted
+            if (w.child[k] != kWideEmpty && mins[a][k] <= maxs[a][k]) {
+                // Lower bound: the largest byte that decodes at or below the child's minimum.
+                bl = static_cast<std::uint32_t>(std::clamp(std::floor((mins[a][k] - lo) / s), 0.0f, 255.0f));
+                while (bl > 0 && decodeWideBound(out, a, bl) > mins[a][k]) --bl;
+                while (bl < 255 && decodeWideBound(out, a, bl + 1) <= mins[a][k]) ++bl;
+                // Upper bound: the smallest byte that decodes at or above the child's maximum.
+                bh = static_cast<std::uint32_t>(std::clamp(std::ceil((maxs[a][k] - lo) / s), 0.0f, 255.0f));
+                while (bh < 255 && decodeWideBound(out, a, bh) < maxs[a][k]) ++bh;
+                while (bh > 0 && decodeWideBound(out, a, bh - 1) >= maxs[a][k]) --bh;
+            }
+            qlo |= bl << (8 * k);
+            qhi |= bh << (8 * k);
+        }
+        out.q[2 * a] = qlo;
+        out.q[2 * a + 1] = qhi;
+    }
+    return out;
 }
 
 Ray transformRay(const glm::mat4& worldToObject, const Ray& ray) {

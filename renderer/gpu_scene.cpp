@@ -31,7 +31,7 @@ static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
 static_assert(sizeof(GpuInstance) == 144);
-static_assert(sizeof(GpuWideBvhNode) == 128 && sizeof(GpuWideBvhNode) == sizeof(caustic::WideBvhNode));
+static_assert(sizeof(GpuWideBvhNode) == 64 && sizeof(GpuWideBvhNode) == sizeof(caustic::QuantizedWideNode));
 static_assert(sizeof(GpuTriangle) == 64);
 static_assert(sizeof(GpuVertex) == 32);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
@@ -649,7 +649,8 @@ struct Builder {
             }
         }
         out.wideNodes.resize(wide.size());
-        for (std::size_t i = 0; i < wide.size(); ++i) out.wideNodes[i] = std::bit_cast<gpu::GpuWideBvhNode>(wide[i]);
+        for (std::size_t i = 0; i < wide.size(); ++i)
+            out.wideNodes[i] = std::bit_cast<gpu::GpuWideBvhNode>(quantizeWideNode(wide[i]));
         for (size_t i = 0; i < out.instances.size(); ++i)
             out.instances[i].info3 = glm::uvec4(wideRootOf[out.meshBvh.instances[i].mesh], 0, 0, 0);
         return true;

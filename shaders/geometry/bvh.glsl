@@ -175,11 +175,20 @@ bool traceLeafTriangles(WatertightRay wr, GpuInstance inst, uint instance, uint 
 // (the same test as slabTest, by coordinate over vec4s), the nearest child hit becomes `ref`, the
 // others hit go on the stack, farthest first. False when none is hit.
 bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
-    uint t0 = 8u * ref;
-    vec4 minX = FETCH_F4(wideNodeTexels, t0), maxX = FETCH_F4(wideNodeTexels, t0 + 1u);
-    vec4 minY = FETCH_F4(wideNodeTexels, t0 + 2u), maxY = FETCH_F4(wideNodeTexels, t0 + 3u);
-    vec4 minZ = FETCH_F4(wideNodeTexels, t0 + 4u), maxZ = FETCH_F4(wideNodeTexels, t0 + 5u);
-    uvec4 child = FETCH_U4(wideNodeTexels, t0 + 6u);
+    // The node's four texels (GpuWideBvhNode), its boxes decoded from bytes: bound = origin +
+    // q * scale, exact product, so the decoded box is the one renderer/bvh.cpp checked contains
+    // the child's.
+    uint t0 = 4u * ref;
+    uvec4 head = FETCH_U4(wideNodeTexels, t0), qXY = FETCH_U4(wideNodeTexels, t0 + 1u);
+    uvec2 qZ = FETCH_U4(wideNodeTexels, t0 + 2u).xy;
+    uvec4 child = FETCH_U4(wideNodeTexels, t0 + 3u);
+    vec3 origin = uintBitsToFloat(head.xyz);
+    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+#define WIDE_BYTES(w) vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu)
+    vec4 minX = origin.x + WIDE_BYTES(qXY.x) * scale.x, maxX = origin.x + WIDE_BYTES(qXY.y) * scale.x;
+    vec4 minY = origin.y + WIDE_BYTES(qXY.z) * scale.y, maxY = origin.y + WIDE_BYTES(qXY.w) * scale.y;
+    vec4 minZ = origin.z + WIDE_BYTES(qZ.x) * scale.z, maxZ = origin.z + WIDE_BYTES(qZ.y) * scale.z;
+#undef WIDE_BYTES
     vec4 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
     vec4 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
     vec4 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;

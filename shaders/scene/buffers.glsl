@@ -58,7 +58,7 @@ layout(binding = TEXUNIT_TLAS_REFS) uniform usamplerBuffer tlasRefTexels;
 layout(binding = TEXUNIT_INSTANCES) uniform usamplerBuffer instanceTexels;
 layout(binding = TEXUNIT_MATERIALS) uniform usamplerBuffer materialTexels;
 layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexels;
-// The meshes' 4-wide BVHs (GpuWideBvhNode, 8 texels each), read only by texel fetches: the 4-wide
+// The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only by texel fetches: the 4-wide
 // traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where the
 // buffer textures are used anyway.
 layout(binding = TEXUNIT_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;

@@ -186,21 +186,19 @@ CAUSTIC_STRUCT(GpuBvhNode) {
 #endif
 };
 
-// A node of a mesh's 4-wide BVH (renderer/bvh.h, collapseBvh4; CAUSTIC_WIDE_BVH): the four
-// children's boxes by coordinate (minX[k] = minX.k, ...), so one node's step tests four boxes
-// with vector operations, and the children: WIDE_CHILD_EMPTY (its box is inverted: never hit),
-// WIDE_CHILD_LEAF | count << 27 | first (triangles [first, first + count) of the mesh's, count in
-// [1, 15], first < 2^27; a longer binary leaf becomes a node of leaves), or the index of a child
-// node in wideNodes. 128 bytes, 8 texels; the last is padding.
+// A node of a mesh's 4-wide BVH (renderer/bvh.h, collapseBvh4 and quantizeWideNode;
+// CAUSTIC_WIDE_BVH), 64 bytes, 4 texels: the four children's boxes quantised to bytes on a grid
+// per axis (bound = origin + q * 2^(e - 127)): the origin's float bits in head.xyz and the biased
+// exponents e in bytes 0-2 of head.w; qXY = (lo x, hi x, lo y, hi y), qZ.xy = (lo z, hi z), child
+// k's byte k of each word. The decoded boxes contain the children's (an empty child's is inverted: never hit). Children:
+// WIDE_CHILD_EMPTY, WIDE_CHILD_LEAF | count << 27 | first (triangles [first, first + count) of the
+// mesh's, count in [1, 15], first < 2^27; a longer binary leaf becomes a node of leaves), or the
+// index of a child node in wideNodes.
 CAUSTIC_STRUCT(GpuWideBvhNode) {
-    vec4 minX;
-    vec4 maxX;
-    vec4 minY;
-    vec4 maxY;
-    vec4 minZ;
-    vec4 maxZ;
+    uvec4 head;    // xyz: origin (float bits), w: exponents
+    uvec4 qXY;
+    uvec4 qZ;      // zw: unused
     uvec4 child;
-    uvec4 pad;
 };
 #define WIDE_CHILD_EMPTY 0xffffffffu
 #define WIDE_CHILD_LEAF 0x80000000u

@@ -659,3 +659,73 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
         }
     }
 }
+
+TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, within a grid step; empty children are inverted", "[bvh]") {
+    // What the GPU's 4-wide traversal reads (GpuWideBvhNode): boxes as bytes on a per-axis grid.
+    // A decoded box must contain the child's (else a ray could miss a triangle it hits), and
+    // should be at most one grid step larger per side (else the quantisation wastes steps).
+    auto check = [](const WideBvhNode& w) {
+        const QuantizedWideNode q = quantizeWideNode(w);
+        for (int k = 0; k < 4; ++k) {
+            CHECK(q.child[k] == w.child[k]);
+            glm::vec3 lo, hi;
+            decodeWideBox(q, k, lo, hi);
+            const glm::vec3 clo(w.minX[k], w.minY[k], w.minZ[k]), chi(w.maxX[k], w.maxY[k], w.maxZ[k]);
+            if (w.child[k] == kWideEmpty) {
+                CHECK(lo.x > hi.x);
+                CHECK(lo.y > hi.y);
+                CHECK(lo.z > hi.z);
+                continue;
+            }
+            for (int a = 0; a < 3; ++a) {
+                INFO("child " << k << " axis " << a << ": [" << clo[a] << ", " << chi[a] << "] decoded [" << lo[a] << ", "
+                              << hi[a] << "]");
+                REQUIRE(lo[a] <= clo[a]);
+                REQUIRE(hi[a] >= chi[a]);
+                const float step = decodeWideBound(q, a, 1) - decodeWideBound(q, a, 0);
+                const float slack = step + 2.0f * std::nextafter(std::abs(clo[a]) + std::abs(chi[a]), INFINITY) * 0x1p-24f;
+                CHECK(clo[a] - lo[a] <= slack);
+                CHECK(hi[a] - chi[a] <= slack);
+            }
+        }
+    };
+    // The nodes of real trees (random soups, as collapseBvh4's test builds them).
+    for (std::size_t n : {std::size_t(3), std::size_t(40), std::size_t(3000)}) {
+        const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 7u + 1u);
+        const MeshBlas blas = buildBlas(m.positions, m.triangles);
+        std::vector<WideBvhNode> wide;
+        REQUIRE(collapseBvh4(blas.bvh, 0, wide));
+        for (const WideBvhNode& w : wide) check(w);
+    }
+    // Hand-made ones: far from the origin, flat, a single point, negative, tiny, huge, empty slots.
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const float offsets[] = {0.0f, -3.5f, 1e6f, -7.25e7f, 1e-30f, 3e30f};
+    const float sizes[] = {0.0f, 1e-7f, 1e-3f, 1.0f, 1e4f, 1e30f};
+    for (float offset : offsets) {
+        for (float size : sizes) {
+            for (int trial = 0; trial < 20; ++trial) {
+                WideBvhNode w{};
+                for (int k = 0; k < 4; ++k) {
+                    const bool empty = trial % 5 == 0 ? k >= 2 : (trial % 7 == 3 && k == 1);
+                    w.child[k] = empty ? kWideEmpty : kWideLeaf | (1u << 27) | std::uint32_t(k);
+                    float* mins[3] = {w.minX, w.minY, w.minZ};
+                    float* maxs[3] = {w.maxX, w.maxY, w.maxZ};
+                    for (int a = 0; a < 3; ++a) {
+                        if (empty) {
+                            mins[a][k] = INFINITY;
+                            maxs[a][k] = -INFINITY;
+                            continue;
+                        }
+                        float x0 = offset + size * unit(rng), x1 = offset + size * unit(rng);
+                        if (trial % 4 == 1) x1 = x0;  // flat
+                        mins[a][k] = std::min(x0, x1);
+                        maxs[a][k] = std::max(x0, x1);
+                    }
+                }
+                INFO("offset " << offset << ", size " << size << ", trial " << trial);
+                check(w);
+            }
+        }
+    }
+}
