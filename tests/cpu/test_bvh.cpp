@@ -660,7 +660,7 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
     }
 }
 
-TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, within a grid step; empty children are inverted", "[bvh]") {
+TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, within a grid step, and empty children are inverted", "[bvh]") {
     // What the GPU's 4-wide traversal reads (GpuWideBvhNode): boxes as bytes on a per-axis grid.
     // A decoded box must contain the child's (else a ray could miss a triangle it hits), and
     // should be at most one grid step larger per side (else the quantisation wastes steps).
