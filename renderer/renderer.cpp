@@ -566,7 +566,8 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
         {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI},
         {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}, {TEXUNIT_TABLES, m_tables, GL_R32UI},
-        {TEXUNIT_LIGHTS, m_lights, GL_RGBA32UI}, {TEXUNIT_LIGHT_TREE, m_lightTree, GL_RGBA32UI}};
+        {TEXUNIT_LIGHTS, m_lights, GL_RGBA32UI}, {TEXUNIT_LIGHT_TREE, m_lightTree, GL_RGBA32UI},
+        {TEXUNIT_BSDF_TABLES, m_bsdfTables, GL_R32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

@@ -173,7 +173,7 @@ private:
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
     // Buffer textures over primitives, BVH nodes, triangles, top-level entries, instances,
     // materials and the primitives' hit records (TEXUNIT_*; bindScene attaches them).
-    static constexpr int kTexelViews = 12;
+    static constexpr int kTexelViews = 13;
     unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (CAUSTIC_WIDE_BVH)
     unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
     unsigned m_texelViews[kTexelViews] = {};

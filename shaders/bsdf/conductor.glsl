@@ -39,8 +39,8 @@ float ggxAlbedo(float mu, float alpha) {
     vec2 x = clamp(vec2(mu, alpha), 0.0, 1.0) * float(N - 1);
     ivec2 i0 = min(ivec2(x), ivec2(N - 2));
     vec2 t = x - vec2(i0);
-    float e00 = bsdfTables[BSDF_TABLE_GGX + i0.y * N + i0.x], e10 = bsdfTables[BSDF_TABLE_GGX + i0.y * N + i0.x + 1];
-    float e01 = bsdfTables[BSDF_TABLE_GGX + (i0.y + 1) * N + i0.x], e11 = bsdfTables[BSDF_TABLE_GGX + (i0.y + 1) * N + i0.x + 1];
+    float e00 = bsdfTable(BSDF_TABLE_GGX + i0.y * N + i0.x), e10 = bsdfTable(BSDF_TABLE_GGX + i0.y * N + i0.x + 1);
+    float e01 = bsdfTable(BSDF_TABLE_GGX + (i0.y + 1) * N + i0.x), e11 = bsdfTable(BSDF_TABLE_GGX + (i0.y + 1) * N + i0.x + 1);
     return mix(mix(e00, e10, t.x), mix(e01, e11, t.x), t.y);
 }
 

@@ -50,7 +50,7 @@ float surfaceTable2(int base, int stride, float x, float y) {
     ivec2 i0 = min(ivec2(p), ivec2(N - 2));
     vec2 t = p - vec2(i0);
     int b = base + i0.y * stride + i0.x;
-    return mix(mix(bsdfTables[b], bsdfTables[b + 1], t.x), mix(bsdfTables[b + stride], bsdfTables[b + stride + 1], t.x), t.y);
+    return mix(mix(bsdfTable(b), bsdfTable(b + 1), t.x), mix(bsdfTable(b + stride), bsdfTable(b + stride + 1), t.x), t.y);
 }
 
 // The dielectric reflection lobe's directional albedo E(mu, alpha, eta) and its average.
@@ -80,7 +80,7 @@ float dielectricAlbedoAverage(float alpha, float eta) {
     int i0 = min(int(p), N - 2);
     float tx = p - float(i0);
     int b0 = BSDF_TABLE_DIELECTRIC_AVG + s0 * N + i0, b1 = b0 + N;
-    return mix(mix(bsdfTables[b0], bsdfTables[b0 + 1], tx), mix(bsdfTables[b1], bsdfTables[b1 + 1], tx), t);
+    return mix(mix(bsdfTable(b0), bsdfTable(b0 + 1), tx), mix(bsdfTable(b1), bsdfTable(b1 + 1), tx), t);
 }
 
 float sheenAlbedo(float mu, float r) { return surfaceTable2(BSDF_TABLE_SHEEN, GGX_ALBEDO_TABLE_SIZE, mu, r); }

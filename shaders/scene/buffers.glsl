@@ -44,7 +44,7 @@ layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVer
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 
 // Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef, loadInstance,
-// loadMaterial, loadLight, sceneTable (and loadLightNode in lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
+// loadMaterial, loadLight, sceneTable, bsdfTable (and loadLightNode in lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
 // shader_loader.h, integratorDefines) they read buffer textures over the same buffers
 // (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
 // llvmpipe runs 8 invocations as the lanes of one SIMD register, and turns every storage-buffer
@@ -66,13 +66,16 @@ layout(binding = TEXUNIT_VERTICES) uniform usamplerBuffer vertexTexels;
 layout(binding = TEXUNIT_TABLES) uniform usamplerBuffer tableTexels;
 layout(binding = TEXUNIT_LIGHTS) uniform usamplerBuffer lightTexels;
 layout(binding = TEXUNIT_LIGHT_TREE) uniform usamplerBuffer lightNodeTexels;
+layout(binding = TEXUNIT_BSDF_TABLES) uniform usamplerBuffer bsdfTableTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
 #define FETCH_F4(tex, i) uintBitsToFloat(texelFetch(tex, int(i)))
 #define sceneTable(i) uintBitsToFloat(texelFetch(tableTexels, int(i)).x)
+#define bsdfTable(i) uintBitsToFloat(texelFetch(bsdfTableTexels, int(i)).x)
 #else
 #define sceneTable(i) sceneTables[i]
+#define bsdfTable(i) bsdfTables[i]
 #endif
 
 #ifdef CAUSTIC_FETCH_TEXELS

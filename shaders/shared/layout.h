@@ -46,6 +46,7 @@ using uint = std::uint32_t;
 #define TEXUNIT_TABLES 10          // the CDF tables (sceneTables) as R32UI texels
 #define TEXUNIT_LIGHTS 11          // GpuLight[] as RGBA32UI texels
 #define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[] as RGBA32UI texels
+#define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables) as R32UI texels
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
