@@ -168,6 +168,9 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
     {
         defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
         defines.push_back({"CAUSTIC_BAKED_INSTANCE_COUNT", std::to_string(c.instances.size())});
+        // A path step's continuation and shadow rays walked together (integrator/path.glsl;
+        // candidates of both rays in one 32-bit mask: at most 16 instances).
+        if (c.instances.size() <= 16) defines.push_back({"CAUSTIC_PAIRED_TRACE", "1"});
     }
     return defines;
 }

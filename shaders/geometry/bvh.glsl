@@ -289,7 +289,8 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
 // Baked geometry (renderer.cpp, bakedPrimitiveTests): the renderer's define expands to one of these
 // per primitive or instance, each record's words as literals, inside traceScene (they use its
 // bakedRay, rayO, rayD, anyHit, hit and found). The tests are the loop's and the walk's own.
-#define BAKED_PRIMITIVE(kind, ra, rb, rc, index) {                                              \
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index) BAKED_PRIMITIVE_TEST(kind, ra, rb, rc, index)
+#define BAKED_PRIMITIVE_TEST(kind, ra, rb, rc, index) {                                         \
             GpuPrimitive rec;                                                                 \
             rec.a = uintBitsToFloat(ra);                                                      \
             rec.b = uintBitsToFloat(rb);                                                      \
@@ -318,8 +319,8 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
             root.boundsMax = uintBitsToFloat(bmax).xyz;                                       \
             float te;                                                                         \
             if (slabTest(root, bo, safeInverse(bd), hit.t, te)) {                             \
-                candidates |= 1u << (index);                                                  \
-                enter[index] = te;                                                            \
+                candidates |= 1u << ((index) + shift);                                        \
+                enter[(index) + shift] = te;                                                  \
             }                                                                                 \
         }
 #define BAKED_INSTANCE_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)              \
@@ -389,6 +390,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         bakedRay.d = rayD;
         uint candidates = 0u;
         float enter[CAUSTIC_BAKED_INSTANCE_COUNT];
+        const uint shift = 0u;  // (traceScenePair's second ray uses bits 16-31)
 #define BAKED_INSTANCE BAKED_INSTANCE_SCAN
         CAUSTIC_BAKED_TOP_LEVEL
 #undef BAKED_INSTANCE
@@ -454,5 +456,112 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     }
     return found;
 }
+
+#ifdef CAUSTIC_PAIRED_TRACE
+// A path step's two rays in one walk (integrator/path.glsl, CAUSTIC_PAIRED_TRACE: a baked top
+// level of at most 16 instances): ray 0 for its closest hit below tMax0 (true and hit0 when
+// found), ray 1 (a shadow ray) for any hit below tMax1 (occluded1); either may be absent (want0,
+// want1). Each ray's primitives are tested, the
+// instances whose root box it meets become candidates (bit k for ray 0, bit 16 + k for ray 1), and
+// one loop walks every candidate, nearest entry first, through one copy of the tree walk. Where
+// the two rays were walked one after the other, each paid a pass of the walk's loops on llvmpipe
+// even when none of its lanes met a mesh, and a lane walking its shadow ray waited for the lanes
+// walking their continuation rays; here lanes walk either in the same pass. Each ray meets its own
+// candidates in its own nearest-first order, so ray 0's hit is traceScene's.
+#define PAIR_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)                        \
+        if ((candidates & (1u << (index))) != 0u && enter[index] < pickT) {                  \
+            pickT = enter[index];                                                             \
+            pick = index;                                                                     \
+        }                                                                                     \
+        if ((candidates & (1u << (index + 16u))) != 0u && enter[index + 16u] < pickT) {      \
+            pickT = enter[index + 16u];                                                       \
+            pick = index + 16u;                                                               \
+        }
+bool traceScenePair(bool want0, vec3 o0, vec3 d0, float tMax0, bool want1, vec3 o1, vec3 d1, float tMax1,
+                    out TraceHit hit0, out bool occluded1) {
+    bool found0;
+    TraceHit h0, h1;
+    h0.t = tMax0;
+    h1.t = tMax1;
+    h0.ref = h1.ref = 0xffffffffu;
+    h0.triangle = h1.triangle = 0u;
+    h0.bary = h1.bary = vec2(0.0);
+    found0 = false;
+    occluded1 = false;
+    uint candidates = 0u;
+    float enter[32];
+    // Each ray's primitives and root boxes: the single ray's tests (BAKED_PRIMITIVE,
+    // BAKED_INSTANCE_SCAN); `anyHit` false for both, so that the primitive test's early return
+    // is compiled out (a primitive that occludes the shadow ray just ends as a hit).
+    const bool anyHit = false;
+#undef BAKED_PRIMITIVE
+#define BAKED_PRIMITIVE BAKED_PRIMITIVE_TEST
+#define BAKED_INSTANCE BAKED_INSTANCE_SCAN
+    if (want0) {
+        vec3 rayO = o0, rayD = d0;
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
+        TraceHit hit = h0;
+        bool found = false;
+        const uint shift = 0u;
+        CAUSTIC_BAKED_TOP_LEVEL
+        h0 = hit;
+        found0 = found;
+    }
+    if (want1) {
+        vec3 rayO = o1, rayD = d1;
+        Ray bakedRay;
+        bakedRay.o = rayO;
+        bakedRay.d = rayD;
+        TraceHit hit = h1;
+        bool found = false;
+        const uint shift = 16u;
+        CAUSTIC_BAKED_TOP_LEVEL
+        occluded1 = found;
+        if (found) candidates &= 0xffffu;  // occluded by a primitive: no mesh needs walking
+    }
+#undef BAKED_PRIMITIVE
+#undef BAKED_INSTANCE
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index)
+    while (candidates != 0u) {
+        float pickT = uintBitsToFloat(0x7f800000u);
+        uint pick = 0u;
+#define BAKED_INSTANCE PAIR_PICK
+        CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+        candidates &= ~(1u << pick);
+        bool shadow = pick >= 16u;
+        uint k = pick & 15u;
+        TraceHit th = shadow ? h1 : h0;
+        // The rest of this ray's candidates start no nearer (the root box test's own rule).
+        if (!(pickT <= th.t)) {
+            candidates &= shadow ? 0xffffu : 0xffff0000u;
+            continue;
+        }
+        GpuInstance inst;
+        pick = k;
+#define BAKED_INSTANCE BAKED_INSTANCE_SELECT
+        CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+        vec3 o, d;
+        rayToObject(inst, shadow ? o1 : o0, shadow ? d1 : d0, o, d);
+        bool met = traceInstanceTree(inst, k, o, d, safeInverse(d), shadow, 0, th);
+        if (shadow) {
+            h1 = th;
+            if (met) {
+                occluded1 = true;
+                candidates &= 0xffffu;
+            }
+        } else {
+            h0 = th;
+            found0 = found0 || met;
+        }
+    }
+#undef BAKED_PRIMITIVE
+    hit0 = h0;
+    return found0;
+}
+#endif
 
 #endif

@@ -106,11 +106,9 @@ bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t) {
 
 #include "bvh.glsl"
 
-// Closest hit with t in (0, tMax), with everything shading needs.
-bool sceneIntersect(Ray r, float tMax, out Hit hit) {
-    ++g_rayCount;
-    TraceHit th;
-    if (!traceScene(r.o, r.d, tMax, false, th)) return false;
+// What shading needs of ray r's closest hit th (traceScene's record).
+Hit hitAttributes(Ray r, TraceHit th) {
+    Hit hit;
     hit.t = th.t;
     hit.p = r.o + th.t * r.d;
     if (!HAS_MESHES || (th.ref & TLAS_REF_INSTANCE) == 0u) {
@@ -132,6 +130,15 @@ bool sceneIntersect(Ray r, float tMax, out Hit hit) {
     hit.ref = th.ref;
     hit.triangle = th.triangle;
     hit.bary = th.bary;
+    return hit;
+}
+
+// Closest hit with t in (0, tMax), with everything shading needs.
+bool sceneIntersect(Ray r, float tMax, out Hit hit) {
+    ++g_rayCount;
+    TraceHit th;
+    if (!traceScene(r.o, r.d, tMax, false, th)) return false;
+    hit = hitAttributes(r, th);
     return true;
 }
 

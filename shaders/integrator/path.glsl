@@ -114,6 +114,14 @@ struct PathState {
     uint bounces;
     bool aovDone;
     PathAov aov;
+    // CAUSTIC_PAIRED_TRACE: the shadow ray of the last vertex waits for the next step, which
+    // traces it with the continuation ray in one walk (geometry/bvh.glsl, traceScenePair); what it
+    // adds if unoccluded; and whether the path has ended with only that shadow ray left to trace.
+    bool shadowPending;
+    bool ended;
+    Ray shadowRay;
+    float shadowTMax;
+    vec3 shadowL;
 };
 
 PathState pathBegin(Ray ray) {
@@ -137,7 +145,20 @@ PathState pathBegin(Ray ray) {
     st.aovDone = false;
     st.aov.albedo = vec3(0.0);
     st.aov.normal = vec3(0.0);
+    st.shadowPending = false;
+    st.ended = false;
+    st.shadowRay = ray;
+    st.shadowTMax = 0.0;
+    st.shadowL = vec3(0.0);
     return st;
+}
+
+// The end of a path after its last vertex's shading: true, unless its shadow ray still waits for
+// the next step (CAUSTIC_PAIRED_TRACE), which then only traces it.
+bool pathEndsAfterShading(inout PathState st) {
+    if (!st.shadowPending) return true;
+    st.ended = true;
+    return false;
 }
 
 // One trip through the path loop: traces st.ray and handles what it finds. True when the path
@@ -154,7 +175,21 @@ bool pathStep(inout PathState st, inout Sampler smp) {
     uint bounces = st.bounces;
 
     Hit hit;
+#ifdef CAUSTIC_PAIRED_TRACE
+    // The continuation ray (unless the path has ended) and the last vertex's shadow ray, in one
+    // walk; the shadow ray's radiance is added first, as it was at its vertex.
+    TraceHit th;
+    bool occluded;
+    bool found = traceScenePair(!st.ended, st.ray.o, st.ray.d, FLT_MAX, st.shadowPending, st.shadowRay.o,
+                                st.shadowRay.d, st.shadowTMax, th, occluded);
+    g_rayCount += (st.ended ? 0u : 1u) + (st.shadowPending ? 1u : 0u);
+    if (st.shadowPending && !occluded) st.L += st.shadowL;
+    st.shadowPending = false;
+    if (st.ended) return true;
+    if (found) hit = hitAttributes(st.ray, th);
+#else
     bool found = sceneIntersect(st.ray, FLT_MAX, hit);  // the integrator's one closest-hit call
+#endif
     if (st.probing) {
         st.L += st.probeBeta * probeEmission(found, hit, st.ray.d);
         st.probing = false;
@@ -245,11 +280,17 @@ bool pathStep(inout PathState st, inout Sampler smp) {
                     shadow = segmentRay(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
                     shadowTMax = 1.0;
                 }
-                if (!sceneOccluded(shadow, shadowTMax)) {
-                    float pl = pmf * ls.pdf;
-                    float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
-                    st.L += st.beta * fv * abs(wiL.z) * ls.Li * (w / pl);
-                }
+                float pl = pmf * ls.pdf;
+                float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
+                vec3 contribution = st.beta * fv * abs(wiL.z) * ls.Li * (w / pl);
+#ifdef CAUSTIC_PAIRED_TRACE
+                st.shadowPending = true;
+                st.shadowRay = shadow;
+                st.shadowTMax = shadowTMax;
+                st.shadowL = contribution;
+#else
+                if (!sceneOccluded(shadow, shadowTMax)) st.L += contribution;
+#endif
             }
         }
     }
@@ -257,7 +298,7 @@ bool pathStep(inout PathState st, inout Sampler smp) {
     // Continuation ray by BSDF sampling.
     vec2 uDir = sample2D(smp, bounceSlot(bounces, SLOT_BSDF_DIR));
     BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
-    if (bs.pdf <= 0.0) return true;
+    if (bs.pdf <= 0.0) return pathEndsAfterShading(st);
     vec3 wiW = toWorld(f, bs.wi);
     // Reflection or transmission as the geometry sees it must agree with the shading frame's.
     bool ends = (woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0);
@@ -307,7 +348,7 @@ bool pathStep(inout PathState st, inout Sampler smp) {
         st.ray.o = offsetRayOrigin(hit.p, hit.ng, probeDir);
         st.ray.d = probeDir;
     } else if (ends) {
-        return true;
+        return pathEndsAfterShading(st);
     }
     st.bounces = bounces + 1u;
     return false;

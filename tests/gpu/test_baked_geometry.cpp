@@ -128,6 +128,9 @@ TEST_CASE("baked primitives: quads and spheres as constants of the program give 
     CHECK_FALSE(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_PRIMITIVES"));
     CHECK(test::hasDefine(baked->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
     CHECK_FALSE(test::hasDefine(fetching->featureDefines(), "CAUSTIC_BAKED_TOP_LEVEL"));
+    // ... and walks each step's continuation and shadow rays together (integrator/path.glsl).
+    CHECK(test::hasDefine(baked->featureDefines(), "CAUSTIC_PAIRED_TRACE"));
+    CHECK_FALSE(test::hasDefine(fetching->featureDefines(), "CAUSTIC_PAIRED_TRACE"));
     requireSameFilm(meshFilm, meshReference);
     // The knot is in the picture: the image differs from the box's without it (same seed and
     // sample count, so only pixels whose paths meet the knot differ).
