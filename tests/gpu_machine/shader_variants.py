@@ -33,10 +33,10 @@ PATCHES = {
          "vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, vec3 normalTexel) {\n    return ng;"),
     ],
     "no-aov-images": [
-        ("integrator/path.comp", "vec4 albedoSum = imageLoad(albedoImage, ip);", "vec4 albedoSum = vec4(0.0);"),
-        ("integrator/path.comp", "vec4 normalSum = imageLoad(normalImage, ip);", "vec4 normalSum = vec4(0.0);"),
-        ("integrator/path.comp", "imageStore(albedoImage, ip, albedoSum);", ""),
-        ("integrator/path.comp", "imageStore(normalImage, ip, normalSum);", ""),
+        ("integrator/path.comp", "px.albedo = imageLoad(albedoImage, ip);", "px.albedo = vec4(0.0);"),
+        ("integrator/path.comp", "px.normal = imageLoad(normalImage, ip);", "px.normal = vec4(0.0);"),
+        ("integrator/path.comp", "imageStore(albedoImage, ip, px.albedo);", ""),
+        ("integrator/path.comp", "imageStore(normalImage, ip, px.normal);", ""),
     ],
     # The texture slots' loop kept a loop (a bound the compiler cannot see: frame.geometry.z is 0).
     "texture-loop-not-unrolled": [("bsdf/material.glsl", "for (uint slot = 0u; slot < 3u; ++slot) {",
