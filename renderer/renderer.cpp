@@ -164,13 +164,13 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
-    if (bake && !bruteForce && !c.instances.empty() && c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX)
-    {
+    // A baked top level: at most 32 entries, of them at most 16 instances (traceScenePair keeps
+    // both of a step's rays' instance candidates in one 32-bit mask), and a path step's
+    // continuation and shadow rays walked together (integrator/path.glsl, CAUSTIC_PAIRED_TRACE).
+    if (bake && !bruteForce && !c.instances.empty() && c.instances.size() <= 16 &&
+        c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX) {
         defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
-        defines.push_back({"CAUSTIC_BAKED_INSTANCE_COUNT", std::to_string(c.instances.size())});
-        // A path step's continuation and shadow rays walked together (integrator/path.glsl;
-        // candidates of both rays in one 32-bit mask: at most 16 instances).
-        if (c.instances.size() <= 16) defines.push_back({"CAUSTIC_PAIRED_TRACE", "1"});
+        defines.push_back({"CAUSTIC_PAIRED_TRACE", "1"});
     }
     return defines;
 }

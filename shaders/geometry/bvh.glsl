@@ -305,10 +305,10 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
                 if (anyHit) return true;                                                      \
             }                                                                                 \
         }
-// A baked instance (CAUSTIC_BAKED_TOP_LEVEL), expanded three times by traceScene with these
-// meanings in turn: BAKED_INSTANCE_SCAN tests the ray against the instance's root box (its last
-// two rows, object space) and makes it a candidate; BAKED_INSTANCE_PICK finds the nearest
-// candidate; BAKED_INSTANCE_SELECT makes `inst` that candidate's record.
+// A baked instance (CAUSTIC_BAKED_TOP_LEVEL), expanded by traceScenePair with these meanings in
+// turn: BAKED_INSTANCE_SCAN tests a ray against the instance's root box (its last two rows, object
+// space) and makes it a candidate (bit index + shift); PAIR_PICK finds the nearest candidate;
+// BAKED_INSTANCE_SELECT makes `inst` that candidate's record.
 #define BAKED_INSTANCE_SCAN(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax) {             \
             vec3 bo = vec3(dot(uintBitsToFloat(w0), vec4(rayO, 1.0)), dot(uintBitsToFloat(w1), vec4(rayO, 1.0)), \
                            dot(uintBitsToFloat(w2), vec4(rayO, 1.0)));                        \
@@ -323,11 +323,6 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
                 enter[(index) + shift] = te;                                                  \
             }                                                                                 \
         }
-#define BAKED_INSTANCE_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)              \
-        if ((candidates & (1u << (index))) != 0u && enter[index] < pickT) {                  \
-            pickT = enter[index];                                                             \
-            pick = index;                                                                     \
-        }
 #define BAKED_INSTANCE_SELECT(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)            \
         if (pick == (index)) {                                                                \
             inst.worldToObject0 = uintBitsToFloat(w0);                                        \
@@ -340,6 +335,11 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
             inst.info2 = i2;                                                                  \
             inst.info3 = i3;                                                                  \
         }
+#endif
+
+#if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
+bool traceScenePair(bool want0, vec3 o0, vec3 d0, float tMax0, bool want1, vec3 o1, vec3 d1, float tMax1,
+                    out TraceHit hit0, out bool occluded1);
 #endif
 
 bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit) {
@@ -377,47 +377,10 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
 #if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
     {
         // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests):
-        // a scene of a few meshes and primitives. The primitives are tested in a fixed order,
-        // instead of walking the tree. The instances whose root box the ray hits become
-        // candidates, and one loop walks them nearest first, each through the same code: on
-        // llvmpipe a loop costs at least one pass of its body under the lane mask, so one tree
-        // walk per instance (each instance's walk inlined, as before) cost every ray a pass of
-        // each, and lanes in different instances waited for each other in turn, where here they
-        // walk their own instance's tree in the same pass (docs/performance.md).
-        bool found = false;
-        Ray bakedRay;
-        bakedRay.o = rayO;
-        bakedRay.d = rayD;
-        uint candidates = 0u;
-        float enter[CAUSTIC_BAKED_INSTANCE_COUNT];
-        const uint shift = 0u;  // (traceScenePair's second ray uses bits 16-31)
-#define BAKED_INSTANCE BAKED_INSTANCE_SCAN
-        CAUSTIC_BAKED_TOP_LEVEL
-#undef BAKED_INSTANCE
-#undef BAKED_PRIMITIVE
-#define BAKED_PRIMITIVE(kind, ra, rb, rc, index)
-        while (candidates != 0u) {
-            float pickT = uintBitsToFloat(0x7f800000u);
-            uint pick = 0u;
-#define BAKED_INSTANCE BAKED_INSTANCE_PICK
-            CAUSTIC_BAKED_TOP_LEVEL
-#undef BAKED_INSTANCE
-            candidates &= ~(1u << pick);
-            // The rest start no nearer: once a candidate starts beyond the closest hit, done (the
-            // root box test's own rule, tEnter <= tMax).
-            if (!(pickT <= hit.t)) break;
-            GpuInstance inst;
-#define BAKED_INSTANCE BAKED_INSTANCE_SELECT
-            CAUSTIC_BAKED_TOP_LEVEL
-#undef BAKED_INSTANCE
-            vec3 o, d;
-            rayToObject(inst, rayO, rayD, o, d);
-            if (traceInstanceTree(inst, pick, o, d, safeInverse(d), anyHit, 0, hit)) {
-                found = true;
-                if (anyHit) return true;
-            }
-        }
-        return found;
+        // the one ray as either ray of traceScenePair.
+        bool occluded;
+        bool found = traceScenePair(!anyHit, rayO, rayD, tMax, anyHit, rayO, rayD, tMax, hit, occluded);
+        return anyHit ? occluded : found;
     }
 #endif
     // The top level, over analytic primitives and mesh instances.
@@ -457,13 +420,13 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     return found;
 }
 
-#ifdef CAUSTIC_PAIRED_TRACE
-// A path step's two rays in one walk (integrator/path.glsl, CAUSTIC_PAIRED_TRACE: a baked top
-// level of at most 16 instances): ray 0 for its closest hit below tMax0 (true and hit0 when
-// found), ray 1 (a shadow ray) for any hit below tMax1 (occluded1); either may be absent (want0,
-// want1). Each ray's primitives are tested, the
-// instances whose root box it meets become candidates (bit k for ray 0, bit 16 + k for ray 1), and
-// one loop walks every candidate, nearest entry first, through one copy of the tree walk. Where
+#if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
+// Two rays in one walk of a baked top level (at most 16 instances; renderer.cpp): a path step's
+// continuation and shadow rays (integrator/path.glsl, CAUSTIC_PAIRED_TRACE), or traceScene's one
+// ray as either. Ray 0 is traced for its closest hit below tMax0 (true, and hit0), ray 1 (a shadow
+// ray) for any hit below tMax1 (occluded1); either may be absent (want0, want1). Each ray's
+// primitives are tested, the instances whose root box it meets become candidates (bit k for ray 0,
+// bit 16 + k for ray 1), and one loop walks every candidate, nearest entry first, through one copy of the tree walk. Where
 // the two rays were walked one after the other, each paid a pass of the walk's loops on llvmpipe
 // even when none of its lanes met a mesh, and a lane walking its shadow ray waited for the lanes
 // walking their continuation rays; here lanes walk either in the same pass. Each ray meets its own
