@@ -161,8 +161,17 @@ bool pathEndsAfterShading(inout PathState st) {
     return false;
 }
 
-// One trip through the path loop: traces st.ray and handles what it finds. True when the path
-// has ended (st.L and st.aov are then its results).
+// What an unoccluded light sample adds: the path's throughput times f cos / pdf, with the power
+// heuristic's weight against BSDF sampling (1 for delta lights or without MIS).
+vec3 lightSampleRadiance(vec3 beta, vec3 f, float cosWi, LightSample ls, float pmf, float pdfBsdf, bool misOn) {
+    float pl = pmf * ls.pdf;
+    float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
+    return beta * f * abs(cosWi) * ls.Li * (w / pl);
+}
+
+// One trip through the path loop: traces st.ray (with CAUSTIC_PAIRED_TRACE also the last vertex's
+// shadow ray) and handles what it finds. True when the path has ended (st.L and st.aov are then
+// its results).
 bool pathStep(inout PathState st, inout Sampler smp) {
     uint strategy = frame.counts.w;
     uint maxDepth = frame.counts.z;
@@ -280,16 +289,16 @@ bool pathStep(inout PathState st, inout Sampler smp) {
                     shadow = segmentRay(hit.p, hit.ng, hit.p + ls.dist * ls.wi, ls.nl);
                     shadowTMax = 1.0;
                 }
-                float pl = pmf * ls.pdf;
-                float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
-                vec3 contribution = st.beta * fv * abs(wiL.z) * ls.Li * (w / pl);
 #ifdef CAUSTIC_PAIRED_TRACE
                 st.shadowPending = true;
                 st.shadowRay = shadow;
                 st.shadowTMax = shadowTMax;
-                st.shadowL = contribution;
+                st.shadowL = lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
 #else
-                if (!sceneOccluded(shadow, shadowTMax)) st.L += contribution;
+                // (computed after the trace: nothing more lives across it, which NVIDIA's
+                // register count rewards)
+                if (!sceneOccluded(shadow, shadowTMax))
+                    st.L += lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
 #endif
             }
         }
