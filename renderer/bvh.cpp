@@ -28,8 +28,8 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <mutex>
 #include <thread>
 #include <utility>

@@ -171,8 +171,9 @@ private:
     static constexpr int kGeometryBuffers = 5;
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
-    // Buffer textures over primitives, BVH nodes, triangles, top-level entries, instances,
-    // materials and the primitives' hit records (TEXUNIT_*; bindScene attaches them).
+    // Buffer textures over primitives, BVH nodes (binary and 4-wide), triangles, vertices,
+    // top-level entries, instances, materials, the primitives' hit records, lights, the light
+    // tree, the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
     static constexpr int kTexelViews = 13;
     unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (CAUSTIC_WIDE_BVH)
     unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
