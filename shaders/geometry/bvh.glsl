@@ -423,14 +423,15 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
 #if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
 // Two rays in one walk of a baked top level (at most 16 instances; renderer.cpp): a path step's
 // continuation and shadow rays (integrator/path.glsl, CAUSTIC_PAIRED_TRACE), or traceScene's one
-// ray as either. Ray 0 is traced for its closest hit below tMax0 (true, and hit0), ray 1 (a shadow
-// ray) for any hit below tMax1 (occluded1); either may be absent (want0, want1). Each ray's
-// primitives are tested, the instances whose root box it meets become candidates (bit k for ray 0,
-// bit 16 + k for ray 1), and one loop walks every candidate, nearest entry first, through one copy of the tree walk. Where
-// the two rays were walked one after the other, each paid a pass of the walk's loops on llvmpipe
-// even when none of its lanes met a mesh, and a lane walking its shadow ray waited for the lanes
-// walking their continuation rays; here lanes walk either in the same pass. Each ray meets its own
-// candidates in its own nearest-first order, so ray 0's hit is traceScene's.
+// ray as either. Ray 0 is traced for its closest hit below tMax0 (the return value, and hit0), ray
+// 1 (a shadow ray) for any hit below tMax1 (occluded1); either may be absent (want0, want1). Each
+// ray's primitives are tested, the instances whose root box it meets become candidates (bit k for
+// ray 0, bit 16 + k for ray 1), and one loop walks every candidate, nearest entry first, through
+// one copy of the tree walk. Where the two rays were walked one after the other, each paid a pass
+// of the walk's loops on llvmpipe even when none of its lanes met a mesh, and a lane walking its
+// shadow ray waited for the lanes walking their continuation rays; here lanes walk either in the
+// same pass. Each ray meets its own candidates in its own nearest-first order, so ray 0's hit is
+// what walking it alone finds.
 #define PAIR_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)                        \
         if ((candidates & (1u << (index))) != 0u && enter[index] < pickT) {                  \
             pickT = enter[index];                                                             \
