@@ -22,7 +22,7 @@ double sizeOf(const std::vector<T>& v) { return double(v.size()) * double(sizeof
 
 }  // namespace
 
-GpuLimits queryGpuLimits() {
+GpuLimits queryGpuLimits(bool texelFetching) {
     GpuLimits limits;
     GLint texture = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
@@ -30,6 +30,11 @@ GpuLimits queryGpuLimits() {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     limits.maxTextureSize = texture;
     limits.maxStorageBlockSize = block;
+    if (texelFetching) {
+        GLint texels = 0;
+        glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+        limits.maxTextureBufferTexels = texels;
+    }
     return limits;
 }
 
@@ -49,29 +54,38 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
     }
     if (limits.maxStorageBlockSize <= 0) return {};
     const double tableBytes = double(tableOffsets(c).total) * sizeof(float);   // packTables' size, not packed here
+    // texel: the bytes of a texel of the buffer texture that views it (renderer.cpp, bindScene), 0
+    // for a buffer read only as a storage buffer.
     const struct {
         const char* what;
         double size;
+        double texel;
     } buffers[] = {
-        {"primitives", sizeOf(c.primitives)},
-        {"materials", sizeOf(c.materials)},
-        {"lights", sizeOf(c.lights)},
-        {"light tree", sizeOf(c.lightTree.nodes)},
-        {"light and environment sampling tables", tableBytes},
-        {"BVH nodes", sizeOf(c.bvhNodes)},
-        {"4-wide BVH nodes", sizeOf(c.wideNodes)},
-        {"top-level BVH entries", sizeOf(c.tlasRefs)},
-        {"mesh instances", sizeOf(c.instances)},
-        {"mesh triangles", sizeOf(c.triangles)},
-        {"mesh vertices", sizeOf(c.vertices)},
-        {"texture texels", sizeOf(c.texels)},
-        {"textures", sizeOf(c.textures)},
+        {"primitives", sizeOf(c.primitives), 16},
+        {"materials", sizeOf(c.materials), 16},
+        {"lights", sizeOf(c.lights), 16},
+        {"light tree", sizeOf(c.lightTree.nodes), 16},
+        {"light and environment sampling tables", tableBytes, 4},
+        {"BVH nodes", sizeOf(c.bvhNodes), 16},
+        {"4-wide BVH nodes", sizeOf(c.wideNodes), 16},
+        {"top-level BVH entries", sizeOf(c.tlasRefs), 4},
+        {"mesh instances", sizeOf(c.instances), 16},
+        {"mesh triangles", sizeOf(c.triangles), 16},
+        {"mesh vertices", sizeOf(c.vertices), 16},
+        {"texture texels", sizeOf(c.texels), 0},
+        {"textures", sizeOf(c.textures), 0},
     };
     for (const auto& b : buffers) {
         if (b.size > double(limits.maxStorageBlockSize)) {
             return std::string("the scene's ") + b.what + " need " + bytes(b.size) +
                    " of GPU storage; this GPU allows " + bytes(double(limits.maxStorageBlockSize)) +
                    " per buffer (GL_MAX_SHADER_STORAGE_BLOCK_SIZE)";
+        }
+        // Read through a buffer texture (llvmpipe), texels past the limit would read as zeros.
+        if (limits.maxTextureBufferTexels > 0 && b.texel > 0 && b.size / b.texel > double(limits.maxTextureBufferTexels)) {
+            return std::string("the scene's ") + b.what + " need " + std::to_string(std::int64_t(b.size / b.texel)) +
+                   " texels of a buffer texture; this GPU allows " + std::to_string(limits.maxTextureBufferTexels) +
+                   " (GL_MAX_TEXTURE_BUFFER_SIZE)";
         }
     }
     return {};

@@ -17,10 +17,14 @@ namespace caustic {
 struct GpuLimits {
     std::int64_t maxTextureSize = 0;          // GL_MAX_TEXTURE_SIZE: texels per side
     std::int64_t maxStorageBlockSize = 0;     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE: bytes per buffer
+    // GL_MAX_TEXTURE_BUFFER_SIZE: texels per buffer texture, where the integrator reads the scene
+    // through buffer textures (CAUSTIC_FETCH_TEXELS); 0 where it does not (nothing to check).
+    std::int64_t maxTextureBufferTexels = 0;
 };
 
-// Queries the current GL context's limits (needs a current context).
-GpuLimits queryGpuLimits();
+// Queries the current GL context's limits (needs a current context); maxTextureBufferTexels only
+// when `texelFetching` (the integrator's defines have CAUSTIC_FETCH_TEXELS).
+GpuLimits queryGpuLimits(bool texelFetching);
 
 // Empty when the compiled scene fits; otherwise why not, naming the JSON path and file (an
 // environment map too wide or tall), the render size, or the buffer that is too large and its

@@ -231,7 +231,12 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     // off, and the check that the whole source compiles.
     if (!r->useProgram(generalDefines(false), error)) return nullptr;
     r->m_general = r->m_program;
-    r->m_limits = queryGpuLimits();
+    {
+        const ShaderDefines defines = integratorDefines();
+        const bool texelFetching = std::any_of(defines.begin(), defines.end(),
+                                               [](const auto& d) { return d.first == "CAUSTIC_FETCH_TEXELS"; });
+        r->m_limits = queryGpuLimits(texelFetching);
+    }
     unsigned buffers[6];
     glCreateBuffers(6, buffers);
     r->m_frameUbo = buffers[0];

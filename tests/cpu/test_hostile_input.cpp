@@ -502,4 +502,13 @@ TEST_CASE("hostile: a compiled scene is checked against injected GL limits befor
     CHECK(gpuLimitProblem(s, c, limits) ==
           "the scene's mesh triangles need 62.5 KiB of GPU storage; this GPU allows 4.0 KiB per buffer "
           "(GL_MAX_SHADER_STORAGE_BLOCK_SIZE)");
+    // Where the scene is read through buffer textures (llvmpipe), their texel limit too: 1000
+    // triangles are 4000 RGBA32UI texels.
+    limits.maxStorageBlockSize = std::int64_t(1) << 27;
+    limits.maxTextureBufferTexels = 4000;
+    CHECK(gpuLimitProblem(s, c, limits).empty());
+    limits.maxTextureBufferTexels = 3999;
+    CHECK(gpuLimitProblem(s, c, limits) ==
+          "the scene's mesh triangles need 4000 texels of a buffer texture; this GPU allows 3999 "
+          "(GL_MAX_TEXTURE_BUFFER_SIZE)");
 }
