@@ -970,25 +970,29 @@ namespace {
 
 float scaleOf(std::uint32_t biasedExponent) { return std::bit_cast<float>(biasedExponent << 23); }
 
+// Word w of a node's bytes: lo x, hi x, lo y, hi y (qXY), lo z, hi z (qZ.xy).
+std::uint32_t& boundBytes(gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
+std::uint32_t boundBytes(const gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
+
 }  // namespace
 
-float decodeWideBound(const QuantizedWideNode& node, int axis, std::uint32_t q) {
-    const float s = scaleOf((node.exponents >> (8 * axis)) & 0xffu);
-    // The product is exact (q < 2^8, s a power of two, no overflow for the bounds used): fused
-    // or not, the sum is the one rounding, as in the shader.
+float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q) {
+    const float s = scaleOf((node.head.w >> (8 * axis)) & 0xffu);
+    // The product is exact (q < 2^8, s a power of two): fused or not, the sum is the one
+    // rounding, as in the shader.
     const volatile float product = static_cast<float>(q) * s;
-    return node.origin[axis] + product;
+    return std::bit_cast<float>(node.head[axis]) + product;
 }
 
-void decodeWideBox(const QuantizedWideNode& node, int k, glm::vec3& lo, glm::vec3& hi) {
+void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi) {
     for (int a = 0; a < 3; ++a) {
-        lo[a] = decodeWideBound(node, a, (node.q[2 * a] >> (8 * k)) & 0xffu);
-        hi[a] = decodeWideBound(node, a, (node.q[2 * a + 1] >> (8 * k)) & 0xffu);
+        lo[a] = decodeWideBound(node, a, (boundBytes(node, 2 * a) >> (8 * k)) & 0xffu);
+        hi[a] = decodeWideBound(node, a, (boundBytes(node, 2 * a + 1) >> (8 * k)) & 0xffu);
     }
 }
 
-QuantizedWideNode quantizeWideNode(const WideBvhNode& w) {
-    QuantizedWideNode out{};
+gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& w) {
+    gpu::GpuWideBvhNode out{};
     for (int k = 0; k < 4; ++k) out.child[k] = w.child[k];
     const float* mins[3] = {w.minX, w.minY, w.minZ};
     const float* maxs[3] = {w.maxX, w.maxY, w.maxZ};
@@ -1001,20 +1005,18 @@ QuantizedWideNode quantizeWideNode(const WideBvhNode& w) {
             hi = std::max(hi, maxs[a][k]);
         }
         if (!(lo <= hi)) lo = hi = 0.0f;  // no child (not made by collapseBvh4)
-        out.origin[a] = lo;
+        out.head[a] = std::bit_cast<std::uint32_t>(lo);
         // The smallest power-of-two scale whose top byte reaches the union's upper bound, and lies
         // above the origin (so that an empty child's box, lo = byte 255 and hi = byte 0, is
         // inverted even where the union is a single point).
+        auto setExponent = [&](int e) {
+            out.head.w = (out.head.w & ~(0xffu << (8 * a))) | (static_cast<std::uint32_t>(e) << (8 * a));
+        };
         int e = 1;
         const float extent = hi - lo;
         if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / 255.0f) + 127, 1, 254);
-        out.exponents &= ~(0xffu << (8 * a));
-        out.exponents |= static_cast<std::uint32_t>(e) << (8 * a);
-        while (e < 254 && !(decodeWideBound(out, a, 255) >= hi && decodeWideBound(out, a, 255) > lo)) {
-            ++e;
-            out.exponents &= ~(0xffu << (8 * a));
-            out.exponents |= static_cast<std::uint32_t>(e) << (8 * a);
-        }
+        setExponent(e);
+        while (e < 254 && !(decodeWideBound(out, a, 255) >= hi && decodeWideBound(out, a, 255) > lo)) setExponent(++e);
         const float s = scaleOf(static_cast<std::uint32_t>(e));
         std::uint32_t qlo = 0, qhi = 0;
         for (int k = 0; k < 4; ++k) {
@@ -1032,8 +1034,8 @@ QuantizedWideNode quantizeWideNode(const WideBvhNode& w) {
             qlo |= bl << (8 * k);
             qhi |= bh << (8 * k);
         }
-        out.q[2 * a] = qlo;
-        out.q[2 * a + 1] = qhi;
+        boundBytes(out, 2 * a) = qlo;
+        boundBytes(out, 2 * a + 1) = qhi;
     }
     return out;
 }

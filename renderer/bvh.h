@@ -21,6 +21,8 @@
 // empty is left out of the tree (counted in Bvh::skipped), so no node bound is ever NaN.
 #pragma once
 
+#include "shaders/shared/layout.h"
+
 #include <glm/glm.hpp>
 
 #include <cstddef>
@@ -96,7 +98,7 @@ struct Bvh {
 };
 
 // A 4-wide BVH for the GPU's traversal (CAUSTIC_WIDE_BVH; the GPU reads it quantised,
-// QuantizedWideNode below): collapsed from a binary tree, each node holds its
+// quantizeWideNode below): collapsed from a binary tree, each node holds its
 // up to four children's boxes by coordinate and their references. Why: llvmpipe executes a
 // traversal step's whole loop body for 8 rays at once, so a step costs the same whatever it does;
 // fewer, wider steps test more boxes per step (docs/performance.md).
@@ -125,28 +127,20 @@ inline constexpr std::uint32_t kWideMergeMax = 2u;
 // when a leaf's first primitive is beyond kWideLeafMaxFirst (nothing appended then).
 bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out);
 
-// A 4-wide node as the GPU reads it (GpuWideBvhNode in shaders/shared/layout.h, 64 bytes: four
-// texels instead of eight), its children's boxes quantised to 8 bits on a grid over their union
-// (after Ylitie, Karras and Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through
-// Compressed Wide BVHs"): per axis an origin and a power-of-two scale s, and each child's bounds
-// as bytes q with bound = origin + q * s (q * s is exact, so the one rounding is the addition's,
-// the same on every device). The bytes are chosen so that the decoded box contains the child's
-// box (lo rounded down, hi up; checked in float as decodeWideBound computes it), so a ray that
-// hits a child's box hits its decoded box; an empty child decodes to an inverted box (lo > hi on
-// every axis). Texel 0: origin xyz, the scales' biased exponents (bytes 0-2); texel 1: the
-// children's lo x, hi x, lo y, hi y (child k in byte k); texel 2: lo z, hi z; texel 3: children.
-struct QuantizedWideNode {
-    float origin[3];
-    std::uint32_t exponents;
-    std::uint32_t q[6];  // lo x, hi x, lo y, hi y, lo z, hi z
-    std::uint32_t pad[2];
-    std::uint32_t child[4];
-};
-QuantizedWideNode quantizeWideNode(const WideBvhNode& node);
+// A 4-wide node as the GPU reads it (gpu::GpuWideBvhNode, whose layout shaders/shared/layout.h
+// gives: 64 bytes, four texels instead of eight), its children's boxes quantised to 8 bits on a
+// grid over their union (after Ylitie, Karras and Laine 2017, "Efficient Incoherent Ray Traversal
+// on GPUs Through Compressed Wide BVHs"): per axis an origin and a power-of-two scale s, each
+// child's bounds as bytes q with bound = origin + q * s (q * s is exact, so the one rounding is
+// the addition's, the same on every device). The bytes are chosen so that the decoded box contains
+// the child's box (lo rounded down, hi up; checked in float as decodeWideBound computes it), so a
+// ray that hits a child's box hits its decoded box; an empty child decodes to an inverted box (lo >
+// hi on every axis).
+gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& node);
 // The bound the GPU decodes from byte q of axis a (origin + q * s, in float).
-float decodeWideBound(const QuantizedWideNode& node, int axis, std::uint32_t q);
+float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q);
 // Child k's decoded box.
-void decodeWideBox(const QuantizedWideNode& node, int k, glm::vec3& lo, glm::vec3& hi);
+void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi);
 
 
 // Builds over primBounds (one box per primitive, indexed by primitive id).

@@ -31,7 +31,7 @@ static_assert(sizeof(GpuLightNode) == 64);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(GpuBvhNode) == 32 && sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
 static_assert(sizeof(GpuInstance) == 144);
-static_assert(sizeof(GpuWideBvhNode) == 64 && sizeof(GpuWideBvhNode) == sizeof(caustic::QuantizedWideNode));
+static_assert(sizeof(GpuWideBvhNode) == 64);
 static_assert(sizeof(GpuTriangle) == 64);
 static_assert(sizeof(GpuVertex) == 32);
 static_assert(offsetof(GpuFrame, envZenith) == 160);
@@ -650,7 +650,7 @@ struct Builder {
         }
         out.wideNodes.resize(wide.size());
         for (std::size_t i = 0; i < wide.size(); ++i)
-            out.wideNodes[i] = std::bit_cast<gpu::GpuWideBvhNode>(quantizeWideNode(wide[i]));
+            out.wideNodes[i] = quantizeWideNode(wide[i]);
         for (size_t i = 0; i < out.instances.size(); ++i)
             out.instances[i].info3 = glm::uvec4(wideRootOf[out.meshBvh.instances[i].mesh], 0, 0, 0);
         return true;

@@ -287,8 +287,8 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
 
 #if defined(CAUSTIC_BAKED_PRIMITIVES) || defined(CAUSTIC_BAKED_TOP_LEVEL)
 // Baked geometry (renderer.cpp, bakedPrimitiveTests): the renderer's define expands to one of these
-// per primitive or instance, each record's words as literals, inside traceScene (they use its
-// bakedRay, rayO, rayD, anyHit, hit and found). The tests are the loop's and the walk's own.
+// per primitive or instance, each record's words as literals, inside traceScene or traceScenePair
+// (they use its bakedRay, rayO, rayD, anyHit, hit and found). The tests are the loop's and the walk's own.
 #define BAKED_PRIMITIVE(kind, ra, rb, rc, index) BAKED_PRIMITIVE_TEST(kind, ra, rb, rc, index)
 #define BAKED_PRIMITIVE_TEST(kind, ra, rb, rc, index) {                                         \
             GpuPrimitive rec;                                                                 \

@@ -87,8 +87,9 @@ float envSelectProbability(vec3 p, vec3 n, bool twoSided) {
     uint nodes = frame.sampling.w;
     if (nodes == 0u) return 1.0;
     float local = lightNodeImportance(0u, p, n, twoSided);
-    if (nodes > 1u && (loadLightNode(0u).info.x & LIGHT_TREE_LEAF) == 0u)
-        local = lightNodeImportance(1u, p, n, twoSided) + lightNodeImportance(loadLightNode(0u).info.x, p, n, twoSided);
+    uint right = loadLightNode(0u).info.x;
+    if (nodes > 1u && (right & LIGHT_TREE_LEAF) == 0u)
+        local = lightNodeImportance(1u, p, n, twoSided) + lightNodeImportance(right, p, n, twoSided);
     float env = frame.envSelect.x;
     return env + local > 0.0 ? env / (env + local) : 0.0;
 }

@@ -43,9 +43,10 @@ layout(std430, binding = BINDING_VERTICES) readonly buffer VertexBuffer { GpuVer
 // COUNTER_* words (shared/layout.h).
 layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 
-// Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef, loadInstance,
-// loadMaterial, loadLight, sceneTable, bsdfTable (and loadLightNode in lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe; renderer/
-// shader_loader.h, integratorDefines) they read buffer textures over the same buffers
+// Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef,
+// loadInstance, loadMaterial, loadLight, sceneTable, bsdfTable (and loadLightNode in
+// lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe;
+// renderer/shader_loader.h, integratorDefines) they read buffer textures over the same buffers
 // (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
 // llvmpipe runs 8 invocations as the lanes of one SIMD register, and turns every storage-buffer
 // load into a loop over the 8 lanes, each lane's load of each 32-bit component behind its own

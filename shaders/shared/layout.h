@@ -42,7 +42,7 @@ using uint = std::uint32_t;
 #define TEXUNIT_MATERIALS 6
 #define TEXUNIT_PRIMITIVE_HITS 7
 #define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] as RGBA32UI texels (CAUSTIC_WIDE_BVH; no storage-buffer form)
-#define TEXUNIT_VERTICES 9
+#define TEXUNIT_VERTICES 9         // GpuVertex[] as RGBA32UI texels
 #define TEXUNIT_TABLES 10          // the CDF tables (sceneTables) as R32UI texels
 #define TEXUNIT_LIGHTS 11          // GpuLight[] as RGBA32UI texels
 #define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[] as RGBA32UI texels
@@ -191,10 +191,10 @@ CAUSTIC_STRUCT(GpuBvhNode) {
 // CAUSTIC_WIDE_BVH), 64 bytes, 4 texels: the four children's boxes quantised to bytes on a grid
 // per axis (bound = origin + q * 2^(e - 127)): the origin's float bits in head.xyz and the biased
 // exponents e in bytes 0-2 of head.w; qXY = (lo x, hi x, lo y, hi y), qZ.xy = (lo z, hi z), child
-// k's byte k of each word. The decoded boxes contain the children's (an empty child's is inverted: never hit). Children:
-// WIDE_CHILD_EMPTY, WIDE_CHILD_LEAF | count << 27 | first (triangles [first, first + count) of the
-// mesh's, count in [1, 15], first < 2^27; a longer binary leaf becomes a node of leaves), or the
-// index of a child node in wideNodes.
+// k's byte k of each word. The decoded boxes contain the children's (an empty child's is
+// inverted: never hit). Children: WIDE_CHILD_EMPTY, WIDE_CHILD_LEAF | count << 27 | first
+// (triangles [first, first + count) of the mesh's, count in [1, 15], first < 2^27; a longer binary
+// leaf becomes a node of leaves), or the index of a child node in wideNodes.
 CAUSTIC_STRUCT(GpuWideBvhNode) {
     uvec4 head;    // xyz: origin (float bits), w: exponents
     uvec4 qXY;

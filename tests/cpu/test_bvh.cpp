@@ -665,7 +665,7 @@ TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, wi
     // A decoded box must contain the child's (else a ray could miss a triangle it hits), and
     // should be at most one grid step larger per side (else the quantisation wastes steps).
     auto check = [](const WideBvhNode& w) {
-        const QuantizedWideNode q = quantizeWideNode(w);
+        const gpu::GpuWideBvhNode q = quantizeWideNode(w);
         for (int k = 0; k < 4; ++k) {
             CHECK(q.child[k] == w.child[k]);
             glm::vec3 lo, hi;
