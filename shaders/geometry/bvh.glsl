@@ -526,6 +526,81 @@ bool traceScenePair(bool want0, vec3 o0, vec3 d0, float tMax0, bool want1, vec3 
     hit0 = h0;
     return found0;
 }
+
+// The wavefront's two halves of a baked walk for one ray (integrator/wavefront_shade.comp and
+// wavefront_walk.comp): the shade kernel tests the primitives and the instances' root boxes
+// (traceBakedTopLevel), and only a ray that enters a root box before its nearest primitive hit
+// goes to the walk kernel, which walks those instances nearest first (traceBakedInstances) with
+// every lane of its SIMD group holding such a ray. Together they find what traceScenePair finds
+// for the ray.
+
+// The ray's closest primitive hit below tMax (the return value, and hit), and the instances whose
+// root box it enters before that hit (bit k for instance k).
+bool traceBakedTopLevel(vec3 rayO, vec3 rayD, float tMax, out TraceHit hit, out uint candidates) {
+    hit.t = tMax;
+    hit.ref = 0xffffffffu;
+    hit.triangle = 0u;
+    hit.bary = vec2(0.0);
+    candidates = 0u;
+    float enter[16];
+    const bool anyHit = false;
+    const uint shift = 0u;
+    Ray bakedRay;
+    bakedRay.o = rayO;
+    bakedRay.d = rayD;
+    bool found = false;
+#undef BAKED_PRIMITIVE
+#define BAKED_PRIMITIVE BAKED_PRIMITIVE_TEST
+#define BAKED_INSTANCE BAKED_INSTANCE_SCAN
+    CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_PRIMITIVE
+#undef BAKED_INSTANCE
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index)
+    // A root box entered after the nearest primitive hit cannot hold a nearer hit (the scan tests
+    // each box against the hit so far, and primitives come first in the baked list).
+    return found;
+}
+
+// The instances' trees for a ray whose nearest hit so far is hit (hit.t bounds the walk): the
+// candidates (root boxes entered before hit.t) nearest entry first, as traceScenePair walks them.
+// True when a triangle hit nearer than hit.t replaced it (anyHit: the first one found).
+#define SINGLE_PICK(index, w0, w1, w2, o0, o1, o2, i1, i2, i3, bmin, bmax)                      \
+        if ((candidates & (1u << (index))) != 0u && enter[index] < pickT) {                  \
+            pickT = enter[index];                                                             \
+            pick = index;                                                                     \
+        }
+bool traceBakedInstances(vec3 rayO, vec3 rayD, bool anyHit, inout TraceHit hit) {
+    uint candidates = 0u;
+    float enter[16];
+    const uint shift = 0u;
+#undef BAKED_PRIMITIVE
+#define BAKED_PRIMITIVE(kind, ra, rb, rc, index)
+#define BAKED_INSTANCE BAKED_INSTANCE_SCAN
+    CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+    bool found = false;
+    while (candidates != 0u) {
+        float pickT = uintBitsToFloat(0x7f800000u);
+        uint pick = 0u;
+#define BAKED_INSTANCE SINGLE_PICK
+        CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+        candidates &= ~(1u << pick);
+        // The rest start no nearer (the root box test's own rule).
+        if (!(pickT <= hit.t)) break;
+        GpuInstance inst;
+#define BAKED_INSTANCE BAKED_INSTANCE_SELECT
+        CAUSTIC_BAKED_TOP_LEVEL
+#undef BAKED_INSTANCE
+        vec3 o, d;
+        rayToObject(inst, rayO, rayD, o, d);
+        if (traceInstanceTree(inst, pick, o, d, safeInverse(d), anyHit, 0, hit)) {
+            found = true;
+            if (anyHit) break;
+        }
+    }
+    return found;
+}
 #endif
 
 #endif

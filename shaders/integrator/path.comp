@@ -5,40 +5,9 @@
 // is NaN or infinite is dropped, counted in counters[0], and not averaged in.
 // The albedo and normal images (the denoiser's guides, written as AOVs) are accumulated in the
 // same loop from every sample, dropped ones included (their first hit is still well defined).
-#include "path.glsl"
-#include "camera.glsl"
+#include "film.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = BINDING_ACCUM_IMAGE) uniform image2D accumImage;
-layout(rgba32f, binding = BINDING_ACCUM_SQ_IMAGE) uniform image2D accumSqImage;
-layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
-layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
-
-// The pixel's sums over the dispatch's samples (the accumulation images' texels, added to).
-struct PixelSums {
-    vec4 sum, sumSq, albedo, normal;
-    uint dropped;
-};
-
-// Sample s of the dispatch at `pixel`: its sampler (the random numbers of seed, pixel and sample
-// index) and its camera ray.
-Ray sampleCameraRay(uvec2 pixel, uint pixelIndex, uint s, out Sampler smp) {
-    smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
-    vec2 uFilter = sample2D(smp, SLOT_FILTER);
-    return cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
-}
-
-// Adds a finished sample: its AOVs always, its radiance unless NaN or infinite (then counted).
-void addSample(inout PixelSums p, vec3 L, PathAov aov) {
-    p.albedo += vec4(aov.albedo, 1.0);
-    p.normal += vec4(aov.normal, 1.0);
-    if (any(isnan(L)) || any(isinf(L))) {
-        ++p.dropped;
-        return;
-    }
-    p.sum += vec4(L, 1.0);
-    p.sumSq += vec4(L * L, 0.0);
-}
 
 void main() {
     // One work group per 8x8 tile; a dispatch covers tiles [dispatch.z, dispatch.w), numbered row
@@ -54,12 +23,7 @@ void main() {
     if (local.x >= cropSize.x || local.y >= cropSize.y) return;
     uvec2 pixel = local + frame.options.yz;
     ivec2 ip = ivec2(local);
-    PixelSums px;
-    px.sum = imageLoad(accumImage, ip);
-    px.sumSq = imageLoad(accumSqImage, ip);
-    px.albedo = imageLoad(albedoImage, ip);
-    px.normal = imageLoad(normalImage, ip);
-    px.dropped = 0u;
+    PixelSums px = loadPixelSums(ip);
     uint pixelIndex = pixel.y * frame.image.x + pixel.x;
 #ifdef CAUSTIC_REGENERATE
     // Path regeneration (Novak, Havran and Dachsbacher 2010, "Path Regeneration for Interactive
@@ -90,12 +54,6 @@ void main() {
         addSample(px, L, aov);
     }
 #endif
-    if (px.dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], px.dropped);
-    // A 64-bit ray count from two 32-bit words: carry into the high word on wrap-around.
-    uint before = atomicAdd(counters[COUNTER_RAYS_LO], g_rayCount);
-    if (before + g_rayCount < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
-    imageStore(accumImage, ip, px.sum);
-    imageStore(accumSqImage, ip, px.sumSq);
-    imageStore(albedoImage, ip, px.albedo);
-    imageStore(normalImage, ip, px.normal);
+    countRays(g_rayCount);
+    storePixelSums(ip, px);
 }

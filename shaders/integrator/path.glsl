@@ -169,10 +169,10 @@ vec3 lightSampleRadiance(vec3 beta, vec3 f, float cosWi, LightSample ls, float p
     return beta * f * abs(cosWi) * ls.Li * (w / pl);
 }
 
-// One trip through the path loop: traces st.ray (with CAUSTIC_PAIRED_TRACE also the last vertex's
-// shadow ray) and handles what it finds. True when the path has ended (st.L and st.aov are then
-// its results).
-bool pathStep(inout PathState st, inout Sampler smp) {
+// What a path step does with what its trace found (found, hit: st.ray's closest hit): the
+// emission seen, then at a surface next event estimation and the continuation ray. True when the
+// path has ended (st.L and st.aov are then its results).
+bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     uint strategy = frame.counts.w;
     uint maxDepth = frame.counts.z;
     bool useLights = strategy != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
@@ -183,22 +183,6 @@ bool pathStep(inout PathState st, inout Sampler smp) {
     bool split = (frame.options.x & OPTION_GLASS_SPLIT) != 0u && frame.counts.y > 0u;
     uint bounces = st.bounces;
 
-    Hit hit;
-#ifdef CAUSTIC_PAIRED_TRACE
-    // The continuation ray (unless the path has ended) and the last vertex's shadow ray, in one
-    // walk; the shadow ray's radiance is added first, as it was at its vertex.
-    TraceHit th;
-    bool occluded;
-    bool found = traceScenePair(!st.ended, st.ray.o, st.ray.d, FLT_MAX, st.shadowPending, st.shadowRay.o,
-                                st.shadowRay.d, st.shadowTMax, th, occluded);
-    g_rayCount += (st.ended ? 0u : 1u) + (st.shadowPending ? 1u : 0u);
-    if (st.shadowPending && !occluded) st.L += st.shadowL;
-    st.shadowPending = false;
-    if (st.ended) return true;
-    if (found) hit = hitAttributes(st.ray, th);
-#else
-    bool found = sceneIntersect(st.ray, FLT_MAX, hit);  // the integrator's one closest-hit call
-#endif
     if (st.probing) {
         st.L += st.probeBeta * probeEmission(found, hit, st.ray.d);
         st.probing = false;
@@ -361,6 +345,44 @@ bool pathStep(inout PathState st, inout Sampler smp) {
     }
     st.bounces = bounces + 1u;
     return false;
+}
+
+#ifdef CAUSTIC_PAIRED_TRACE
+// A path step after the walk of its two rays (CAUSTIC_PAIRED_TRACE): found and th are the
+// continuation ray's closest hit, occluded whether the last vertex's shadow ray met anything. The
+// shadow ray's radiance is added first, as it was at its vertex; a path that had ended with only
+// its shadow ray left ends here. Shared by pathStep and the wavefront's shade kernel
+// (integrator/wavefront_shade.comp), which gets the same from its walk kernel.
+bool pathResolve(inout PathState st, inout Sampler smp, bool found, TraceHit th, bool occluded) {
+    if (st.shadowPending && !occluded) st.L += st.shadowL;
+    st.shadowPending = false;
+    if (st.ended) return true;
+    Hit hit;
+    if (found) hit = hitAttributes(st.ray, th);
+    return pathShade(st, smp, found, hit);
+}
+
+// How many rays a path step traces for st: the continuation ray unless the path has ended, and
+// the last vertex's shadow ray when it waits.
+uint pathStepRays(PathState st) { return (st.ended ? 0u : 1u) + (st.shadowPending ? 1u : 0u); }
+#endif
+
+// One trip through the path loop: traces st.ray (with CAUSTIC_PAIRED_TRACE also the last vertex's
+// shadow ray, in one walk) and handles what it finds. True when the path has ended (st.L and
+// st.aov are then its results).
+bool pathStep(inout PathState st, inout Sampler smp) {
+#ifdef CAUSTIC_PAIRED_TRACE
+    TraceHit th;
+    bool occluded;
+    bool found = traceScenePair(!st.ended, st.ray.o, st.ray.d, FLT_MAX, st.shadowPending, st.shadowRay.o,
+                                st.shadowRay.d, st.shadowTMax, th, occluded);
+    g_rayCount += pathStepRays(st);
+    return pathResolve(st, smp, found, th, occluded);
+#else
+    Hit hit;
+    bool found = sceneIntersect(st.ray, FLT_MAX, hit);  // the integrator's one closest-hit call
+    return pathShade(st, smp, found, hit);
+#endif
 }
 
 vec3 pathRadiance(Ray ray, inout Sampler smp, out PathAov aov) {

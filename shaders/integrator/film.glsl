@@ -1,0 +1,65 @@
+// The integrator's film: the accumulation images a dispatch adds its samples to, a sample's
+// camera ray, and how a finished sample is added (integrator/path.comp and the wavefront's shade
+// kernel, integrator/wavefront_shade.comp).
+#ifndef INTEGRATOR_FILM_GLSL
+#define INTEGRATOR_FILM_GLSL
+#include "path.glsl"
+#include "camera.glsl"
+
+layout(rgba32f, binding = BINDING_ACCUM_IMAGE) uniform image2D accumImage;
+layout(rgba32f, binding = BINDING_ACCUM_SQ_IMAGE) uniform image2D accumSqImage;
+layout(rgba32f, binding = BINDING_ALBEDO_IMAGE) uniform image2D albedoImage;
+layout(rgba32f, binding = BINDING_NORMAL_IMAGE) uniform image2D normalImage;
+
+// The pixel's sums over the dispatch's samples (the accumulation images' texels, added to).
+struct PixelSums {
+    vec4 sum, sumSq, albedo, normal;
+    uint dropped;
+};
+
+// Sample s of the dispatch at `pixel`: its sampler (the random numbers of seed, pixel and sample
+// index) and its camera ray.
+Ray sampleCameraRay(uvec2 pixel, uint pixelIndex, uint s, out Sampler smp) {
+    smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
+    vec2 uFilter = sample2D(smp, SLOT_FILTER);
+    return cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
+}
+
+// Adds a finished sample: its AOVs always, its radiance unless NaN or infinite (then counted).
+void addSample(inout PixelSums p, vec3 L, PathAov aov) {
+    p.albedo += vec4(aov.albedo, 1.0);
+    p.normal += vec4(aov.normal, 1.0);
+    if (any(isnan(L)) || any(isinf(L))) {
+        ++p.dropped;
+        return;
+    }
+    p.sum += vec4(L, 1.0);
+    p.sumSq += vec4(L * L, 0.0);
+}
+
+PixelSums loadPixelSums(ivec2 ip) {
+    PixelSums px;
+    px.sum = imageLoad(accumImage, ip);
+    px.sumSq = imageLoad(accumSqImage, ip);
+    px.albedo = imageLoad(albedoImage, ip);
+    px.normal = imageLoad(normalImage, ip);
+    px.dropped = 0u;
+    return px;
+}
+
+// Adds `rays` to the 64-bit ray count (two 32-bit words: carry into the high word on wrap-around).
+void countRays(uint rays) {
+    uint before = atomicAdd(counters[COUNTER_RAYS_LO], rays);
+    if (before + rays < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
+}
+
+// Stores the sums and counts the dropped samples.
+void storePixelSums(ivec2 ip, PixelSums px) {
+    if (px.dropped > 0u) atomicAdd(counters[COUNTER_DROPPED], px.dropped);
+    imageStore(accumImage, ip, px.sum);
+    imageStore(accumSqImage, ip, px.sumSq);
+    imageStore(albedoImage, ip, px.albedo);
+    imageStore(normalImage, ip, px.normal);
+}
+
+#endif
