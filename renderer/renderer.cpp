@@ -184,22 +184,6 @@ bool specializeByDefault() {
     return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
 
-// Whether the renderer runs the wavefront's kernels where they apply (selectProgram): only when
-// $CAUSTIC_WAVEFRONT = 1 asks for it; on llvmpipe it measured 0.60x on the knot scene
-// (docs/performance.md, session 11).
-bool wavefrontByDefault() {
-    const char* env = std::getenv("CAUSTIC_WAVEFRONT");
-    return env && *env && std::strcmp(env, "0") != 0;
-}
-
-// The most tiles (of 64 path slots) one wavefront batch holds: its state is 288 bytes a slot, so
-// 1024 tiles take 19 MB, and a batch of 65,536 paths keeps both of llvmpipe's threads busy.
-constexpr std::uint32_t kWavefrontTiles = 1024;
-
-bool definesHave(const ShaderDefines& defines, const char* name) {
-    return std::any_of(defines.begin(), defines.end(), [&](const auto& d) { return d.first == name; });
-}
-
 // setBakeGeometry's choice, unless $CAUSTIC_BAKE_GEOMETRY = 1 or 0 forces it on or off.
 bool bakeGeometry(bool requested) {
     if (const char* env = std::getenv("CAUSTIC_BAKE_GEOMETRY"); env && *env) return std::strcmp(env, "0") != 0;
@@ -243,7 +227,6 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     std::unique_ptr<Renderer> r(new Renderer());
     r->m_shaderDir = shaderDir;
     r->m_specialize = specializeByDefault();
-    r->m_wavefront = wavefrontByDefault();
     // The general program, always: what a scene without alpha masks gets when specialisation is
     // off, and the check that the whole source compiles.
     if (!r->useProgram(generalDefines(false), error)) return nullptr;
@@ -275,8 +258,6 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(1, &r->m_primitiveHits);
     glCreateBuffers(1, &r->m_wideNodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
-    glCreateBuffers(4, r->m_wavefrontBuffers);
-    glCreateTextures(GL_TEXTURE_BUFFER, 3, r->m_wavefrontViews);
     if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
@@ -291,8 +272,6 @@ Renderer::~Renderer() {
     glDeleteBuffers(1, &m_primitiveHits);
     glDeleteBuffers(1, &m_wideNodes);
     glDeleteTextures(kTexelViews, m_texelViews);
-    glDeleteBuffers(4, m_wavefrontBuffers);
-    glDeleteTextures(3, m_wavefrontViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
     for (const auto& [key, program] : m_programs) glDeleteProgram(program);
@@ -306,7 +285,6 @@ void Renderer::selectProgram() {
     // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
     // (which the general program's compile makes unlikely) falls back to it.
     std::string error;
-    m_shadeProgram = m_walkProgram = 0;
     if (!m_specialize) {
         if (!useProgram(generalDefines(hasAlphaMask(m_compiled)), &error)) {
             std::fprintf(stderr, "caustic: the integrator with alpha masks failed to build, using the general one: %s\n",
@@ -315,27 +293,11 @@ void Renderer::selectProgram() {
         }
         return;
     }
-    const ShaderDefines features = featureDefines();
-    if (!useProgram(features, &error)) {
+    if (!useProgram(featureDefines(), &error)) {
         std::fprintf(stderr, "caustic: the specialised integrator failed to build, using the general one: %s\n",
                      error.c_str());
         m_program = m_general;
-        return;
     }
-    // The wavefront's kernels need the baked top level's two halves (geometry/bvh.glsl,
-    // traceBakedTopLevel and traceBakedInstances), which come with the paired walk.
-    if (!m_wavefront || !definesHave(features, "CAUSTIC_PAIRED_TRACE")) return;
-    ShaderDefines defines = integratorDefines();
-    defines.insert(defines.end(), features.begin(), features.end());
-    const unsigned shade = buildProgram("integrator/wavefront_shade.comp", defines, &error);
-    const unsigned walk = shade ? buildProgram("integrator/wavefront_walk.comp", defines, &error) : 0;
-    if (!walk) {
-        std::fprintf(stderr, "caustic: the wavefront integrator failed to build, using the megakernel: %s\n",
-                     error.c_str());
-        return;
-    }
-    m_shadeProgram = shade;
-    m_walkProgram = walk;
 }
 
 unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error) {
@@ -625,86 +587,18 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
 void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     tile1 = std::min(tile1, tileCount());
     if (tile0 >= tile1) return;
+    bindScene(firstSample, samples, tile0, tile1);
     selectProgram();
+    glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ALBEDO_IMAGE, m_albedo, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_NORMAL_IMAGE, m_normal, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    if (m_shadeProgram) {
-        dispatchWavefront(firstSample, samples, tile0, tile1);
-        return;
-    }
-    bindScene(firstSample, samples, tile0, tile1);
-    glUseProgram(m_program);
     // One work group per 8x8 tile, numbered row by row; a grid of at most 65535 groups a side
     // (the least GL guarantees), the kernel skipping the excess of its last row.
     const std::uint32_t groups = tile1 - tile0, gx = std::min<std::uint32_t>(groups, 65535u);
     glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
     // The next dispatch reads what this one wrote.
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-}
-
-void Renderer::dispatchWavefront(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0,
-                                 std::uint32_t tile1) {
-    const std::uint32_t batchTiles = std::min(tile1 - tile0, kWavefrontTiles);
-    const std::uint32_t slots = batchTiles * 64u;
-    if (slots > m_wavefrontSlots) {
-        // State and results per slot; the lists: two of slots, the walk queue two entries a slot.
-        glNamedBufferData(m_wavefrontBuffers[0], GLsizeiptr(slots) * WAVEFRONT_STATE_TEXELS * 16, nullptr, GL_DYNAMIC_COPY);
-        glNamedBufferData(m_wavefrontBuffers[1], GLsizeiptr(slots) * WAVEFRONT_HIT_TEXELS * 16, nullptr, GL_DYNAMIC_COPY);
-        glNamedBufferData(m_wavefrontBuffers[2], GLsizeiptr(slots) * 4 * 4, nullptr, GL_DYNAMIC_COPY);
-        glNamedBufferData(m_wavefrontBuffers[3], 12 * 4, nullptr, GL_DYNAMIC_COPY);
-        glTextureBuffer(m_wavefrontViews[0], GL_RGBA32UI, m_wavefrontBuffers[0]);
-        glTextureBuffer(m_wavefrontViews[1], GL_RGBA32UI, m_wavefrontBuffers[1]);
-        glTextureBuffer(m_wavefrontViews[2], GL_R32UI, m_wavefrontBuffers[2]);
-        m_wavefrontSlots = slots;
-    }
-    glBindImageTexture(BINDING_WAVEFRONT_STATE_IMAGE, m_wavefrontViews[0], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-    glBindImageTexture(BINDING_WAVEFRONT_HITS_IMAGE, m_wavefrontViews[1], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-    glBindImageTexture(BINDING_WAVEFRONT_LISTS_IMAGE, m_wavefrontViews[2], 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WAVEFRONT_COUNTS, m_wavefrontBuffers[3]);
-    const GLuint listBase[3] = {0, slots, 2 * slots};
-    for (unsigned program : {m_shadeProgram, m_walkProgram})
-        glProgramUniform1uiv(program, glGetUniformLocation(program, "u_listBase"), 3, listBase);
-    const GLint start = glGetUniformLocation(m_shadeProgram, "u_start");
-    const GLint slotCount = glGetUniformLocation(m_shadeProgram, "u_slots");
-    const GLint listIn = glGetUniformLocation(m_shadeProgram, "u_listIn");
-    const GLint listOut = glGetUniformLocation(m_shadeProgram, "u_listOut");
-    const GLbitfield barriers = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
-                                GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
-    const std::uint32_t emptyList[4] = {0, 1, 1, 0};
-    for (std::uint32_t b0 = tile0; b0 < tile1; b0 += kWavefrontTiles) {
-        const std::uint32_t b1 = std::min(tile1, b0 + kWavefrontTiles);
-        bindScene(firstSample, samples, b0, b1);
-        glProgramUniform1ui(m_shadeProgram, slotCount, (b1 - b0) * 64u);
-        // Pass k reads slot list k % 2 (the first pass: every slot) and writes the other; the walk
-        // kernel between two passes runs the queue the first one filled.
-        for (std::uint32_t pass = 0;; ++pass) {
-            const std::uint32_t in = pass % 2, out = 1 - in;
-            glNamedBufferSubData(m_wavefrontBuffers[3], out * 16, 16, emptyList);
-            glNamedBufferSubData(m_wavefrontBuffers[3], WAVEFRONT_WALK_LIST * 16, 16, emptyList);
-            glProgramUniform1ui(m_shadeProgram, start, pass == 0 ? 1u : 0u);
-            glProgramUniform1ui(m_shadeProgram, listIn, in);
-            glProgramUniform1ui(m_shadeProgram, listOut, out);
-            glUseProgram(m_shadeProgram);
-            if (pass == 0) {
-                glDispatchCompute(b1 - b0, 1, 1);
-            } else {
-                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m_wavefrontBuffers[3]);
-                glDispatchComputeIndirect(GLintptr(in * 16));
-            }
-            glMemoryBarrier(barriers);
-            std::uint32_t live = 0;
-            glGetNamedBufferSubData(m_wavefrontBuffers[3], GLintptr(out * 16 + 12), 4, &live);
-            if (live == 0) break;
-            glUseProgram(m_walkProgram);
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m_wavefrontBuffers[3]);
-            glDispatchComputeIndirect(GLintptr(WAVEFRONT_WALK_LIST * 16));
-            glMemoryBarrier(barriers);
-        }
-    }
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }

@@ -153,17 +153,11 @@ private:
     // top of integratorDefines(), compiling it the first time; false with the compiler's message.
     bool useProgram(const ShaderDefines& features, std::string* error);
     // With specialisation on, makes m_program the one for the current scene and settings
-    // (compiling it the first time); called where those change, and before each dispatch. With
-    // the wavefront on (wavefrontByDefault in renderer.cpp) and a program that walks a baked top
-    // level with meshes (CAUSTIC_PAIRED_TRACE), also m_shadeProgram and m_walkProgram; else
-    // those are 0.
+    // (compiling it the first time); called where those change, and before each dispatch.
     void selectProgram();
-    // The program of `file` (integrator/path.comp or a wavefront kernel) with these defines,
-    // compiled the first time; 0 with the compiler's message.
+    // The program of `file` with these defines, compiled the first time; 0 with the compiler's
+    // message.
     unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error);
-    // dispatch() with the wavefront's kernels (shaders/integrator/wavefront.glsl): the same
-    // samples into the same film, in batches of at most kWavefrontTiles tiles.
-    void dispatchWavefront(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1);
 
     std::string m_shaderDir;
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
@@ -171,14 +165,6 @@ private:
     std::map<std::string, unsigned> m_programs;  // by their defines
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
-    bool m_wavefront = false;    // use the wavefront's kernels where they apply (selectProgram)
-    unsigned m_shadeProgram = 0, m_walkProgram = 0;   // the wavefront's kernels for m_program, or 0
-    // The wavefront's path state, walk results, slot lists and walk queue, and their counts
-    // (BINDING_WAVEFRONT_*), sized for m_wavefrontSlots slots; buffer textures over the first
-    // three, bound as images.
-    unsigned m_wavefrontBuffers[4] = {};
-    unsigned m_wavefrontViews[3] = {};
-    std::uint32_t m_wavefrontSlots = 0;
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;

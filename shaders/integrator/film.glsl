@@ -1,6 +1,5 @@
 // The integrator's film: the accumulation images a dispatch adds its samples to, a sample's
-// camera ray, and how a finished sample is added (integrator/path.comp and the wavefront's shade
-// kernel, integrator/wavefront_shade.comp).
+// camera ray, and how a finished sample is added (integrator/path.comp).
 #ifndef INTEGRATOR_FILM_GLSL
 #define INTEGRATOR_FILM_GLSL
 #include "path.glsl"

@@ -57,17 +57,6 @@ using uint = std::uint32_t;
 #define BINDING_VERTICES 17        // GpuVertex[]: every mesh's shading attributes
 #define BINDING_BSDF_TABLES 11     // float[]: the BSDF tables (GGX albedo, then the surface model's; BSDF_TABLE_*)
 
-// The wavefront integrator on llvmpipe (integrator/wavefront.glsl; Renderer::dispatchWavefront).
-#define BINDING_WAVEFRONT_STATE_IMAGE 4    // uimageBuffer rgba32ui: WAVEFRONT_STATE_TEXELS per path slot
-#define BINDING_WAVEFRONT_HITS_IMAGE 5     // uimageBuffer rgba32ui: WAVEFRONT_HIT_TEXELS per path slot
-#define BINDING_WAVEFRONT_LISTS_IMAGE 6    // uimageBuffer r32ui: the two slot lists, then the walk queue
-#define BINDING_WAVEFRONT_COUNTS 18        // uint[12]: per list (slot lists 0, 1, walk queue) an
-                                           // indirect dispatch (groups, 1, 1) and its entry count
-#define WAVEFRONT_STATE_TEXELS 14u
-#define WAVEFRONT_HIT_TEXELS 3u
-#define WAVEFRONT_GROUP_SIZE 64u           // invocations per work group of both kernels
-#define WAVEFRONT_WALK_LIST 2u             // the walk queue's index among the counts' lists
-
 // Words of the counter buffer.
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
 #define COUNTER_RAYS_LO 1          // rays traced, low 32 bits

@@ -98,14 +98,14 @@ class EditorLookdev(EditorSessionCase):
         shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
         with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
             f.write(SCRIPT)
-        # The shaders the script reloads (F5): path.comp adds (0.5, 0, 0) for every sample.
+        # The shaders the script reloads (F5): the film adds (0.5, 0, 0) for every sample.
         red = os.path.join(cls.tmp, "red-shaders")
         shutil.copytree(os.path.join(SOURCE_DIR, "shaders"), red)
-        path_comp = os.path.join(red, "integrator", "path.comp")
-        with open(path_comp) as f:
+        film = os.path.join(red, "integrator", "film.glsl")
+        with open(film) as f:
             text = f.read()
-        assert "p.sum += vec4(L, 1.0);" in text
-        with open(path_comp, "w") as f:
+        assert "p.sum += vec4(L, 1.0);" in text, film
+        with open(film, "w") as f:
             f.write(text.replace("p.sum += vec4(L, 1.0);", "p.sum += vec4(0.5, 0.0, 0.0, 1.0);"))
         cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
 

@@ -8,7 +8,6 @@ Variants change the image (they are not correct renderers); they exist only for 
 """
 import os
 import shutil
-import subprocess
 import sys
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shaders")
@@ -33,10 +32,10 @@ PATCHES = {
          "vec3 shadingNormalAt(GpuMaterial m, SurfacePoint s, vec3 ng, vec3 normalTexel) {\n    return ng;"),
     ],
     "no-aov-images": [
-        ("integrator/path.comp", "px.albedo = imageLoad(albedoImage, ip);", "px.albedo = vec4(0.0);"),
-        ("integrator/path.comp", "px.normal = imageLoad(normalImage, ip);", "px.normal = vec4(0.0);"),
-        ("integrator/path.comp", "imageStore(albedoImage, ip, px.albedo);", ""),
-        ("integrator/path.comp", "imageStore(normalImage, ip, px.normal);", ""),
+        ("integrator/film.glsl", "px.albedo = imageLoad(albedoImage, ip);", "px.albedo = vec4(0.0);"),
+        ("integrator/film.glsl", "px.normal = imageLoad(normalImage, ip);", "px.normal = vec4(0.0);"),
+        ("integrator/film.glsl", "imageStore(albedoImage, ip, px.albedo);", ""),
+        ("integrator/film.glsl", "imageStore(normalImage, ip, px.normal);", ""),
     ],
     # The texture slots' loop kept a loop (a bound the compiler cannot see: frame.geometry.z is 0).
     "texture-loop-not-unrolled": [("bsdf/material.glsl", "for (uint slot = 0u; slot < 3u; ++slot) {",
@@ -46,12 +45,6 @@ PATCHES = {
                                "    vec4 a = textureBilinear(textureLevel(t, l0), uv);\n    return a;\n")],
     "small-stack": [("geometry/bvh.glsl", "#else\nconst int BVH_STACK_SIZE = 76;\n", "#else\nconst int BVH_STACK_SIZE = 40;\n")],
 }
-# Whole files from an earlier commit (git show at pack time), to measure a change on the GPU
-# machine that was measured on llvmpipe only: the traversal before the instance's BVH got its own
-# nested loop (one loop for both levels).
-# (The commit is found by its message, which a rebase keeps; the file is the one before it.)
-FROM_GIT = {"one-loop-traversal": [("geometry/bvh.glsl", "Traversal: the instance's BVH walked by a loop nested")]}
-
 PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures", "no-aov-images", "small-stack"]
                           for p in PATCHES[name]]
 
@@ -59,18 +52,6 @@ PATCHES["all-of-them"] = [p for name in ["no-nee", "lambert-only", "no-textures"
 def main():
     out = sys.argv[1]
     shutil.rmtree(out, ignore_errors=True)
-    for name, files in FROM_GIT.items():
-        target = os.path.join(out, name)
-        shutil.copytree(ROOT, target)
-        for rel, message in files:
-            commit = subprocess.run(["git", "log", "-1", "--format=%H", "--fixed-strings", "--grep", message], cwd=ROOT,
-                                    check=True, capture_output=True, text=True).stdout.strip()
-            if not commit:
-                sys.exit("shader_variants.py: no commit says %r" % message)
-            text = subprocess.run(["git", "show", "%s~1:shaders/%s" % (commit, rel)], cwd=ROOT, check=True,
-                                  capture_output=True, text=True).stdout
-            with open(os.path.join(target, rel), "w") as f:
-                f.write(text)
     for name, patches in [("base", [])] + list(PATCHES.items()):
         target = os.path.join(out, name)
         shutil.copytree(ROOT, target)
