@@ -19,7 +19,6 @@
 #include "renderer/dirty.h"
 #include "renderer/file_util.h"
 #include "renderer/gl_context.h"
-#include "renderer/hdr_file.h"
 #include "renderer/renderer.h"
 #include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
@@ -218,7 +217,7 @@ int main(int argc, char** argv) {
     if (!context) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
     auto renderer = Renderer::create(defaultShaderDir(), &error);
     if (!renderer) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
-    renderer->setImageReader(readRadianceHdr);  // environment maps without OpenImageIO
+    renderer->setImageReader(readImageWithoutOpenImageIo);  // HDR, PNG and JPEG without OpenImageIO
     renderer->setBakeGeometry(true);            // as batch mode renders (app/main.cpp)
     std::printf("# %s | %s | %s\n", context->info().vendor.c_str(), context->info().renderer.c_str(),
                 context->info().version.c_str());

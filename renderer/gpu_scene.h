@@ -170,6 +170,10 @@ bool readTextureImage(const ImageReader& reader, const FileTextures* files, cons
 // told apart by their signatures) into 8-bit values as floats in [0, 1] (16-bit PNGs in 16 bits),
 // without colour conversion. Errors start with `what` (the file and the texture).
 bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error);
+// An image file read without OpenImageIO (the lean binaries: caustic-bench, the GPU machine's
+// build): PNG and JPEG told by their signatures, decoded as decodeImageBytes does; anything else
+// read as a Radiance HDR file (renderer/hdr_file.h). Errors name the file.
+bool readImageWithoutOpenImageIo(const std::string& path, ImageData* out, std::string* error);
 
 // Fails (with a message naming the scene entry, e.g. "objects[2]: ...") only for scenes that
 // pass validation but cannot be rendered as given. readImage loads the files the scene names

@@ -1,5 +1,7 @@
 // Textures: decoding to linear, mip chains, and their place in CompiledScene (addTexture).
 #include "renderer/gpu_scene.h"
+#include "renderer/file_util.h"
+#include "renderer/hdr_file.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -133,6 +135,26 @@ bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageDa
     if (bytes.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return decodeJpeg(bytes, what, out, error);
     *error = what + ": an embedded image that is neither PNG nor JPEG (the two formats glTF 2.0 allows)";
     return false;
+}
+
+bool readImageWithoutOpenImageIo(const std::string& path, ImageData* out, std::string* error) {
+    if (!checkRegularFile(path, error)) return false;
+    char head[8] = {};
+    {
+        std::FILE* f = std::fopen(path.c_str(), "rb");
+        if (!f) {
+            *error = path + ": cannot read image";
+            return false;
+        }
+        const size_t n = std::fread(head, 1, sizeof head, f);
+        std::fclose(f);
+        const auto* b = reinterpret_cast<const unsigned char*>(head);
+        const bool png = n == 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0;
+        const bool jpeg = n >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF;
+        if (!png && !jpeg) return readRadianceHdr(path, out, error);
+    }
+    const std::optional<std::string> bytes = readTextFile(path, error);
+    return bytes && decodeImageBytes(*bytes, path, out, error);
 }
 
 std::uint32_t FileTextures::wrap(const std::string& slotKey) const {

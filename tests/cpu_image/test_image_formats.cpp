@@ -4,12 +4,15 @@
 // (FITS, DPX, PNM, PSD, ...: 15-60 ms per damaged file, and parsers no scene needs exposed to
 // hostile bytes). A PNM file stands for "a format outside the common list": OpenImageIO reads it
 // by its own extension, and its old fallback also read it under a PNG name.
+#include "renderer/gpu_scene.h"
 #include "renderer/image_io.h"
 #include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include <filesystem>
@@ -142,4 +145,52 @@ TEST_CASE("images: a TIFF declaring a strip far larger than its image is refused
     CHECK(readImage(good, &image, &error));
     CHECK(image.width == 4);
     CHECK(image.height == 3);
+}
+
+// The lean binaries (caustic-bench, the GPU machine's build) read textures and environment maps
+// without OpenImageIO (renderer/textures.cpp, readImageWithoutOpenImageIo): what they read must be
+// what caustic itself reads, or a benchmark measures another scene. (Until session 12 caustic-bench
+// read every file as Radiance HDR and refused the textured scenes' PNGs.)
+TEST_CASE("images: the lean reader reads PNG, JPEG and HDR files as OpenImageIO does", "[image]") {
+    test::TempDir dir;
+    // A JPEG written here (no JPEG in the repository): a horizontal ramp, quality 100.
+    const std::string jpeg = dir.file("ramp.jpg");
+    {
+        std::vector<unsigned char> px(32 * 16 * 3);
+        for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<unsigned char>((i / 3 % 32) * 8 + (i % 3) * 20);
+        auto out = OIIO::ImageOutput::create(jpeg);
+        REQUIRE(out);
+        OIIO::ImageSpec spec(32, 16, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("Compression", "jpeg:100");
+        REQUIRE(out->open(jpeg, spec));
+        REQUIRE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+        out->close();
+    }
+    struct Case { std::string path; float tolerance; };
+    // PNG: v / 255 against OpenImageIO's v * (1 / 255), a rounding apart.
+    for (const Case& c : {Case{CAUSTIC_SOURCE_DIR "/assets/tiles/albedo.png", 1e-6f},
+                          Case{CAUSTIC_SOURCE_DIR "/assets/tiles/normal.png", 1e-6f},
+                          Case{CAUSTIC_SOURCE_DIR "/assets/sky.hdr", 0.0f},
+                          Case{jpeg, 2.5f / 255.0f}}) {
+        INFO(c.path);
+        ImageData reference, lean;
+        std::string error;
+        REQUIRE(readImage(c.path, &reference, &error));
+        REQUIRE(readImageWithoutOpenImageIo(c.path, &lean, &error));
+        REQUIRE(lean.width == reference.width);
+        REQUIRE(lean.height == reference.height);
+        REQUIRE(lean.channels == reference.channels);
+        REQUIRE(lean.pixels.size() == reference.pixels.size());
+        float worst = 0.0f;
+        for (size_t i = 0; i < lean.pixels.size(); ++i)
+            worst = std::max(worst, std::abs(lean.pixels[i] - reference.pixels[i]));
+        CHECK(worst <= c.tolerance);
+    }
+    // Anything else is read as Radiance HDR, whose reader refuses it naming the file.
+    const std::string bogus = dir.file("bogus.png");
+    std::ofstream(bogus) << "not an image";
+    ImageData img;
+    std::string error;
+    CHECK_FALSE(readImageWithoutOpenImageIo(bogus, &img, &error));
+    CHECK(error.find(bogus) != std::string::npos);
 }
