@@ -35,6 +35,30 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
+# 1b. Mesa 25 from Debian's bookworm-backports (its llvmpipe is caustic's GPU where there is none).
+# Debian 12's own Mesa 22.3 runs both sides of every branch and every loop body at least once for
+# all 8 lanes of a SIMD group, whether or not a lane takes it; Mesa 25's llvmpipe jumps over code no
+# lane of the group needs. Measured on 22 scenes: 0.98x on the Cornell box, 1.4-3.8x on the other
+# 21 (docs/performance.md, session 12). The same packages Debian 12 installs, from Debian's own
+# archive, signed with the same key. CAUSTIC_STOCK_MESA=1 keeps Debian 12's Mesa (everything works
+# on it, slower); a machine that is not Debian 12 keeps its own.
+mesa_packages=(libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libgbm1 mesa-libgallium)
+if [ "${CAUSTIC_STOCK_MESA:-0}" != 1 ] && grep -qs '^VERSION_CODENAME=bookworm$' /etc/os-release &&
+   ! dpkg --compare-versions "$(dpkg-query -W -f='${Version}' libgl1-mesa-dri 2>/dev/null || echo 0)" ge 25; then
+  if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+    # The archive the machine already uses for bookworm (a local mirror stays local).
+    mirror=$(grep -rhoEs 'https?://[^ ]+/debian/?( |$)' /etc/apt/sources.list /etc/apt/sources.list.d/ |
+             head -n 1 | tr -d ' ' || true)
+    mirror=${mirror:-http://deb.debian.org/debian}
+    log "adding $mirror bookworm-backports to apt's sources (for Mesa 25)"
+    echo "deb $mirror bookworm-backports main" | $SUDO tee /etc/apt/sources.list.d/caustic-bookworm-backports.list >/dev/null
+  fi
+  log "installing Mesa 25 from bookworm-backports: ${mesa_packages[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends -t bookworm-backports "${mesa_packages[@]}"
+fi
+
 # 2. glad2 (the OpenGL loader generator) in its own venv: PyPI's glad (v1) shares its module name.
 venv=.deps/venv
 if ! "$venv/bin/python" -c 'import glad, sys; sys.exit(0 if glad.__version__ == "2.0.8" else 1)' 2>/dev/null; then
