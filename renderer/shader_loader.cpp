@@ -167,6 +167,18 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
     return program;
 }
 
+namespace {
+
+// The Mesa release of the current context's driver (GL_VERSION "4.5 (Core Profile) Mesa 25.0.7"),
+// 0 for another vendor's driver.
+int mesaMajorVersion() {
+    const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    const char* mesa = version ? std::strstr(version, "Mesa ") : nullptr;
+    return mesa ? std::atoi(mesa + 5) : 0;
+}
+
+}  // namespace
+
 ShaderDefines integratorDefines() {
     bool fetchTexels = false;
     if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) {
@@ -178,8 +190,13 @@ ShaderDefines integratorDefines() {
     ShaderDefines defines;
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
     // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only): with them
-    // by default, $CAUSTIC_WIDE_BVH = 0 for the binary ones.
-    bool wide = fetchTexels;
+    // by default, but for Mesa 25's llvmpipe, $CAUSTIC_WIDE_BVH = 1 or 0 forces them on or off. On
+    // Mesa 22.3's llvmpipe, which runs every branch's code for all lanes, the 4-wide walk was the
+    // faster (docs/performance.md, sessions 3 and 10); Mesa 25's jumps over code no lane needs, and
+    // there the binary walk renders the mesh scenes 1.3-1.4x faster and the rest alike (session 12).
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const bool llvmpipe = renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+    bool wide = fetchTexels && !(llvmpipe && mesaMajorVersion() >= 25);
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
