@@ -169,12 +169,9 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
 
 namespace {
 
-// The Mesa release of the current context's driver (GL_VERSION "4.5 (Core Profile) Mesa 25.0.7"),
-// 0 for another vendor's driver.
-int mesaMajorVersion() {
-    const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-    const char* mesa = version ? std::strstr(version, "Mesa ") : nullptr;
-    return mesa ? std::atoi(mesa + 5) : 0;
+bool llvmpipe() {
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
 
 }  // namespace
@@ -184,32 +181,34 @@ ShaderDefines integratorDefines() {
     if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) {
         fetchTexels = std::strcmp(env, "0") != 0;
     } else {
-        const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-        fetchTexels = renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+        fetchTexels = llvmpipe();
     }
     ShaderDefines defines;
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
-    // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only): with them
-    // by default, but for Mesa 25's llvmpipe, $CAUSTIC_WIDE_BVH = 1 or 0 forces them on or off. On
-    // Mesa 22.3's llvmpipe, which runs every branch's code for all lanes, the 4-wide walk was the
-    // faster (docs/performance.md, sessions 3 and 10); Mesa 25's jumps over code no lane needs, and
-    // there the binary walk renders the mesh scenes 1.3-1.4x faster and the rest alike (session 12).
-    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    const bool llvmpipe = renderer && std::strstr(renderer, "llvmpipe") != nullptr;
-    bool wide = fetchTexels && !(llvmpipe && mesaMajorVersion() >= 25);
+    // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only) when
+    // $CAUSTIC_WIDE_BVH = 1. They were llvmpipe's default until session 12, when the binary walk
+    // with its newest stack entries in variables (below) rendered the mesh scenes faster on Mesa
+    // 22.3 (1.09x) and on Mesa 25 (1.5x with the variables; docs/performance.md).
+    bool wide = false;
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
     // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
     // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
     if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
+    // The binary mesh walk's newest stack entries in variables (geometry/bvh.glsl,
+    // CAUSTIC_REGISTER_STACK): 8 on llvmpipe, where the memory stack's every push and pop is a
+    // per-lane store or load (8: 1.11x on mesh-knot, 4: 1.08x, 12: 1.09x, 16: 1.0x); off elsewhere,
+    // unmeasured on NVIDIA. $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
+    int registerStack = llvmpipe() ? 8 : 0;
+    if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
+    if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
     return defines;
 }
 
 bool regeneratesPaths() {
     if (const char* env = std::getenv("CAUSTIC_REGENERATE"); env && *env) return std::strcmp(env, "0") != 0;
-    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+    return llvmpipe();
 }
 
 std::string defaultShaderDir() {

@@ -127,20 +127,25 @@ bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
 uint g_bvhStack[BVH_STACK_SIZE];
 
 // One interior node's step: tests both children against the ray; the nearer one hit becomes
-// `node`, the farther one (when both are hit) goes on the stack. False when neither is hit.
-bool bvhDescend(GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, inout int sp) {
+// `node` and its record `n` (fetched here for its box, so the walk does not fetch it again: a
+// third of the binary walk's fetches, 1.1x on llvmpipe's mesh scenes, session 12), the farther one
+// (when both are hit) goes on the stack. False when neither is hit.
+bool bvhDescend(inout GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, inout int sp) {
     uint l = node + 1u, r = n.rightOrFirst;
+    GpuBvhNode nl = loadBvhNode(l), nr = loadBvhNode(r);
     float tl, tr;
-    bool hl = slabTest(loadBvhNode(l), o, invD, tMax, tl);
-    bool hr = slabTest(loadBvhNode(r), o, invD, tMax, tr);
+    bool hl = slabTest(nl, o, invD, tMax, tl);
+    bool hr = slabTest(nr, o, invD, tMax, tr);
     if (hl && hr) {
         bool leftFirst = tl <= tr;
         if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = leftFirst ? r : l;
         node = leftFirst ? l : r;
+        n = leftFirst ? nl : nr;
         return true;
     }
     if (hl || hr) {
         node = hl ? l : r;
+        n = hl ? nl : nr;
         return true;
     }
     return false;
@@ -247,9 +252,54 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
         if (sp == base) break;
         ref = g_bvhStack[--sp];
     }
-#else
+#elif defined(CAUSTIC_REGISTER_STACK)
+    // The newest CAUSTIC_REGISTER_STACK entries held in variables (s[0] the newest), the older ones
+    // on the memory stack above `base`, which holds entries only while s is full.
+    const int K = CAUSTIC_REGISTER_STACK;
+    uint s[K];
+    for (int i = 0; i < K; ++i) s[i] = 0u;
+    int held = 0;
+    GpuBvhNode n = loadBvhNode(node);
     while (true) {
-        GpuBvhNode n = loadBvhNode(node);
+        uint count = n.countAndAxis >> 2;
+        if (count == 0u) {
+            uint l = node + 1u, r = n.rightOrFirst;
+            GpuBvhNode nl = loadBvhNode(l), nr = loadBvhNode(r);
+            float tl, tr;
+            bool hl = slabTest(nl, o, invD, hit.t, tl);
+            bool hr = slabTest(nr, o, invD, hit.t, tr);
+            bool leftFirst = hl && (!hr || tl <= tr);
+            if (hl && hr) {
+                if (held == K) {
+                    if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = s[K - 1];
+                } else {
+                    ++held;
+                }
+                for (int i = K - 1; i > 0; --i) s[i] = s[i - 1];
+                s[0] = leftFirst ? r : l;
+            }
+            if (hl || hr) {
+                node = leftFirst ? l : r;
+                n = leftFirst ? nl : nr;
+                continue;
+            }
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, n.rightOrFirst, count, anyHit, hit)) {
+            found = true;
+            if (anyHit) return true;
+        }
+        if (held == 0) break;
+        node = s[0];
+        for (int i = 0; i < K - 1; ++i) s[i] = s[i + 1];
+        if (sp > base) {
+            s[K - 1] = g_bvhStack[--sp];
+        } else {
+            --held;
+        }
+        n = loadBvhNode(node);
+    }
+#else
+    GpuBvhNode n = loadBvhNode(node);
+    while (true) {
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;
@@ -259,6 +309,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
         }
         if (sp == base) break;
         node = g_bvhStack[--sp];
+        n = loadBvhNode(node);
     }
 #endif
     return found;
@@ -386,12 +437,12 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     // The top level, over analytic primitives and mesh instances.
     vec3 invD = safeInverse(rayD);
     float tEnter;
-    if (!slabTest(loadBvhNode(0u), rayO, invD, hit.t, tEnter)) return false;
-    int sp = 0;
     uint node = 0u;
+    GpuBvhNode n = loadBvhNode(node);
+    if (!slabTest(n, rayO, invD, hit.t, tEnter)) return false;
+    int sp = 0;
     bool found = false;
     while (true) {
-        GpuBvhNode n = loadBvhNode(node);
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             if (bvhDescend(n, node, rayO, invD, hit.t, sp)) continue;
@@ -416,6 +467,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         }
         if (sp == 0) break;
         node = g_bvhStack[--sp];
+        n = loadBvhNode(node);
     }
     return found;
 }

@@ -394,11 +394,18 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     specialisedFetch.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
     ShaderDefines specialisedWide = specialisedFetch;
     specialisedWide.emplace_back("CAUSTIC_WIDE_BVH", "1");
+    ShaderDefines specialisedRegisters = specialisedFetch;
+    specialisedRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
+    // The register stack's spills and refills (two entries held, the rest in memory) on every ray
+    // that nests more than two pending siblings.
     const std::pair<const char*, ShaderDefines> configs[] = {
         {"storage buffers, general", {}},
         {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
         {"storage buffers, specialised", specialised},
         {"buffer textures, specialised", specialisedFetch},
+        {"register stack of 8, specialised (llvmpipe's default)", specialisedRegisters},
+        {"register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
+        {"register stack of 1, storage buffers", {{"CAUSTIC_REGISTER_STACK", "1"}}},
         {"4-wide BVH, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}}},
         {"4-wide BVH, specialised", specialisedWide}};
     for (const Family& f : families) {

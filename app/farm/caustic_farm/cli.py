@@ -201,8 +201,15 @@ def run_tasks(cluster, tasks, progress, max_retries):
             results[t["name"]] = result
             progress(t)
     finally:
-        for ref in pending:
-            ray.cancel(ref, force=True)
+        # Only the tasks still running are cancelled: Ray 2.60's core worker aborts the whole
+        # process ("Tried to complete task that was not pending", task_manager.cc) when a task is
+        # force-cancelled as its own reply arrives, which happened when both tasks of a farm failed
+        # at once (tests/farm, test_refusals: the farm died of SIGABRT instead of naming the task).
+        # A task that ends between this wait and its cancel can still meet that race.
+        if pending:
+            done, running = ray.wait(list(pending), num_returns=len(pending), timeout=0)
+            for ref in running:
+                ray.cancel(ref, force=True)
     return results
 
 
