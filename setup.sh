@@ -45,18 +45,24 @@ fi
 mesa_packages=(libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libgbm1 mesa-libgallium)
 if [ "${CAUSTIC_STOCK_MESA:-0}" != 1 ] && grep -qs '^VERSION_CODENAME=bookworm$' /etc/os-release &&
    ! dpkg --compare-versions "$(dpkg-query -W -f='${Version}' libgl1-mesa-dri 2>/dev/null || echo 0)" ge 25; then
+  added=""
   if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
     # The archive the machine already uses for bookworm (a local mirror stays local).
     mirror=$(grep -rhoEs 'https?://[^ ]+/debian/?( |$)' /etc/apt/sources.list /etc/apt/sources.list.d/ |
              head -n 1 | tr -d ' ' || true)
     mirror=${mirror:-http://deb.debian.org/debian}
+    added=/etc/apt/sources.list.d/caustic-bookworm-backports.list
     log "adding $mirror bookworm-backports to apt's sources (for Mesa 25)"
-    echo "deb $mirror bookworm-backports main" | $SUDO tee /etc/apt/sources.list.d/caustic-bookworm-backports.list >/dev/null
+    echo "deb $mirror bookworm-backports main" | $SUDO tee "$added" >/dev/null
   fi
   log "installing Mesa 25 from bookworm-backports: ${mesa_packages[*]}"
   export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -q
-  $SUDO apt-get install -y -q --no-install-recommends -t bookworm-backports "${mesa_packages[@]}"
+  # Best effort: without it everything works on Debian 12's Mesa, only slower. A source that
+  # cannot be fetched is removed again, so that it does not fail every later apt-get update.
+  if ! { $SUDO apt-get update -q && $SUDO apt-get install -y -q --no-install-recommends -t bookworm-backports "${mesa_packages[@]}"; }; then
+    log "WARNING: Mesa 25 could not be installed from bookworm-backports; keeping Debian 12's Mesa (slower llvmpipe)"
+    if [ -n "$added" ]; then $SUDO rm -f "$added" && $SUDO apt-get update -q || true; fi
+  fi
 fi
 
 # 2. glad2 (the OpenGL loader generator) in its own venv: PyPI's glad (v1) shares its module name.
