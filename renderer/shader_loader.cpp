@@ -198,8 +198,9 @@ ShaderDefines integratorDefines() {
     if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
     // The binary mesh walk's newest stack entries in variables (geometry/bvh.glsl,
     // CAUSTIC_REGISTER_STACK): 8 on llvmpipe, where the memory stack's every push and pop is a
-    // per-lane store or load (8: 1.11x on mesh-knot, 4: 1.08x, 12: 1.09x, 16: 1.0x); off elsewhere,
-    // unmeasured on NVIDIA. $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
+    // per-lane store or load (mesh-knot at 128 x 128 x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16:
+    // 1.0x; at 192 x 192 x 16 spp 1.0x; never a loss); off elsewhere, unmeasured on NVIDIA.
+    // $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
     int registerStack = llvmpipe() ? 8 : 0;
     if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
     if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
