@@ -187,8 +187,8 @@ ShaderDefines integratorDefines() {
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
     // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only) when
     // $CAUSTIC_WIDE_BVH = 1. They were llvmpipe's default until session 12, when the binary walk
-    // with its newest stack entries in variables (below) rendered the mesh scenes faster on Mesa
-    // 22.3 (1.09x) and on Mesa 25 (1.5x with the variables; docs/performance.md).
+    // rendered the mesh scenes faster on Mesa 25 (knot 1.42-1.52x) and, with its newest stack
+    // entries in variables (below), on Mesa 22.3 too (1.09x; docs/performance.md).
     bool wide = false;
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
