@@ -180,8 +180,7 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
 // $CAUSTIC_SPECIALIZE = 1 or 0 forces it on or off.
 bool specializeByDefault() {
     if (const char* env = std::getenv("CAUSTIC_SPECIALIZE"); env && *env) return std::strcmp(env, "0") != 0;
-    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
+    return onLlvmpipe();
 }
 
 // setBakeGeometry's choice, unless $CAUSTIC_BAKE_GEOMETRY = 1 or 0 forces it on or off.

@@ -167,21 +167,17 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
     return program;
 }
 
-namespace {
-
-bool llvmpipe() {
+bool onLlvmpipe() {
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
-
-}  // namespace
 
 ShaderDefines integratorDefines() {
     bool fetchTexels = false;
     if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) {
         fetchTexels = std::strcmp(env, "0") != 0;
     } else {
-        fetchTexels = llvmpipe();
+        fetchTexels = onLlvmpipe();
     }
     ShaderDefines defines;
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
@@ -201,7 +197,7 @@ ShaderDefines integratorDefines() {
     // per-lane store or load (mesh-knot at 128 x 128 x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16:
     // 1.0x; at 192 x 192 x 16 spp 1.0x; never a loss); off elsewhere, unmeasured on NVIDIA.
     // $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
-    int registerStack = llvmpipe() ? 8 : 0;
+    int registerStack = onLlvmpipe() ? 8 : 0;
     if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
     if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
     return defines;
@@ -209,7 +205,7 @@ ShaderDefines integratorDefines() {
 
 bool regeneratesPaths() {
     if (const char* env = std::getenv("CAUSTIC_REGENERATE"); env && *env) return std::strcmp(env, "0") != 0;
-    return llvmpipe();
+    return onLlvmpipe();
 }
 
 std::string defaultShaderDir() {

@@ -41,6 +41,10 @@ std::string mapShaderLog(const std::string& log, const ShaderSource& source);
 unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName,
                                std::string* error);
 
+// Whether the current context's driver is Mesa's llvmpipe (GL_RENDERER), where the integrator's
+// configuration differs (integratorDefines, the renderer's specialisation).
+bool onLlvmpipe();
+
 // The configuration every program that includes the scene's shaders is built with (the
 // integrator, the test kernels, the benchmark's kernels), for the current context's driver: on
 // Mesa's llvmpipe CAUSTIC_FETCH_TEXELS (scene data read through buffer textures; why:
