@@ -1040,6 +1040,144 @@ gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& w) {
     return out;
 }
 
+float decodePairBound(const glm::uvec4& header, int axis, std::uint32_t q) {
+    const float s = scaleOf((header.w >> (8 * axis)) & 0xffu);
+    // Exact (q < 2^16, s a power of two): fused or not, the sum is the one rounding, as in the shader.
+    const volatile float product = static_cast<float>(q) * s;
+    return std::bit_cast<float>(header[axis]) + product;
+}
+
+void decodePairBox(const glm::uvec4& header, const glm::uvec4& r0, const glm::uvec4& r1, int k, glm::vec3& lo,
+                   glm::vec3& hi) {
+    const std::uint32_t words[6] = {r0.x, r0.y, r0.z, r0.w, r1.x, r1.y};
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = decodePairBound(header, a, (words[2 * a] >> (16 * k)) & 0xffffu);
+        hi[a] = decodePairBound(header, a, (words[2 * a + 1] >> (16 * k)) & 0xffffu);
+    }
+}
+
+namespace {
+
+// buildPairBvh's state: the binary tree, where its records go, and the grid.
+struct PairBuild {
+    const std::vector<BvhNode>& nodes;
+    std::vector<glm::uvec4>& out;
+    std::size_t start;   // out[start] is the header, at texel index base
+    std::uint32_t base;
+    glm::uvec4 header{0u};
+    bool ok = true;
+
+    // A child as a record sees it: a subtree (node) or a range of leaf primitives, and its box.
+    struct Child {
+        Aabb box;
+        bool leaf = false;
+        std::uint32_t node = 0, first = 0, count = 0;
+        bool empty = false;
+    };
+
+    Child childOf(std::uint32_t i) const {
+        const BvhNode& n = nodes[i];
+        Child c;
+        c.box = n.bounds();
+        c.leaf = n.isLeaf();
+        c.node = i;
+        c.first = n.rightOrFirst;
+        c.count = n.count();
+        return c;
+    }
+
+    // The 16-bit values that decode at or below lo and at or above hi.
+    std::uint32_t quantLo(int a, float lo) const {
+        const float s = scaleOf((header.w >> (8 * a)) & 0xffu), origin = std::bit_cast<float>(header[a]);
+        auto q = static_cast<std::uint32_t>(std::clamp(std::floor((lo - origin) / s), 0.0f, 65535.0f));
+        while (q > 0 && decodePairBound(header, a, q) > lo) --q;
+        while (q < 65535 && decodePairBound(header, a, q + 1) <= lo) ++q;
+        return q;
+    }
+    std::uint32_t quantHi(int a, float hi) const {
+        const float s = scaleOf((header.w >> (8 * a)) & 0xffu), origin = std::bit_cast<float>(header[a]);
+        auto q = static_cast<std::uint32_t>(std::clamp(std::ceil((hi - origin) / s), 0.0f, 65535.0f));
+        while (q < 65535 && decodePairBound(header, a, q) < hi) ++q;
+        while (q > 0 && decodePairBound(header, a, q - 1) >= hi) --q;
+        return q;
+    }
+
+    // A record for two children (made depth first, its children's records after it); returns its
+    // texel index.
+    std::uint32_t record(const Child& c0, const Child& c1) {
+        const std::size_t at = out.size();
+        if (at - start + base > 0x7ffffffeu) ok = false;
+        out.resize(at + 2, glm::uvec4(0u));
+        const std::uint32_t l0 = link(c0), l1 = link(c1);
+        std::uint32_t w[6] = {0, 0, 0, 0, 0, 0};
+        const Child* cs[2] = {&c0, &c1};
+        for (int k = 0; k < 2; ++k) {
+            for (int a = 0; a < 3; ++a) {
+                std::uint32_t lo = 65535, hi = 0;  // empty: inverted
+                if (!cs[k]->empty) {
+                    lo = quantLo(a, cs[k]->box.min[a]);
+                    hi = quantHi(a, cs[k]->box.max[a]);
+                }
+                w[2 * a] |= lo << (16 * k);
+                w[2 * a + 1] |= hi << (16 * k);
+            }
+        }
+        out[at] = glm::uvec4(w[0], w[1], w[2], w[3]);
+        out[at + 1] = glm::uvec4(w[4], w[5], l0, l1);
+        return static_cast<std::uint32_t>(at - start) + base;
+    }
+
+    std::uint32_t link(const Child& c) {
+        if (c.empty) return kPairEmpty;
+        if (!c.leaf) return record(childOf(c.node + 1), childOf(nodes[c.node].rightOrFirst));
+        if (c.count <= kPairLeafMaxCount) {
+            if (c.first > kPairLeafMaxFirst) ok = false;
+            return kPairLeaf | c.count << 27 | (c.first & kPairLeafMaxFirst);
+        }
+        // A longer leaf: two halves with its box (depth log2(count / 15)).
+        Child a = c, b = c;
+        a.count = c.count / 2;
+        b.first = c.first + a.count;
+        b.count = c.count - a.count;
+        return record(a, b);
+    }
+};
+
+}  // namespace
+
+bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out) {
+    if (bvh.nodes.empty()) return true;
+    PairBuild b{bvh.nodes, out, out.size(), base};
+    // The grid: per axis the root box's lower bound and the smallest power-of-two scale whose
+    // value 65535 reaches the upper bound and lies above the origin (so that an empty child,
+    // lo = 65535 and hi = 0, decodes inverted even where the box is flat on that axis).
+    const Aabb root = bvh.nodes[0].bounds();
+    for (int a = 0; a < 3; ++a) {
+        const float lo = std::isfinite(root.min[a]) ? root.min[a] : 0.0f;
+        const float hi = std::isfinite(root.max[a]) ? root.max[a] : lo;
+        b.header[a] = std::bit_cast<std::uint32_t>(lo);
+        auto setExponent = [&](int e) {
+            b.header.w = (b.header.w & ~(0xffu << (8 * a))) | (static_cast<std::uint32_t>(e) << (8 * a));
+        };
+        int e = 1;
+        const float extent = hi - lo;
+        if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / 65535.0f) + 127, 1, 254);
+        setExponent(e);
+        while (e < 254 && !(decodePairBound(b.header, a, 65535) >= hi && decodePairBound(b.header, a, 65535) > lo))
+            setExponent(++e);
+    }
+    out.push_back(b.header);
+    PairBuild::Child rootChild = b.childOf(0), none;
+    none.empty = true;
+    if (rootChild.leaf) {
+        b.record(rootChild, none);
+    } else {
+        b.record(b.childOf(1), b.childOf(bvh.nodes[0].rightOrFirst));
+    }
+    if (!b.ok) out.resize(b.start);
+    return b.ok;
+}
+
 Ray transformRay(const glm::mat4& worldToObject, const Ray& ray) {
     return {glm::vec3(worldToObject * glm::vec4(ray.origin, 1.0f)),
             glm::vec3(worldToObject * glm::vec4(ray.dir, 0.0f))};

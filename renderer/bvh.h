@@ -142,6 +142,38 @@ float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q
 // Child k's decoded box.
 void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi);
 
+// ---- The pair BVH: the binary tree as llvmpipe's walk reads it (CAUSTIC_PAIR_BVH) ----------------
+// One record per interior node of the binary tree, 32 bytes (two RGBA32UI texels), holding both
+// children's boxes and links, so that a step of the walk reads two texels where the binary nodes
+// (renderer/gpu_scene.cpp, bvhNodes) took four, and a popped child needs no fetch to be known as a
+// leaf. Why: on llvmpipe each texel fetch is a call, and every call spills the walk's live
+// vectors; on mesh-knot the walk's loop spent a third of its samples moving registers to and from
+// the stack (docs/performance.md, session 13). The boxes are quantised to 16 bits on one grid over
+// the tree's root box (its header texel: per axis an origin and a power-of-two scale s, bound =
+// origin + q * s; q * s is exact, so the one rounding is the sum's, the same on every device), the
+// lower bound rounded down and the upper up, checked in float as decodePairBound computes them:
+// a ray that hits a child's box hits its decoded box.
+// Layout of one tree at texel `base`: the header (xyz: the origin's float bits, w: the biased
+// exponents of the three scales in bytes 0-2), then the records, the root's first (at base + 1),
+// each two texels: (lo x, hi x, lo y, hi y), (lo z, hi z, link 0, link 1), child 0's 16-bit value
+// in the low half of each word and child 1's in the high half. A link is kPairLeaf | count << 27 |
+// first (the mesh's triangles [first, first + count), count in [1, 15], first < 2^27; a longer
+// binary leaf becomes records of shorter leaves with the same box) or the absolute texel index of
+// the child's record (< 2^31). A tree whose root is a leaf gets one record: the leaf, and an
+// empty child (decoded inverted on every axis: never hit). An empty tree appends nothing.
+inline constexpr std::uint32_t kPairLeaf = 0x80000000u;
+inline constexpr std::uint32_t kPairLeafMaxCount = 15u;
+inline constexpr std::uint32_t kPairLeafMaxFirst = (1u << 27) - 1u;
+inline constexpr std::uint32_t kPairEmpty = 0xffffffffu;
+// Appends `bvh`'s pair form to `out`, whose element out.size() has the absolute texel index
+// `base`. False (nothing appended) where a leaf's first primitive is beyond kPairLeafMaxFirst or a
+// record's index beyond 2^31.
+bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out);
+// The bound the GPU decodes from value q on axis a of a tree with this header (origin + q * s).
+float decodePairBound(const glm::uvec4& header, int axis, std::uint32_t q);
+// Child k's (0 or 1) decoded box from the record at texels (r0, r1).
+void decodePairBox(const glm::uvec4& header, const glm::uvec4& r0, const glm::uvec4& r1, int k, glm::vec3& lo,
+                   glm::vec3& hi);
 
 // Builds over primBounds (one box per primitive, indexed by primitive id).
 Bvh buildBvh(std::span<const Aabb> primBounds, const BvhBuildOptions& options = {});

@@ -651,8 +651,20 @@ struct Builder {
         out.wideNodes.resize(wide.size());
         for (std::size_t i = 0; i < wide.size(); ++i)
             out.wideNodes[i] = quantizeWideNode(wide[i]);
-        for (size_t i = 0; i < out.instances.size(); ++i)
-            out.instances[i].info3 = glm::uvec4(wideRootOf[out.meshBvh.instances[i].mesh], 0, 0, 0);
+        // And as pair records (CAUSTIC_PAIR_BVH; O(nodes), remade each compile).
+        out.pairNodes.clear();
+        std::vector<std::uint32_t> pairRootOf;
+        for (const MeshBlas& blas : out.meshBvh.blases) {
+            pairRootOf.push_back(static_cast<std::uint32_t>(out.pairNodes.size()));
+            if (!buildPairBvh(blas.bvh, pairRootOf.back(), out.pairNodes)) {
+                *error = "a mesh has more triangles than the GPU's pair BVH can index (2^27)";
+                return false;
+            }
+        }
+        for (size_t i = 0; i < out.instances.size(); ++i) {
+            const std::uint32_t mesh = out.meshBvh.instances[i].mesh;
+            out.instances[i].info3 = glm::uvec4(wideRootOf[mesh], pairRootOf[mesh], 0, 0);
+        }
         return true;
     }
 

@@ -75,6 +75,8 @@ struct CompiledScene {
     // Every mesh's BVH again, 4-wide (renderer/bvh.h, collapseBvh4), for CAUSTIC_WIDE_BVH; an
     // instance's root is info3.x.
     std::vector<gpu::GpuWideBvhNode> wideNodes;
+    // Every mesh's BVH again as pair records (renderer/bvh.h, buildPairBvh), for CAUSTIC_PAIR_BVH.
+    std::vector<glm::uvec4> pairNodes;
     std::vector<gpu::GpuTriangle> triangles;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<float> meshLightCdf;

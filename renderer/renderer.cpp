@@ -256,6 +256,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(1, &r->m_lightTree);
     glCreateBuffers(1, &r->m_primitiveHits);
     glCreateBuffers(1, &r->m_wideNodes);
+    glCreateBuffers(1, &r->m_pairNodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
@@ -270,6 +271,7 @@ Renderer::~Renderer() {
     glDeleteBuffers(1, &m_lightTree);
     glDeleteBuffers(1, &m_primitiveHits);
     glDeleteBuffers(1, &m_wideNodes);
+    glDeleteBuffers(1, &m_pairNodes);
     glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
@@ -502,6 +504,7 @@ std::string Renderer::upload(bool meshes) {
         uploadBuffer(m_geometry[0], m_compiled.bvhNodes);
         uploadBuffer(m_geometry[3], m_compiled.triangles);
         uploadBuffer(m_wideNodes, m_compiled.wideNodes);
+        uploadBuffer(m_pairNodes, m_compiled.pairNodes);
         uploadBuffer(m_geometry[4], m_compiled.vertices);
     } else {  // the top level's reserve only
         glNamedBufferSubData(m_geometry[0], 0, GLsizeiptr(m_compiled.tlasNodeCapacity * sizeof(gpu::GpuBvhNode)),
@@ -576,7 +579,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI},
         {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}, {TEXUNIT_TABLES, m_tables, GL_R32UI},
         {TEXUNIT_LIGHTS, m_lights, GL_RGBA32UI}, {TEXUNIT_LIGHT_TREE, m_lightTree, GL_RGBA32UI},
-        {TEXUNIT_BSDF_TABLES, m_bsdfTables, GL_R32UI}};
+        {TEXUNIT_BSDF_TABLES, m_bsdfTables, GL_R32UI}, {TEXUNIT_PAIR_NODES, m_pairNodes, GL_RGBA32UI}};
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

@@ -188,6 +188,14 @@ ShaderDefines integratorDefines() {
     bool wide = false;
     if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
+    // The meshes' pair BVHs (renderer/bvh.h, buildPairBvh: both children's boxes, 16-bit, in one
+    // 32-byte record) on llvmpipe, where a step of the binary walk read four texels and each
+    // fetch is a call that spills the walk's registers: mesh-knot 1.18x, textured-gltf 1.08x
+    // (docs/performance.md, session 13). $CAUSTIC_PAIR_BVH = 1 or 0 forces it (with buffer
+    // textures, not with the 4-wide BVH). Unmeasured on NVIDIA, so off there.
+    bool pair = onLlvmpipe();
+    if (const char* env = std::getenv("CAUSTIC_PAIR_BVH"); env && *env) pair = std::strcmp(env, "0") != 0;
+    if (pair && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
     // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
     // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.

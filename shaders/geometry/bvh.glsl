@@ -255,6 +255,68 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
         if (sp == base) break;
         ref = g_bvhStack[--sp];
     }
+#elif defined(CAUSTIC_PAIR_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+    // The pair records (renderer/bvh.h, buildPairBvh): a step reads one record, both children's
+    // boxes (16-bit values on the tree's grid: bound = origin + q * scale, exact product, so the
+    // decoded box is the one renderer/bvh.cpp checked contains the child's) and links; a link is a
+    // record's texel index or a leaf's triangles, so a popped link needs no fetch. The far child
+    // hit goes on the stack: its newest CAUSTIC_REGISTER_STACK entries in variables as below
+    // (PAIR_STACK_K; 1 without it), the older ones on the memory stack above `base`.
+    uvec4 head = FETCH_U4(pairNodeTexels, inst.info3.y);
+    vec3 origin = uintBitsToFloat(head.xyz);
+    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+#ifdef CAUSTIC_REGISTER_STACK
+    const int K = CAUSTIC_REGISTER_STACK;
+#else
+    const int K = 1;
+#endif
+    uint s[K];
+    for (int i = 0; i < K; ++i) s[i] = 0u;
+    int held = 0;
+    uint link = inst.info3.y + 1u;  // the root's record
+    while (true) {
+        if ((link & PAIR_LINK_LEAF) == 0u) {
+            uvec4 a = FETCH_U4(pairNodeTexels, link), b = FETCH_U4(pairNodeTexels, link + 1u);
+#define PAIR_BOUNDS(w, axis) (origin[axis] + vec2(uvec2(w & 0xffffu, w >> 16)) * scale[axis])
+            vec2 minX = PAIR_BOUNDS(a.x, 0), maxX = PAIR_BOUNDS(a.y, 0);
+            vec2 minY = PAIR_BOUNDS(a.z, 1), maxY = PAIR_BOUNDS(a.w, 1);
+            vec2 minZ = PAIR_BOUNDS(b.x, 2), maxZ = PAIR_BOUNDS(b.y, 2);
+#undef PAIR_BOUNDS
+            // slabTest's arithmetic, for both children at once.
+            vec2 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
+            vec2 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
+            vec2 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;
+            vec2 tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, vec2(0.0)));
+            vec2 tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;
+            bvec2 h = lessThanEqual(tn, min(tf, vec2(hit.t)));
+            bool firstFirst = h.x && (!h.y || tn.x <= tn.y);
+            if (h.x && h.y) {
+                if (held == K) {
+                    if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = s[K - 1];
+                } else {
+                    ++held;
+                }
+                for (int i = K - 1; i > 0; --i) s[i] = s[i - 1];
+                s[0] = firstFirst ? b.w : b.z;
+            }
+            if (h.x || h.y) {
+                link = firstFirst ? b.z : b.w;
+                continue;
+            }
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, link & PAIR_LEAF_MAX_FIRST, (link >> 27) & 15u,
+                                      anyHit, hit)) {
+            found = true;
+            if (anyHit) return true;
+        }
+        if (held == 0) break;
+        link = s[0];
+        for (int i = 0; i < K - 1; ++i) s[i] = s[i + 1];
+        if (sp > base) {
+            s[K - 1] = g_bvhStack[--sp];
+        } else {
+            --held;
+        }
+    }
 #elif defined(CAUSTIC_REGISTER_STACK)
     // The newest CAUSTIC_REGISTER_STACK entries held in variables (s[0] the newest), the older ones
     // on the memory stack above `base`, which holds entries only while s is full.

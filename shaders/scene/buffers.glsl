@@ -68,6 +68,9 @@ layout(binding = TEXUNIT_TABLES) uniform usamplerBuffer tableTexels;
 layout(binding = TEXUNIT_LIGHTS) uniform usamplerBuffer lightTexels;
 layout(binding = TEXUNIT_LIGHT_TREE) uniform usamplerBuffer lightNodeTexels;
 layout(binding = TEXUNIT_BSDF_TABLES) uniform usamplerBuffer bsdfTableTexels;
+// The meshes' pair BVHs (renderer/bvh.h, buildPairBvh), read only by texel fetches: the pair walk
+// (CAUSTIC_PAIR_BVH, geometry/bvh.glsl) is llvmpipe's configuration.
+layout(binding = TEXUNIT_PAIR_NODES) uniform usamplerBuffer pairNodeTexels;
 
 #ifdef CAUSTIC_FETCH_TEXELS
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))

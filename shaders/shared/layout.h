@@ -47,6 +47,9 @@ using uint = std::uint32_t;
 #define TEXUNIT_LIGHTS 11          // GpuLight[] as RGBA32UI texels
 #define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[] as RGBA32UI texels
 #define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables) as R32UI texels
+#define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh) as RGBA32UI texels (CAUSTIC_PAIR_BVH)
+#define PAIR_LINK_LEAF 0x80000000u
+#define PAIR_LEAF_MAX_FIRST 0x07ffffffu
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
@@ -217,7 +220,8 @@ CAUSTIC_STRUCT(GpuInstance) {
     uvec4 info;   // x: root node in bvhNodes, y: first triangle, z: material, w: light index + 1
     uvec4 info2;  // x: first vertex, y: triangle count, z: 1 when the file's materials are used,
                   // w: PRIM_FLAG_* (PRIM_FLAG_ONE_SIDED_EMITTER)
-    uvec4 info3;  // x: root node of the mesh's 4-wide BVH in wideNodes (CAUSTIC_WIDE_BVH); yzw: 0
+    uvec4 info3;  // x: root node of the mesh's 4-wide BVH in wideNodes (CAUSTIC_WIDE_BVH), y: its pair BVH's
+                  // header texel in pairNodes (CAUSTIC_PAIR_BVH); zw: 0
 };
 
 // One triangle in object space; v: its vertices' indices into the vertex buffer (already offset),

@@ -729,3 +729,110 @@ TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, wi
         }
     }
 }
+
+TEST_CASE("buildPairBvh: every leaf once, each decoded box containing what lies below it, within a grid step", "[bvh]") {
+    // What llvmpipe's walk reads (CAUSTIC_PAIR_BVH): per interior node one record with both
+    // children's boxes on 16-bit grids over the root box. A decoded box must contain everything
+    // below it (else a ray could miss a triangle it hits); its traversal is checked against the
+    // CPU BVH in tests/gpu/test_geometry.cpp.
+    struct Setting { const char* name; BvhBuildOptions opt; };
+    std::vector<Setting> settings;
+    settings.push_back({"default", {}});
+    BvhBuildOptions o;
+    o.bins = 64;
+    o.maxLeafSize = 64;
+    o.traversalCost = 40.0f;  // leaves longer than a link's 15: split into records of shorter ones
+    settings.push_back({"long leaves", o});
+    o = {};
+    o.sah = false;
+    o.maxLeafSize = 4;
+    settings.push_back({"median split", o});
+    // Meshes near and far from the origin, flat on an axis, and a single triangle (a leaf root).
+    struct Placement { const char* name; glm::vec3 offset, scale; };
+    const Placement placements[] = {{"unit", glm::vec3(0.0f), glm::vec3(1.0f)},
+                                    {"far away", glm::vec3(3.0e6f, -7.5e5f, 1.0e3f), glm::vec3(1e-2f)},
+                                    {"flat in z", glm::vec3(0.5f, 0.25f, -2.0f), glm::vec3(4.0f, 4.0f, 0.0f)},
+                                    {"large", glm::vec3(-1e20f), glm::vec3(1e19f)}};
+    for (std::size_t n : {std::size_t(1), std::size_t(2), std::size_t(40), std::size_t(3000)}) {
+        for (const Placement& p : placements) {
+            TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 11u + 3u);
+            for (glm::vec3& v : m.positions) v = p.offset + p.scale * v;
+            const std::vector<Aabb> boxes = triangleBoxes(m);
+            for (const Setting& s : settings) {
+                INFO(n << " triangles, " << p.name << ", " << s.name);
+                const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
+                std::vector<glm::uvec4> out(7, glm::uvec4(0u));  // appended after 7 others: indices are absolute
+                const std::uint32_t base = 1000;                  // out[7] is texel 1000
+                REQUIRE(buildPairBvh(blas.bvh, base, out));
+                REQUIRE(out.size() >= 7 + 3);
+                REQUIRE((out.size() - 8) % 2 == 0);
+                const glm::uvec4 header = out[7];
+                auto at = [&](std::uint32_t texel) -> const glm::uvec4& {
+                    REQUIRE(texel >= base + 1);
+                    REQUIRE(texel - base + 7 < out.size());
+                    return out[texel - base + 7];
+                };
+                std::vector<int> seen(blas.triangles.size(), 0);
+                std::size_t records = 0;
+                // From the root's record down, with each link's decoded box: every box contains
+                // everything below it, and is at most a grid step (and the sum's rounding) larger.
+                struct Item { std::uint32_t texel; glm::vec3 lo, hi; };
+                std::vector<Item> todo{{base + 1, glm::vec3(-INFINITY), glm::vec3(INFINITY)}};
+                int empties = 0;
+                while (!todo.empty()) {
+                    const Item it = todo.back();
+                    todo.pop_back();
+                    REQUIRE((it.texel - base - 1) % 2 == 0);
+                    const glm::uvec4 r0 = at(it.texel), r1 = at(it.texel + 1);
+                    ++records;
+                    for (int k = 0; k < 2; ++k) {
+                        glm::vec3 lo, hi;
+                        decodePairBox(header, r0, r1, k, lo, hi);
+                        const std::uint32_t link = k == 0 ? r1.z : r1.w;
+                        if (link == kPairEmpty) {
+                            CHECK(lo.x > hi.x);  // inverted on every axis: never entered
+                            CHECK(lo.y > hi.y);
+                            CHECK(lo.z > hi.z);
+                            ++empties;
+                            continue;
+                        }
+                        CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
+                        CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
+                        if ((link & kPairLeaf) != 0) {
+                            const std::uint32_t first = link & kPairLeafMaxFirst, count = (link >> 27) & 15u;
+                            REQUIRE(count >= 1);
+                            REQUIRE(first + count <= seen.size());
+                            Aabb leaf;
+                            for (std::uint32_t t = first; t < first + count; ++t) {
+                                ++seen[t];
+                                const Aabb tb = boxes[blas.triangleIds[t]];
+                                leaf.grow(tb);
+                                CHECK(glm::all(glm::lessThanEqual(lo, tb.min)));
+                                CHECK(glm::all(glm::greaterThanEqual(hi, tb.max)));
+                            }
+                            for (int a = 0; a < 3; ++a) {
+                                const float step = decodePairBound(header, a, 1) - decodePairBound(header, a, 0);
+                                const float slack =
+                                    step + 2.0f * std::nextafter(std::abs(leaf.min[a]) + std::abs(leaf.max[a]), INFINITY) * 0x1p-24f;
+                                // (A split long leaf's halves keep the whole leaf's box.)
+                                if (s.opt.maxLeafSize <= kPairLeafMaxCount) {
+                                    CHECK(leaf.min[a] - lo[a] <= slack);
+                                    CHECK(hi[a] - leaf.max[a] <= slack);
+                                }
+                            }
+                        } else {
+                            todo.push_back({link, lo, hi});
+                        }
+                    }
+                }
+                CHECK(records == (out.size() - 8) / 2);  // no record unreached
+                CHECK(empties == (blas.bvh.nodes.size() == 1 ? 1 : 0));
+                for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
+            }
+        }
+    }
+    // An empty tree appends nothing.
+    std::vector<glm::uvec4> none;
+    CHECK(buildPairBvh(Bvh{}, 0, none));
+    CHECK(none.empty());
+}
