@@ -9,6 +9,9 @@
 //   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
 //   inverted (empty) box is never entered.
+//   A mesh's tree is walked in one of three forms (renderer/shader_loader.cpp chooses): the binary
+//   nodes (NVIDIA), their pair records (CAUSTIC_PAIR_BVH, llvmpipe: both children of a node in
+//   one 32-byte record, renderer/bvh.h) or the 4-wide nodes (CAUSTIC_WIDE_BVH, on request).
 //   Triangles: Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1),
 //   with float edge functions kept monotone (`precise`: never of the wrong sign) and those that
 //   are exactly 0 redone in double (as the CPU reference does).
