@@ -596,9 +596,12 @@ void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::u
     glBindImageTexture(BINDING_ACCUM_SQ_IMAGE, m_accumSq, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_ALBEDO_IMAGE, m_albedo, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(BINDING_NORMAL_IMAGE, m_normal, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    // One work group per 8x8 tile, numbered row by row; a grid of at most 65535 groups a side
-    // (the least GL guarantees), the kernel skipping the excess of its last row.
-    const std::uint32_t groups = tile1 - tile0, gx = std::min<std::uint32_t>(groups, 65535u);
+    // One work group per 8x8 tile, DISPATCH_STRIDES bands of them interleaved (integrator/path.comp);
+    // a grid of at most 65535 groups a side (the least GL guarantees), the kernel skipping the
+    // groups beyond the tiles.
+    const std::uint32_t tiles = tile1 - tile0;
+    const std::uint32_t groups = DISPATCH_STRIDES * ((tiles + DISPATCH_STRIDES - 1) / DISPATCH_STRIDES);
+    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535u);
     glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
     // The next dispatch reads what this one wrote.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |

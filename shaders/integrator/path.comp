@@ -11,9 +11,18 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
     // One work group per 8x8 tile; a dispatch covers tiles [dispatch.z, dispatch.w), numbered row
-    // by row, on a grid of work groups that may have a few too many (Renderer::dispatch).
-    uint tile = frame.dispatch.z + gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    if (tile >= frame.dispatch.w) return;
+    // by row, on a grid of work groups that may have a few too many (Renderer::dispatch). Work
+    // group g takes tile (g % S) M + g / S of the dispatch's (M = its tiles / S, rounded up; S =
+    // DISPATCH_STRIDES): consecutive groups take tiles M apart. llvmpipe hands each of its threads
+    // one contiguous run of the grid's work groups, so with tiles in image order the thread with
+    // the image's busy half (mesh-knot's knots) worked on while the other slept: 1.5 of 2 cores
+    // busy. Now each run holds tiles from every band of the image (docs/performance.md, session 13).
+    uint count = frame.dispatch.w - frame.dispatch.z;
+    uint bandTiles = (count + DISPATCH_STRIDES - 1u) / DISPATCH_STRIDES;
+    uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint t = (g % DISPATCH_STRIDES) * bandTiles + g / DISPATCH_STRIDES;
+    if (t >= count) return;
+    uint tile = frame.dispatch.z + t;
     // The accumulation images cover the crop being rendered (the whole image unless a part of a
     // split render: Renderer::setCrop), whose origin in the image is frame.options.yz; pixel
     // indices and camera rays are those of the whole image, so a crop's pixels are the same.

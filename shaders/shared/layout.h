@@ -58,7 +58,10 @@ using uint = std::uint32_t;
 #define BINDING_INSTANCES 15       // GpuInstance[]: mesh instances
 #define BINDING_TRIANGLES 16       // GpuTriangle[]: every mesh's triangles, in its BVH's leaf order
 #define BINDING_VERTICES 17        // GpuVertex[]: every mesh's shading attributes
-#define BINDING_BSDF_TABLES 11     // float[]: the BSDF tables (GGX albedo, then the surface model's; BSDF_TABLE_*)
+#define BINDING_BSDF_TABLES 11
+// The integrator's dispatch interleaves its tiles over this many bands (integrator/path.comp):
+// it dispatches DISPATCH_STRIDES * ceil(tiles / DISPATCH_STRIDES) work groups.
+#define DISPATCH_STRIDES 64u     // float[]: the BSDF tables (GGX albedo, then the surface model's; BSDF_TABLE_*)
 
 // Words of the counter buffer.
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
