@@ -970,6 +970,22 @@ namespace {
 
 float scaleOf(std::uint32_t biasedExponent) { return std::bit_cast<float>(biasedExponent << 23); }
 
+// The grid of the quantised boxes on one axis, from `lo` (the origin): the smallest biased exponent
+// e in [1, 254] whose scale s = 2^(e - 127) makes the top value's bound lo + top * s (in float, as
+// the shaders decode it) reach `hi` and lie above `lo` (so that an empty child, lo = top and hi = 0,
+// decodes inverted even where the grid is a single point).
+int gridExponent(float lo, float hi, std::uint32_t top) {
+    auto reach = [&](int e) {
+        const volatile float product = static_cast<float>(top) * scaleOf(static_cast<std::uint32_t>(e));
+        return lo + product;
+    };
+    int e = 1;
+    const float extent = hi - lo;
+    if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / static_cast<float>(top)) + 127, 1, 254);
+    while (e < 254 && !(reach(e) >= hi && reach(e) > lo)) ++e;
+    return e;
+}
+
 // Word w of a node's bytes: lo x, hi x, lo y, hi y (qXY), lo z, hi z (qZ.xy).
 std::uint32_t& boundBytes(gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
 std::uint32_t boundBytes(const gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
@@ -1006,17 +1022,8 @@ gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& w) {
         }
         if (!(lo <= hi)) lo = hi = 0.0f;  // no child (not made by collapseBvh4)
         out.head[a] = std::bit_cast<std::uint32_t>(lo);
-        // The smallest power-of-two scale whose top byte reaches the union's upper bound, and lies
-        // above the origin (so that an empty child's box, lo = byte 255 and hi = byte 0, is
-        // inverted even where the union is a single point).
-        auto setExponent = [&](int e) {
-            out.head.w = (out.head.w & ~(0xffu << (8 * a))) | (static_cast<std::uint32_t>(e) << (8 * a));
-        };
-        int e = 1;
-        const float extent = hi - lo;
-        if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / 255.0f) + 127, 1, 254);
-        setExponent(e);
-        while (e < 254 && !(decodeWideBound(out, a, 255) >= hi && decodeWideBound(out, a, 255) > lo)) setExponent(++e);
+        const int e = gridExponent(lo, hi, 255);
+        out.head.w |= static_cast<std::uint32_t>(e) << (8 * a);
         const float s = scaleOf(static_cast<std::uint32_t>(e));
         std::uint32_t qlo = 0, qhi = 0;
         for (int k = 0; k < 4; ++k) {
@@ -1148,23 +1155,13 @@ struct PairBuild {
 bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out) {
     if (bvh.nodes.empty()) return true;
     PairBuild b{bvh.nodes, out, out.size(), base};
-    // The grid: per axis the root box's lower bound and the smallest power-of-two scale whose
-    // value 65535 reaches the upper bound and lies above the origin (so that an empty child,
-    // lo = 65535 and hi = 0, decodes inverted even where the box is flat on that axis).
+    // The grid: per axis from the root box's lower bound, 65535 steps reaching its upper bound.
     const Aabb root = bvh.nodes[0].bounds();
     for (int a = 0; a < 3; ++a) {
         const float lo = std::isfinite(root.min[a]) ? root.min[a] : 0.0f;
         const float hi = std::isfinite(root.max[a]) ? root.max[a] : lo;
         b.header[a] = std::bit_cast<std::uint32_t>(lo);
-        auto setExponent = [&](int e) {
-            b.header.w = (b.header.w & ~(0xffu << (8 * a))) | (static_cast<std::uint32_t>(e) << (8 * a));
-        };
-        int e = 1;
-        const float extent = hi - lo;
-        if (extent > 0.0f && std::isfinite(extent)) e = std::clamp(std::ilogb(extent / 65535.0f) + 127, 1, 254);
-        setExponent(e);
-        while (e < 254 && !(decodePairBound(b.header, a, 65535) >= hi && decodePairBound(b.header, a, 65535) > lo))
-            setExponent(++e);
+        b.header.w |= static_cast<std::uint32_t>(gridExponent(lo, hi, 65535)) << (8 * a);
     }
     out.push_back(b.header);
     PairBuild::Child rootChild = b.childOf(0), none;
