@@ -60,6 +60,25 @@ bool slabTest(GpuBvhNode n, vec3 o, vec3 invD, float tMax, out float tEnter) {
     return tn <= min(tf, tMax);
 }
 
+// slabTest's arithmetic for several boxes at once, by coordinate (the 4-wide and the pair nodes'
+// children): their entry distances (tn) and which of them the ray hits below tMax.
+#define SLAB_TESTS_BODY(T)                                                                          \
+    T nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;                             \
+    T ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;                             \
+    T nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;                             \
+    tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, T(0.0)));     \
+    T tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;   \
+    return lessThanEqual(tn, min(tf, T(tMax)));
+bvec2 slabTests(vec2 minX, vec2 maxX, vec2 minY, vec2 maxY, vec2 minZ, vec2 maxZ, vec3 o, vec3 invD, float tMax,
+                out vec2 tn) {
+    SLAB_TESTS_BODY(vec2)
+}
+bvec4 slabTests(vec4 minX, vec4 maxX, vec4 minY, vec4 maxY, vec4 minZ, vec4 maxZ, vec3 o, vec3 invD, float tMax,
+                out vec4 tn) {
+    SLAB_TESTS_BODY(vec4)
+}
+#undef SLAB_TESTS_BODY
+
 struct WatertightRay { vec3 o; int kx, ky, kz; vec3 s; };
 
 WatertightRay makeWatertightRay(vec3 o, vec3 d) {
@@ -200,12 +219,8 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, inout int sp) {
     vec4 minY = origin.y + WIDE_BYTES(qXY.z) * scale.y, maxY = origin.y + WIDE_BYTES(qXY.w) * scale.y;
     vec4 minZ = origin.z + WIDE_BYTES(qZ.x) * scale.z, maxZ = origin.z + WIDE_BYTES(qZ.y) * scale.z;
 #undef WIDE_BYTES
-    vec4 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
-    vec4 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
-    vec4 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;
-    vec4 tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, vec4(0.0)));
-    vec4 tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;
-    bvec4 h = lessThanEqual(tn, min(tf, vec4(tMax)));
+    vec4 tn;
+    bvec4 h = slabTests(minX, maxX, minY, maxY, minZ, maxZ, o, invD, tMax, tn);
     // Entry distances of the children hit (+inf for the others), sorted with their references by
     // a 5-comparator network: (0 1) (2 3) (0 2) (1 3) (1 2).
     vec4 key = mix(vec4(uintBitsToFloat(0x7f800000u)), tn, h);
@@ -310,13 +325,8 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
             vec2 minY = PAIR_BOUNDS(a.z, 1), maxY = PAIR_BOUNDS(a.w, 1);
             vec2 minZ = PAIR_BOUNDS(b.x, 2), maxZ = PAIR_BOUNDS(b.y, 2);
 #undef PAIR_BOUNDS
-            // slabTest's arithmetic, for both children at once.
-            vec2 nx = invD.x < 0.0 ? maxX : minX, fx = invD.x < 0.0 ? minX : maxX;
-            vec2 ny = invD.y < 0.0 ? maxY : minY, fy = invD.y < 0.0 ? minY : maxY;
-            vec2 nz = invD.z < 0.0 ? maxZ : minZ, fz = invD.z < 0.0 ? minZ : maxZ;
-            vec2 tn = max(max((nx - o.x) * invD.x, (ny - o.y) * invD.y), max((nz - o.z) * invD.z, vec2(0.0)));
-            vec2 tf = min(min((fx - o.x) * invD.x, (fy - o.y) * invD.y), (fz - o.z) * invD.z) * 1.0000004;
-            bvec2 h = lessThanEqual(tn, min(tf, vec2(hit.t)));
+            vec2 tn;
+            bvec2 h = slabTests(minX, maxX, minY, maxY, minZ, maxZ, o, invD, hit.t, tn);
             bool firstFirst = h.x && (!h.y || tn.x <= tn.y);
             if (h.x && h.y) REGISTER_STACK_PUSH(firstFirst ? b.w : b.z)
             if (h.x || h.y) {
