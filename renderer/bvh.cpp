@@ -1175,6 +1175,23 @@ bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& o
     return b.ok;
 }
 
+void appendPairBvh(std::span<const glm::uvec4> tree, std::uint32_t base, std::vector<glm::uvec4>& out) {
+    const std::size_t start = out.size();
+    out.insert(out.end(), tree.begin(), tree.end());
+    // Texel 0 is the header; then records of two texels, the links in the second's z and w.
+    for (std::size_t t = start + 2; t < out.size(); t += 2)
+        for (int k = 2; k < 4; ++k)
+            if ((out[t][k] & kPairLeaf) == 0u) out[t][k] += base;  // (kPairEmpty has the leaf bit)
+}
+
+void appendWideBvh(std::span<const gpu::GpuWideBvhNode> nodes, std::uint32_t base, std::vector<gpu::GpuWideBvhNode>& out) {
+    const std::size_t start = out.size();
+    out.insert(out.end(), nodes.begin(), nodes.end());
+    for (std::size_t i = start; i < out.size(); ++i)
+        for (int k = 0; k < 4; ++k)
+            if ((out[i].child[k] & kWideLeaf) == 0u) out[i].child[k] += base;  // (kWideEmpty has the leaf bit)
+}
+
 Ray transformRay(const glm::mat4& worldToObject, const Ray& ray) {
     return {glm::vec3(worldToObject * glm::vec4(ray.origin, 1.0f)),
             glm::vec3(worldToObject * glm::vec4(ray.dir, 0.0f))};

@@ -127,6 +127,10 @@ inline constexpr std::uint32_t kWideMergeMax = 2u;
 // when a leaf's first primitive is beyond kWideLeafMaxFirst (nothing appended then).
 bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out);
 
+// Appends `nodes` (quantised 4-wide nodes of a tree collapsed at base 0) to `out` as if collapsed at
+// `base` (child node references moved by base).
+void appendWideBvh(std::span<const gpu::GpuWideBvhNode> nodes, std::uint32_t base, std::vector<gpu::GpuWideBvhNode>& out);
+
 // A 4-wide node as the GPU reads it (gpu::GpuWideBvhNode, whose layout shaders/shared/layout.h
 // gives: 64 bytes, four texels instead of eight), its children's boxes quantised to 8 bits on a
 // grid over their union (after Ylitie, Karras and Laine 2017, "Efficient Incoherent Ray Traversal
@@ -169,6 +173,9 @@ inline constexpr std::uint32_t kPairEmpty = 0xffffffffu;
 // `base`. False (nothing appended) where a leaf's first primitive is beyond kPairLeafMaxFirst or a
 // record's index beyond 2^31.
 bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out);
+// Appends `tree` (a buildPairBvh result made at base 0) to `out` as if it had been made at `base`
+// (its records' links moved by base): what a mesh's cached tree becomes in a scene's layout.
+void appendPairBvh(std::span<const glm::uvec4> tree, std::uint32_t base, std::vector<glm::uvec4>& out);
 // The bound the GPU decodes from value q on axis a of a tree with this header (origin + q * s).
 float decodePairBound(const glm::uvec4& header, int axis, std::uint32_t q);
 // Child k's (0 or 1) decoded box from the record at texels (r0, r1).

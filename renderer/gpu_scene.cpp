@@ -638,28 +638,16 @@ struct Builder {
         }
         out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
         buildTlas(out.meshBvh);
-        // Each mesh's BVH in 4-wide form too (CAUSTIC_WIDE_BVH; O(nodes), remade each compile).
-        std::vector<WideBvhNode> wide;
-        std::vector<std::uint32_t> wideRootOf;
-        for (const MeshBlas& blas : out.meshBvh.blases) {
-            wideRootOf.push_back(static_cast<std::uint32_t>(wide.size()));
-            if (!collapseBvh4(blas.bvh, wideRootOf.back(), wide)) {
-                *error = "a mesh has more triangles than the GPU's 4-wide BVH can index (2^27)";
-                return false;
-            }
-        }
-        out.wideNodes.resize(wide.size());
-        for (std::size_t i = 0; i < wide.size(); ++i)
-            out.wideNodes[i] = quantizeWideNode(wide[i]);
-        // And as pair records (CAUSTIC_PAIR_BVH; O(nodes), remade each compile).
+        // Each mesh's BVH in its 4-wide form (CAUSTIC_WIDE_BVH) and as pair records
+        // (CAUSTIC_PAIR_BVH), made with its cache entry and placed here (a copy and an add).
+        out.wideNodes.clear();
         out.pairNodes.clear();
-        std::vector<std::uint32_t> pairRootOf;
-        for (const MeshBlas& blas : out.meshBvh.blases) {
+        std::vector<std::uint32_t> wideRootOf, pairRootOf;
+        for (const auto& entry : out.meshEntries) {
+            wideRootOf.push_back(static_cast<std::uint32_t>(out.wideNodes.size()));
+            appendWideBvh(entry->wideNodes, wideRootOf.back(), out.wideNodes);
             pairRootOf.push_back(static_cast<std::uint32_t>(out.pairNodes.size()));
-            if (!buildPairBvh(blas.bvh, pairRootOf.back(), out.pairNodes)) {
-                *error = "a mesh has more triangles than the GPU's pair BVH can index (2^27)";
-                return false;
-            }
+            appendPairBvh(entry->pairNodes, pairRootOf.back(), out.pairNodes);
         }
         for (size_t i = 0; i < out.instances.size(); ++i) {
             const std::uint32_t mesh = out.meshBvh.instances[i].mesh;

@@ -94,6 +94,12 @@ struct CompiledScene {
 // edit that does not touch a mesh never re-imports it or rebuilds its BVH.
 struct MeshCacheEntry {
     MeshBlas blas;
+    // The BVH's GPU forms, made once per import at base 0 (appendWideBvh and appendPairBvh place
+    // them in a scene's layout): the 4-wide nodes (CAUSTIC_WIDE_BVH) and the pair records
+    // (CAUSTIC_PAIR_BVH). For a 1M-triangle mesh they took 170 and 240 ms, at every compile
+    // before session 13.
+    std::vector<gpu::GpuWideBvhNode> wideNodes;
+    std::vector<glm::uvec4> pairNodes;
     std::vector<glm::vec3> positions;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material

@@ -63,6 +63,13 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
         *error = file + ": no valid triangles (all are degenerate or not finite)";
         return false;
     }
+    std::vector<WideBvhNode> wide;
+    if (!collapseBvh4(entry->blas.bvh, 0, wide) || !buildPairBvh(entry->blas.bvh, 0, entry->pairNodes)) {
+        *error = file + ": more triangles than the GPU's BVHs can index (2^27)";
+        return false;
+    }
+    entry->wideNodes.reserve(wide.size());
+    for (const WideBvhNode& w : wide) entry->wideNodes.push_back(quantizeWideNode(w));
     return true;
 }
 

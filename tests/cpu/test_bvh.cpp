@@ -836,3 +836,36 @@ TEST_CASE("buildPairBvh: every leaf once, each decoded box containing what lies 
     CHECK(buildPairBvh(Bvh{}, 0, none));
     CHECK(none.empty());
 }
+
+TEST_CASE("a mesh's GPU trees made at 0 and placed at a base equal those made at the base", "[bvh]") {
+    // The mesh cache makes the 4-wide and pair forms once per import, at base 0; a scene's layout
+    // places them with appendWideBvh and appendPairBvh. Long leaves (pair records of split leaves)
+    // and a leaf root included.
+    BvhBuildOptions longLeaves;
+    longLeaves.maxLeafSize = 64;
+    longLeaves.traversalCost = 40.0f;
+    for (std::size_t n : {std::size_t(1), std::size_t(57), std::size_t(2000)}) {
+        for (const BvhBuildOptions& opt : {BvhBuildOptions{}, longLeaves}) {
+            const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) + 91u);
+            const MeshBlas blas = buildBlas(m.positions, m.triangles, opt);
+            const std::uint32_t base = 12345;
+            std::vector<glm::uvec4> atZero, atBase(3, glm::uvec4(7u)), placed(3, glm::uvec4(7u));
+            REQUIRE(buildPairBvh(blas.bvh, 0, atZero));
+            REQUIRE(buildPairBvh(blas.bvh, base, atBase));
+            appendPairBvh(atZero, base, placed);
+            CHECK(placed == atBase);
+            std::vector<WideBvhNode> w0, wb;
+            REQUIRE(collapseBvh4(blas.bvh, 0, w0));
+            REQUIRE(collapseBvh4(blas.bvh, base, wb));
+            std::vector<gpu::GpuWideBvhNode> q0, qb, wplaced(2);
+            for (const WideBvhNode& w : w0) q0.push_back(quantizeWideNode(w));
+            for (const WideBvhNode& w : wb) qb.push_back(quantizeWideNode(w));
+            appendWideBvh(q0, base, wplaced);
+            REQUIRE(wplaced.size() == qb.size() + 2);
+            int differ = 0;
+            for (std::size_t i = 0; i < qb.size(); ++i)
+                differ += std::memcmp(&wplaced[i + 2], &qb[i], sizeof(gpu::GpuWideBvhNode)) != 0;
+            CHECK(differ == 0);
+        }
+    }
+}
