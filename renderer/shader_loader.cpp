@@ -181,29 +181,30 @@ ShaderDefines integratorDefines() {
     }
     ShaderDefines defines;
     if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
-    // The meshes' 4-wide BVHs (geometry/bvh.glsl; read through buffer textures only) when
-    // $CAUSTIC_WIDE_BVH = 1. They were llvmpipe's default until session 12, when the binary walk
-    // rendered the mesh scenes faster on Mesa 25 (knot 1.42-1.52x) and, with its newest stack
-    // entries in variables (below), on Mesa 22.3 too (1.09x; docs/performance.md).
-    bool wide = false;
-    if (const char* env = std::getenv("CAUSTIC_WIDE_BVH"); env && *env) wide = fetchTexels && std::strcmp(env, "0") != 0;
+    // Which form of the meshes' trees the walk reads (geometry/bvh.glsl; both extra forms only
+    // through buffer textures). On llvmpipe the 4-wide nodes with the register stack (below):
+    // against the pair records (renderer/bvh.h, buildPairBvh) mesh-knot 1.13x, textured-gltf
+    // 1.09x, textured-mesh 1.11x, gltf-cutouts 1.04x; against the binary nodes about 1.3x on the
+    // knot (docs/performance.md, session 13). $CAUSTIC_WIDE_BVH = 0 or 1 and $CAUSTIC_PAIR_BVH
+    // = 1 choose (the pair records when the 4-wide nodes are off); neither forces the binary
+    // nodes, NVIDIA's (the others are unmeasured there).
+    const char* wideEnv = std::getenv("CAUSTIC_WIDE_BVH");
+    const char* pairEnv = std::getenv("CAUSTIC_PAIR_BVH");
+    const bool pairAsked = pairEnv && *pairEnv && std::strcmp(pairEnv, "0") != 0;
+    bool wide = onLlvmpipe() && !pairAsked;
+    if (wideEnv && *wideEnv) wide = std::strcmp(wideEnv, "0") != 0;
+    wide = wide && fetchTexels;
     if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
-    // The meshes' pair BVHs (renderer/bvh.h, buildPairBvh: both children's boxes, 16-bit, in one
-    // 32-byte record) on llvmpipe, where a step of the binary walk read four texels and each
-    // fetch is a call that spills the walk's registers: mesh-knot 1.18x, textured-gltf 1.08x
-    // (docs/performance.md, session 13). $CAUSTIC_PAIR_BVH = 1 or 0 forces it (with buffer
-    // textures, not with the 4-wide BVH). Unmeasured on NVIDIA, so off there.
-    bool pair = onLlvmpipe();
-    if (const char* env = std::getenv("CAUSTIC_PAIR_BVH"); env && *env) pair = std::strcmp(env, "0") != 0;
-    if (pair && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
+    if (pairAsked && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
     // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
     // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
     if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
-    // The binary mesh walk's newest stack entries in variables (geometry/bvh.glsl,
-    // CAUSTIC_REGISTER_STACK): 8 on llvmpipe, where the memory stack's every push and pop is a
-    // per-lane store or load (mesh-knot at 128 x 128 x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16:
-    // 1.0x; at 192 x 192 x 16 spp 1.0x; never a loss); off elsewhere, unmeasured on NVIDIA.
+    // The mesh walk's newest stack entries in variables (geometry/bvh.glsl,
+    // CAUSTIC_REGISTER_STACK, for every form of the trees): 8 on llvmpipe, where the memory
+    // stack's every push and pop is a per-lane store or load (binary walk, mesh-knot at 128 x 128
+    // x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16: 1.0x; the 4-wide walk 2.2x, session 13); off
+    // elsewhere, unmeasured on NVIDIA.
     // $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
     int registerStack = onLlvmpipe() ? 8 : 0;
     if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);

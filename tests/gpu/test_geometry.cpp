@@ -396,6 +396,8 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     specialisedWide.emplace_back("CAUSTIC_WIDE_BVH", "1");
     ShaderDefines specialisedRegisters = specialisedFetch;
     specialisedRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
+    ShaderDefines specialisedWideRegisters = specialisedWide;
+    specialisedWideRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
     ShaderDefines specialisedPairs = specialisedRegisters;
     specialisedPairs.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // The register stack's spills and refills (two entries held, the rest in memory) on every ray
@@ -405,14 +407,16 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
         {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
         {"storage buffers, specialised", specialised},
         {"buffer textures, specialised", specialisedFetch},
-        {"pair BVH, register stack of 8, specialised (llvmpipe's default)", specialisedPairs},
+        {"pair BVH, register stack of 8, specialised", specialisedPairs},
         {"pair BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
         {"pair BVH, memory stack, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}}},
         {"register stack of 8, specialised", specialisedRegisters},
         {"register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
         {"register stack of 1, storage buffers", {{"CAUSTIC_REGISTER_STACK", "1"}}},
         {"4-wide BVH, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}}},
-        {"4-wide BVH, specialised", specialisedWide}};
+        {"4-wide BVH, specialised", specialisedWide},
+        {"4-wide BVH, register stack of 8, specialised (llvmpipe's default)", specialisedWideRegisters},
+        {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}}};
     for (const Family& f : families) {
         std::vector<GpuHit> first;
         for (const auto& [name, defines] : configs) {
