@@ -285,8 +285,9 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     uvec3 far;
     int nFar;
 #ifdef CAUSTIC_REGISTER_STACK
-    // With the register stack (below), one loop: a step or a leaf per iteration (knot 1.05-1.14x
-    // over the pair walk, 1.6x over the memory stack's nested loops; session 13).
+    // With the register stack (REGISTER_STACK_PUSH and _POP above), one loop: a step or a leaf
+    // per iteration (llvmpipe's default; knot 1.05-1.14x over the pair walk, 2.2x over the memory
+    // stack's nested loops below; docs/performance.md, session 13).
     const int K = CAUSTIC_REGISTER_STACK;
     uint s[K];
     for (int i = 0; i < K; ++i) s[i] = 0u;
