@@ -130,7 +130,8 @@ public:
     // put (batch mode, caustic-bench), not for the editor. Off by default; without
     // specialisation it does nothing. $CAUSTIC_BAKE_GEOMETRY = 1 or 0 overrides it.
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
-    unsigned program() const { return m_program; }  // the integrator the last dispatch used (before any: the general one)
+    // The integrator the last dispatch used (before any: the general one, built if need be).
+    unsigned program();
 
     // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
     // from the context by create(); tests inject smaller ones.
@@ -152,9 +153,12 @@ private:
     // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
     // top of integratorDefines(), compiling it the first time; false with the compiler's message.
     bool useProgram(const ShaderDefines& features, std::string* error);
-    // With specialisation on, makes m_program the one for the current scene and settings
-    // (compiling it the first time); called where those change, and before each dispatch.
-    void selectProgram();
+    // Makes m_program the one for the current scene and settings (compiling it the first time),
+    // or the general one if that fails; called where the scene changes, and before each dispatch.
+    // False (m_program 0) with the compiler's message when neither builds.
+    bool selectProgram(std::string* error);
+    // The program without feature defines, compiled the first time; 0 with the compiler's message.
+    unsigned generalProgram(std::string* error);
     // The program of `file` with these defines, compiled the first time; 0 with the compiler's
     // message.
     unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error);
@@ -165,6 +169,7 @@ private:
     std::map<std::string, unsigned> m_programs;  // by their defines
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
+    std::string m_programError;  // the last dispatch's failure to build one, reported once
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;

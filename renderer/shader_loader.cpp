@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <regex>
@@ -135,10 +137,18 @@ std::string mapShaderLog(const std::string& log, const ShaderSource& source) {
 }
 
 unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName, std::string* error) {
+    // $CAUSTIC_COMPILE_TIMES = 1 prints each program's compile and link times to stderr (a
+    // profiling aid: on llvmpipe the link runs the GLSL and NIR passes; LLVM compiles the program
+    // at its first dispatch).
+    const char* timesEnv = std::getenv("CAUSTIC_COMPILE_TIMES");
+    const bool printTimes = timesEnv && std::strcmp(timesEnv, "1") == 0;
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
     GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
     const char* text = source.text.c_str();
     glShaderSource(shader, 1, &text, nullptr);
     glCompileShader(shader);
+    const auto t1 = Clock::now();
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     auto infoLog = [](GLuint obj, bool isProgram) {
@@ -159,6 +169,11 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
     glLinkProgram(program);
     glDeleteShader(shader);
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (printTimes) {
+        const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+        std::fprintf(stderr, "caustic: %s: %zu bytes of source, compiled in %.0f ms, linked in %.0f ms\n",
+                     entryName.c_str(), source.text.size(), ms(t1 - t0), ms(Clock::now() - t1));
+    }
     if (!ok) {
         *error = "shader " + entryName + " failed to link:\n" + mapShaderLog(infoLog(program, true), source);
         glDeleteProgram(program);
