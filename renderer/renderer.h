@@ -132,6 +132,9 @@ public:
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     // The integrator the last dispatch used (before any: the general one, built if need be).
     unsigned program();
+    // Builds the general program now (create() does only where it renders): the check that the
+    // whole source compiles, for a shader reload that must keep the last working shaders.
+    bool checkSource(std::string* error) { return generalProgram(error) != 0; }
 
     // The GL limits scenes are checked against before upload (renderer/gpu_limits.h), queried
     // from the context by create(); tests inject smaller ones.

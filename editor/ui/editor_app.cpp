@@ -682,6 +682,7 @@ void reloadShaders(EditorUi& ui) {
     // working ones (the viewport's tone mapping included), never a mix.
     std::string error;
     auto fresh = Renderer::create(ui.shaderDir, &error);
+    if (fresh && !fresh->checkSource(&error)) fresh.reset();   // create() no longer compiles it on llvmpipe
     std::unique_ptr<Display> display = fresh ? Display::create(ui.shaderDir, &error) : nullptr;
     if (!fresh || !display) {
         showError(ui, "shader reload failed; the last working shaders stay in use.\n" + error);
