@@ -327,11 +327,18 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
     std::string key = file + ":";
     for (const auto& [name, value] : defines) key += name + "=" + value + ";";
     if (auto it = m_programs.find(key); it != m_programs.end()) return it->second;
+    // A failure is kept too: every dispatch selects its program, and retrying a source that does
+    // not compile cost seconds each time on llvmpipe.
+    if (auto it = m_programFailures.find(key); it != m_programFailures.end()) {
+        *error = it->second;
+        return 0;
+    }
     ShaderLoader loader(m_shaderDir);
     ShaderSource source;
     if (!loader.load(file, defines, &source, error)) return 0;
     const unsigned program = compileComputeProgram(source, file, error);
     if (program) m_programs.emplace(key, program);
+    else m_programFailures.emplace(key, *error);
     return program;
 }
 

@@ -170,6 +170,7 @@ private:
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
     bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
+    std::map<std::string, std::string> m_programFailures;  // the compiler's message, by the same keys
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     std::string m_programError;  // the last dispatch's failure to build one, reported once
