@@ -176,7 +176,8 @@ TEST_CASE("environment map: mean 1/pdf is the solid angle of its support", "[gpu
 TEST_CASE("environment map: the guided interval search finds what a search of the whole CDF finds", "[gpu][lights][envmap]") {
     // Every entry of both CDFs, every bucket boundary k / G of their guide tables, each also one
     // float step below and above, and random u: the shader's guided search (envFindInterval)
-    // against a binary search over the whole CDF, on the GPU, index for index.
+    // against a binary search over the whole CDF, on the GPU, and the CPU's search of its own
+    // tables, index for index.
     auto renderer = test::makeRenderer();
     renderer->setImageReader(generatedReader());
     std::string error;
@@ -203,13 +204,26 @@ TEST_CASE("environment map: the guided interval search finds what a search of th
             for (int r = 0; r < 64; ++r) add(random(), row, table);
         }
     const std::vector<glm::vec4> results = runKernel(*renderer, 2, GLuint(queries.size()), queries);
+    // The CPU's answer from its own tables: the largest i < n with cdf[i] <= u. The GPU reads the
+    // tables packed into one buffer (renderer/gpu_frame.cpp, packTables), so this also checks the
+    // packing and the offsets the shader reads them at.
+    auto cpuIndex = [&](const glm::vec4& q) {
+        const int table = int(q.z), row = int(q.y);
+        const float* cdf = table == 0 ? env.marginalCdf.data() : &env.conditionalCdf[size_t(row) * (w + 1)];
+        const int n = table == 0 ? h : w;
+        int i = 0;
+        while (i + 1 < n && cdf[i + 1] <= q.x) ++i;
+        return float(i);
+    };
     int mismatches = 0;
-    for (size_t q = 0; q < queries.size(); ++q)
-        if (results[q].x != results[q].y) {
+    for (size_t q = 0; q < queries.size(); ++q) {
+        const float expected = cpuIndex(queries[q]);
+        if (results[q].x != results[q].y || results[q].y != expected) {
             if (++mismatches <= 5)
                 UNSCOPED_INFO("u " << queries[q].x << " row " << queries[q].y << " table " << queries[q].z << ": guided "
-                                   << results[q].x << ", whole " << results[q].y);
+                                   << results[q].x << ", whole " << results[q].y << ", CPU " << expected);
         }
+    }
     INFO(queries.size() << " queries");
     CHECK(queries.size() > 50000);
     CHECK(mismatches == 0);
