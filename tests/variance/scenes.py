@@ -17,6 +17,7 @@
 """
 import math
 import os
+import sys
 
 import numpy as np
 
@@ -65,6 +66,9 @@ def suite():
     cam = {"position": (0, 1.2, 4.5), "look_at": (0, 0.5, 0), "up": (0, 1, 0), "fov": 40}
     # The Cornell box is caustic's own file and Mitsuba's cornell_box() (the same numbers).
     s["cornell"] = {"cornell": True, "width": 128, "height": 128, "max_depth": 7}
+    # The throughput benchmark's mesh scene (issue 16): caustic's own file, translated for Mitsuba
+    # by tests/gpu_machine/mitsuba_bench.py (square images only).
+    s["knot"] = {"file": os.path.join(ROOT, "scenes", "mesh-knot.json"), "width": 128, "height": 128, "max_depth": 7}
     s["rough"] = {
         "width": 128, "height": 128, "max_depth": 7, "camera": cam,
         "objects": floor_and([
@@ -145,7 +149,7 @@ def _matrix_list(m):
 
 def to_caustic(scene):
     """A caustic scene dict (or the path of scenes/cornell-box.json and overrides)."""
-    if scene.get("cornell"):
+    if scene.get("cornell") or scene.get("file"):
         return None
     mats, objects = [], []
     def material(spec):
@@ -190,6 +194,11 @@ def to_mitsuba(mi, scene, spp):
     film = {"type": "hdrfilm", "width": scene["width"], "height": scene["height"],
             "rfilter": {"type": "box"}, "pixel_format": "rgb"}
     integrator = {"type": "path", "max_depth": scene["max_depth"] + 1}
+    if scene.get("file"):
+        sys.path.insert(0, os.path.join(ROOT, "tests", "gpu_machine"))
+        import mitsuba_bench
+        assert scene["width"] == scene["height"], "mitsuba_bench translates square images only"
+        return mitsuba_bench.from_caustic(mi, scene["file"], scene["width"], spp, scene["max_depth"])
     if scene.get("cornell"):
         d = mi.cornell_box()
         d["sensor"]["film"].update(film)

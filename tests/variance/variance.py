@@ -127,8 +127,8 @@ def main():
         scene = suite[name]
         sdir = os.path.join(args.out, name)
         os.makedirs(sdir, exist_ok=True)
-        if scene.get("cornell"):
-            scene_file = os.path.join(ROOT, "scenes", "cornell-box.json")
+        if scene.get("cornell") or scene.get("file"):
+            scene_file = scene.get("file") or os.path.join(ROOT, "scenes", "cornell-box.json")
             base = ["render.width=%d" % scene["width"], "render.height=%d" % scene["height"],
                     "render.max_depth=%d" % scene["max_depth"], "render.filter=box"]
         else:
