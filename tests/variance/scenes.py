@@ -13,7 +13,10 @@
 - environments: `constant`, and `envmap`. Mitsuba's equirectangular mapping is caustic's
   (docs/scene-format.md) turned by 180 degrees about +y: the brightest texel of assets/sky.hdr,
   direction d in caustic, is where Mitsuba's envmap returns it for (-d.x, d.y, -d.z) (measured
-  with the emitter's eval), so the Mitsuba map gets to_world = rotate(+y, 180).
+  with the emitter's eval), so the Mitsuba map gets to_world = rotate(+y, 180). Mitsuba looks a
+  map up with its texels at the grid's vertices (u = i / W, v = j / (H - 1)), caustic at their
+  centres (u = (i + 1/2) / W, v = (j + 1/2) / H): under assets/sky.hdr image means differ by
+  about 0.4 % for that alone (docs/performance.md, session 16).
 """
 import math
 import os
