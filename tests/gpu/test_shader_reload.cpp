@@ -21,7 +21,7 @@ using namespace caustic;
 using namespace caustic::test;
 namespace fs = std::filesystem;
 
-TEST_CASE("a broken shader source fails checkSource and setScene by name; the last renderer still renders",
+TEST_CASE("a broken shader source fails checkSource and setScene by name, and the last renderer still renders",
           "[gpu][editor]") {
     glContext();
     auto good = makeRenderer();
