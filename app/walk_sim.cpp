@@ -8,7 +8,7 @@
 // lane steps through a node plus 0.1 + 0.35 x (the most triangles a lane tests) when any lane is
 // at a leaf (session 14's profile: a node step's loop ~1,600 instructions, a triangle ~550).
 //
-// The rays: a mesh (an OBJ file: `v` and `f` lines only) in its own space, three sets of 4000
+// The rays: a mesh (any file the renderer imports) in its own space, three sets of 4000
 // groups of 8: "camera" (from a common far point towards random points of the mesh's box, a
 // group's rays from one point), "diffuse" (closest hit, from random points on random triangles,
 // cosine-distributed about either side's normal) and "shadow" (the same rays, any hit). The walk
@@ -16,7 +16,7 @@
 // child first, far children pushed farthest first, no culling of popped entries (the GPU keeps no
 // entry distances), the watertight triangle test.
 //
-//   caustic-walk-sim MESH.obj [--builder binned|sweep|sbvh] [--alpha A] [--cull] [--postpone]
+//   caustic-walk-sim MESH [--builder binned|sweep|sbvh] [--alpha A] [--cull] [--postpone]
 //
 // --builder: the renderer's binned SAH build (default); an exact sweep SAH over every split; a
 // spatial-split BVH (Stich, Friedrich and Dietrich 2009, "Spatial Splits in Bounding Volume
@@ -27,15 +27,13 @@
 // stack would buy). --postpone: Aila and Laine's (2009) speculative while-while walk: lanes at a
 // leaf keep one postponed and walk on until every lane holds one, then all test their leaves.
 #include "renderer/bvh.h"
+#include "renderer/mesh_import.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -43,45 +41,23 @@ using namespace caustic;
 
 namespace {
 
-struct Mesh {
+struct SimMesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::uvec3> triangles;
 };
 
-bool loadObj(const char* path, Mesh& mesh) {
-    std::ifstream in(path);
-    if (!in) {
-        std::fprintf(stderr, "caustic-walk-sim: %s: cannot open\n", path);
+// The file through the renderer's own import (renderer/mesh_import.h: any format Assimp reads,
+// validated as the renderer's meshes are), every mesh of it in one list in the file's root space.
+bool loadMesh(const char* path, SimMesh& mesh) {
+    const MeshImportResult imported = importMeshFile(path);
+    if (!imported.ok()) {
+        std::fprintf(stderr, "caustic-walk-sim: %s\n", imported.error.c_str());
         return false;
     }
-    std::string line;
-    int lineNo = 0;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        std::istringstream ss(line);
-        std::string key;
-        ss >> key;
-        if (key == "v") {
-            glm::vec3 v;
-            if (!(ss >> v.x >> v.y >> v.z)) {
-                std::fprintf(stderr, "caustic-walk-sim: %s:%d: a vertex needs three numbers\n", path, lineNo);
-                return false;
-            }
-            mesh.positions.push_back(v);
-        } else if (key == "f") {
-            std::vector<std::uint32_t> idx;
-            std::string word;
-            while (ss >> word) {
-                const long i = std::strtol(word.c_str(), nullptr, 10);
-                if (i < 1 || static_cast<std::size_t>(i) > mesh.positions.size()) {
-                    std::fprintf(stderr, "caustic-walk-sim: %s:%d: face index %s (only positive indices of vertices "
-                                 "read so far)\n", path, lineNo, word.c_str());
-                    return false;
-                }
-                idx.push_back(static_cast<std::uint32_t>(i - 1));
-            }
-            for (std::size_t k = 2; k < idx.size(); ++k) mesh.triangles.push_back({idx[0], idx[k - 1], idx[k]});
-        }
+    for (const caustic::Mesh& m : imported.meshes) {
+        const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+        mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
+        for (const glm::uvec3& t : m.triangles) mesh.triangles.push_back(t + glm::uvec3(base));
     }
     if (mesh.triangles.empty()) {
         std::fprintf(stderr, "caustic-walk-sim: %s: no triangles\n", path);
@@ -132,7 +108,7 @@ Aabb clippedBounds(const glm::vec3* v, const Aabb& box) {
 // spatial splits on, binned spatial splits (32 bins) where the object split's children overlap.
 class PrototypeBuilder {
 public:
-    PrototypeBuilder(const Mesh& mesh, bool spatial, float alpha) : m_mesh(mesh), m_spatial(spatial), m_alpha(alpha) {}
+    PrototypeBuilder(const SimMesh& mesh, bool spatial, float alpha) : m_mesh(mesh), m_spatial(spatial), m_alpha(alpha) {}
 
     MeshBlas build() {
         std::vector<Ref> refs;
@@ -301,7 +277,7 @@ private:
         node(right, depth + 1);
     }
 
-    const Mesh& m_mesh;
+    const SimMesh& m_mesh;
     bool m_spatial;
     float m_alpha;
     float m_rootArea = 0.0f;
@@ -315,7 +291,7 @@ private:
 struct Tree {
     std::vector<gpu::GpuWideBvhNode> nodes;
     const MeshBlas* blas;
-    const Mesh* mesh;
+    const SimMesh* mesh;
 };
 
 struct Lane {
@@ -476,7 +452,7 @@ void walkGroupPostponing(std::vector<Lane> lanes, bool cull, Cost& c) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: caustic-walk-sim MESH.obj [--builder binned|sweep|sbvh] [--alpha A] [--cull] [--postpone]\n");
+        std::fprintf(stderr, "usage: caustic-walk-sim MESH [--builder binned|sweep|sbvh] [--alpha A] [--cull] [--postpone]\n");
         return 2;
     }
     std::string builder = "binned";
@@ -501,8 +477,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "caustic-walk-sim: --builder is binned, sweep or sbvh, not %s\n", builder.c_str());
         return 2;
     }
-    Mesh mesh;
-    if (!loadObj(argv[1], mesh)) return 1;
+    SimMesh mesh;
+    if (!loadMesh(argv[1], mesh)) return 1;
 
     MeshBlas blas;
     int spatialSplits = 0;
