@@ -264,6 +264,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(1, &r->m_wideNodes);
     glCreateBuffers(1, &r->m_pairNodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
+    r->m_imageLoads = imageUnitsForTexelViews();
     if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
     return r;
 }
@@ -613,6 +614,11 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);
+        // The same views as images, for a program that reads them so (CAUSTIC_IMAGE_LOADS), where
+        // the context has the image units (GL guarantees 8).
+        if (m_imageLoads)
+            glBindImageTexture(IMAGE_UNIT_TEXELS + views[i].unit, m_texelViews[i], 0, GL_FALSE, 0, GL_READ_ONLY,
+                               views[i].format);
     }
 }
 

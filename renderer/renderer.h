@@ -191,6 +191,7 @@ private:
     unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (CAUSTIC_WIDE_BVH)
     unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
     unsigned m_texelViews[kTexelViews] = {};
+    bool m_imageLoads = false;     // the views are also bound as images (enough image units; CAUSTIC_IMAGE_LOADS)
     ImageReader m_readImage;
     GpuLimits m_limits;
     MeshCache m_meshCache;      // imported meshes and their BVHs, reused across edits

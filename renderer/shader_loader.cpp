@@ -1,6 +1,7 @@
 #include "renderer/shader_loader.h"
 
 #include "renderer/file_util.h"
+#include "shaders/shared/layout.h"
 
 #include <glad/gl.h>
 
@@ -224,7 +225,20 @@ ShaderDefines integratorDefines() {
     int registerStack = onLlvmpipe() ? 8 : 0;
     if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
     if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
+    // The buffer textures read as image buffers (scene/buffers.glsl, CAUSTIC_IMAGE_LOADS): on
+    // llvmpipe, whose texel fetches are calls (docs/performance.md, session 18); unmeasured on
+    // NVIDIA, so off there. $CAUSTIC_IMAGE_LOADS = 1 or 0 forces it (with the buffer textures only).
+    bool imageLoads = onLlvmpipe();
+    if (const char* env = std::getenv("CAUSTIC_IMAGE_LOADS"); env && *env) imageLoads = std::strcmp(env, "0") != 0;
+    if (imageLoads && fetchTexels && imageUnitsForTexelViews()) defines.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
     return defines;
+}
+
+bool imageUnitsForTexelViews() {
+    GLint units = 0, computeImages = 0;
+    glGetIntegerv(GL_MAX_IMAGE_UNITS, &units);
+    glGetIntegerv(GL_MAX_COMPUTE_IMAGE_UNIFORMS, &computeImages);
+    return units > IMAGE_UNIT_TEXELS + TEXUNIT_LAST && computeImages >= IMAGE_UNIT_TEXELS + TEXUNIT_LAST;
 }
 
 bool regeneratesPaths() {

@@ -52,6 +52,10 @@ bool onLlvmpipe();
 // configurations on one driver). The same GLSL source either way.
 ShaderDefines integratorDefines();
 
+// Whether this context has image units for every buffer texture's image view (IMAGE_UNIT_TEXELS +
+// TEXUNIT_*, shared/layout.h): where CAUSTIC_IMAGE_LOADS may be defined (scene/buffers.glsl).
+bool imageUnitsForTexelViews();
+
 // Whether integratorDefines() turns on path regeneration (CAUSTIC_REGENERATE: a lane whose path
 // ends starts its pixel's next sample within the same dispatch; integrator/path.comp): by default
 // on llvmpipe, $CAUSTIC_REGENERATE = 1 or 0 forces it. It pays only when a dispatch holds several

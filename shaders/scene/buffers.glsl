@@ -52,50 +52,61 @@ layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[
 // load into a loop over the 8 lanes, each lane's load of each 32-bit component behind its own
 // bounds-check branch; a texel fetch is one gather per texel, without branches. Integer texels
 // are bit exact (floats are reinterpreted, never converted). docs/performance.md has the figures.
-layout(binding = TEXUNIT_PRIMITIVES) uniform usamplerBuffer primitiveTexels;
-layout(binding = TEXUNIT_BVH_NODES) uniform usamplerBuffer bvhNodeTexels;
-layout(binding = TEXUNIT_TRIANGLES) uniform usamplerBuffer triangleTexels;
-layout(binding = TEXUNIT_TLAS_REFS) uniform usamplerBuffer tlasRefTexels;
-layout(binding = TEXUNIT_INSTANCES) uniform usamplerBuffer instanceTexels;
-layout(binding = TEXUNIT_MATERIALS) uniform usamplerBuffer materialTexels;
-layout(binding = TEXUNIT_PRIMITIVE_HITS) uniform usamplerBuffer primitiveHitTexels;
+// With CAUSTIC_IMAGE_LOADS (llvmpipe's default with the buffer textures) the same views are read
+// as image buffers (imageLoad, image unit IMAGE_UNIT_TEXELS + the texture unit): Mesa 25's
+// llvmpipe calls a helper function for every texel fetch of a format other than 8-bit unorm, and
+// the call makes LLVM spill and reload the caller's live vectors around it; an image load is
+// generated in line (the same loads, a bounds check instead of the call). Bit-identical results;
+// docs/performance.md (session 18) has the figures.
+#ifdef CAUSTIC_IMAGE_LOADS
+#define SCENE_TEXELS(unit, format, name) \
+    layout(binding = IMAGE_UNIT_TEXELS + unit, format) uniform readonly restrict uimageBuffer name
+#define FETCH_U4(tex, i) imageLoad(tex, int(i))
+#else
+#define SCENE_TEXELS(unit, format, name) layout(binding = unit) uniform usamplerBuffer name
+#define FETCH_U4(tex, i) texelFetch(tex, int(i))
+#endif
+#define FETCH_F4(tex, i) uintBitsToFloat(FETCH_U4(tex, i))
+SCENE_TEXELS(TEXUNIT_PRIMITIVES, rgba32ui, primitiveTexels);
+SCENE_TEXELS(TEXUNIT_BVH_NODES, rgba32ui, bvhNodeTexels);
+SCENE_TEXELS(TEXUNIT_TRIANGLES, rgba32ui, triangleTexels);
+SCENE_TEXELS(TEXUNIT_TLAS_REFS, r32ui, tlasRefTexels);
+SCENE_TEXELS(TEXUNIT_INSTANCES, rgba32ui, instanceTexels);
+SCENE_TEXELS(TEXUNIT_MATERIALS, rgba32ui, materialTexels);
+SCENE_TEXELS(TEXUNIT_PRIMITIVE_HITS, rgba32ui, primitiveHitTexels);
 // The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only by texel fetches: the 4-wide
 // traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where the
 // buffer textures are used anyway.
-layout(binding = TEXUNIT_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
-layout(binding = TEXUNIT_VERTICES) uniform usamplerBuffer vertexTexels;
-layout(binding = TEXUNIT_TABLES) uniform usamplerBuffer tableTexels;
-layout(binding = TEXUNIT_LIGHTS) uniform usamplerBuffer lightTexels;
-layout(binding = TEXUNIT_LIGHT_TREE) uniform usamplerBuffer lightNodeTexels;
-layout(binding = TEXUNIT_BSDF_TABLES) uniform usamplerBuffer bsdfTableTexels;
+SCENE_TEXELS(TEXUNIT_WIDE_NODES, rgba32ui, wideNodeTexels);
+SCENE_TEXELS(TEXUNIT_VERTICES, rgba32ui, vertexTexels);
+SCENE_TEXELS(TEXUNIT_TABLES, r32ui, tableTexels);
+SCENE_TEXELS(TEXUNIT_LIGHTS, rgba32ui, lightTexels);
+SCENE_TEXELS(TEXUNIT_LIGHT_TREE, rgba32ui, lightNodeTexels);
+SCENE_TEXELS(TEXUNIT_BSDF_TABLES, r32ui, bsdfTableTexels);
 // The meshes' pair BVHs (renderer/bvh.h, buildPairBvh), read only by texel fetches: the pair walk
 // (CAUSTIC_PAIR_BVH, geometry/bvh.glsl) is llvmpipe's configuration.
-layout(binding = TEXUNIT_PAIR_NODES) uniform usamplerBuffer pairNodeTexels;
+SCENE_TEXELS(TEXUNIT_PAIR_NODES, rgba32ui, pairNodeTexels);
+#undef SCENE_TEXELS
 
 #ifdef CAUSTIC_FETCH_TEXELS
-#define FETCH_U4(tex, i) texelFetch(tex, int(i))
-#define FETCH_F4(tex, i) uintBitsToFloat(texelFetch(tex, int(i)))
-#define sceneTable(i) uintBitsToFloat(texelFetch(tableTexels, int(i)).x)
-#define bsdfTable(i) uintBitsToFloat(texelFetch(bsdfTableTexels, int(i)).x)
+#define sceneTable(i) uintBitsToFloat(FETCH_U4(tableTexels, i).x)
+#define bsdfTable(i) uintBitsToFloat(FETCH_U4(bsdfTableTexels, i).x)
 #else
 #define sceneTable(i) sceneTables[i]
 #define bsdfTable(i) bsdfTables[i]
 #endif
 
 #ifdef CAUSTIC_FETCH_TEXELS
-GpuPrimitive fetchPrimitive(usamplerBuffer tex, uint i) {
-    GpuPrimitive p;
-    p.a = FETCH_F4(tex, 4u * i);
-    p.b = FETCH_F4(tex, 4u * i + 1u);
-    p.c = FETCH_F4(tex, 4u * i + 2u);
-    p.info = FETCH_U4(tex, 4u * i + 3u);
-    return p;
-}
+// A GpuPrimitive's four texels (a macro: an image cannot be a function's parameter without
+// repeating its qualifiers).
+#define FETCH_PRIMITIVE(tex, i) \
+    GpuPrimitive(FETCH_F4(tex, 4u * (i)), FETCH_F4(tex, 4u * (i) + 1u), FETCH_F4(tex, 4u * (i) + 2u), \
+                 FETCH_U4(tex, 4u * (i) + 3u))
 #endif
 
 GpuPrimitive loadPrimitive(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    return fetchPrimitive(primitiveTexels, i);
+    return FETCH_PRIMITIVE(primitiveTexels, i);
 #else
     return primitives[i];
 #endif
@@ -103,7 +114,7 @@ GpuPrimitive loadPrimitive(uint i) {
 
 GpuPrimitive loadPrimitiveHit(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    return fetchPrimitive(primitiveHitTexels, i);
+    return FETCH_PRIMITIVE(primitiveHitTexels, i);
 #else
     return primitiveHits[i];
 #endif
@@ -149,7 +160,7 @@ GpuVertex loadVertex(uint i) {
 
 uint loadTlasRef(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    return texelFetch(tlasRefTexels, int(i)).x;
+    return FETCH_U4(tlasRefTexels, i).x;
 #else
     return tlasRefs[i];
 #endif

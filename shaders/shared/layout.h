@@ -48,6 +48,10 @@ using uint = std::uint32_t;
 #define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[] as RGBA32UI texels
 #define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables) as R32UI texels
 #define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh) as RGBA32UI texels (CAUSTIC_PAIR_BVH)
+// With CAUSTIC_IMAGE_LOADS the same views are bound as read-only image buffers (uimageBuffer) at image
+// unit IMAGE_UNIT_TEXELS + their texture unit (scene/buffers.glsl), after the film's images.
+#define IMAGE_UNIT_TEXELS 4
+#define TEXUNIT_LAST TEXUNIT_PAIR_NODES  // the highest TEXUNIT_*
 #define PAIR_LINK_LEAF 0x80000000u
 #define PAIR_LEAF_MAX_FIRST 0x07ffffffu
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)

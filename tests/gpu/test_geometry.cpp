@@ -398,6 +398,8 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     specialisedRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
     ShaderDefines specialisedWideRegisters = specialisedWide;
     specialisedWideRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
+    ShaderDefines specialisedWideImages = specialisedWideRegisters;
+    specialisedWideImages.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
     ShaderDefines specialisedPairs = specialisedRegisters;
     specialisedPairs.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // The register stack's spills and refills (two entries held, the rest in memory) on every ray
@@ -415,7 +417,9 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
         {"register stack of 1, storage buffers", {{"CAUSTIC_REGISTER_STACK", "1"}}},
         {"4-wide BVH, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}}},
         {"4-wide BVH, specialised", specialisedWide},
-        {"4-wide BVH, register stack of 8, specialised (llvmpipe's default)", specialisedWideRegisters},
+        {"4-wide BVH, register stack of 8, specialised", specialisedWideRegisters},
+        {"4-wide BVH, register stack of 8, specialised, image loads (llvmpipe's default)", specialisedWideImages},
+        {"pair BVH, image loads, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_IMAGE_LOADS", "1"}}},
         {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}}};
     for (const Family& f : families) {
         std::vector<GpuHit> first;
