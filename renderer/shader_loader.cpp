@@ -217,12 +217,15 @@ ShaderDefines integratorDefines() {
     // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
     if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
     // The mesh walk's newest stack entries in variables (geometry/bvh.glsl,
-    // CAUSTIC_REGISTER_STACK, for every form of the trees): 8 on llvmpipe, where the memory
+    // CAUSTIC_REGISTER_STACK, for every form of the trees): 2 on llvmpipe, where the memory
     // stack's every push and pop is a per-lane store or load (binary walk, mesh-knot at 128 x 128
-    // x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16: 1.0x; the 4-wide walk 2.2x, session 13); off
-    // elsewhere, unmeasured on NVIDIA.
+    // x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16: 1.0x; the 4-wide walk 2.2x, session 13). Since
+    // the scene is read with image loads (no helper calls that clobbered every vector register),
+    // 2 beats 8 (knot 1.03-1.06x in three runs, textured-gltf 1.04x, gltf-cutouts 1.02x,
+    // textured-mesh 1.02x; session 18): fewer vectors held live, fewer spills. Off elsewhere,
+    // unmeasured on NVIDIA.
     // $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
-    int registerStack = onLlvmpipe() ? 8 : 0;
+    int registerStack = onLlvmpipe() ? 2 : 0;
     if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
     if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
     // The buffer textures read as image buffers (scene/buffers.glsl, CAUSTIC_IMAGE_LOADS): on
