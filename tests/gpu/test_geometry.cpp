@@ -422,9 +422,16 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
         {"4-wide BVH, register stack of 2, specialised, image loads (llvmpipe's default)", specialisedWideImages},
         {"pair BVH, image loads, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_IMAGE_LOADS", "1"}}},
         {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}}};
+    // The image-load configurations need more image units than GL guarantees (8); llvmpipe, where
+    // the suite runs, has them, so there they always run.
+    if (onLlvmpipe()) REQUIRE(imageUnitsForTexelViews());
     for (const Family& f : families) {
         std::vector<GpuHit> first;
         for (const auto& [name, defines] : configs) {
+            if (!imageUnitsForTexelViews() && std::any_of(defines.begin(), defines.end(), [](const auto& d) {
+                    return d.first == "CAUSTIC_IMAGE_LOADS";
+                }))
+                continue;
             const std::vector<GpuHit> gpu = traceOnGpu(*renderer, f.rays, 1e30f, false, traceKernel(defines));
             const Agreement a = compare(c, f.rays, gpu, 1e30f);
             INFO(f.name << " rays, " << name << ": " << a.rays << " rays, CPU hits " << a.hits << ", hit/miss mismatches "
