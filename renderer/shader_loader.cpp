@@ -237,6 +237,8 @@ ShaderDefines integratorDefines() {
     return defines;
 }
 
+// Units: the views' images reach IMAGE_UNIT_TEXELS + TEXUNIT_LAST; image uniforms of the
+// integrator: the film's IMAGE_UNIT_TEXELS plus one per view (TEXUNIT_1..TEXUNIT_LAST).
 bool imageUnitsForTexelViews() {
     GLint units = 0, computeImages = 0;
     glGetIntegerv(GL_MAX_IMAGE_UNITS, &units);

@@ -74,9 +74,9 @@ SCENE_TEXELS(TEXUNIT_TLAS_REFS, r32ui, tlasRefTexels);
 SCENE_TEXELS(TEXUNIT_INSTANCES, rgba32ui, instanceTexels);
 SCENE_TEXELS(TEXUNIT_MATERIALS, rgba32ui, materialTexels);
 SCENE_TEXELS(TEXUNIT_PRIMITIVE_HITS, rgba32ui, primitiveHitTexels);
-// The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only by texel fetches: the 4-wide
-// traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where the
-// buffer textures are used anyway.
+// The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only through these views: the
+// 4-wide traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where
+// the views are used anyway. The formats here must match the views' (renderer.cpp, bindScene).
 SCENE_TEXELS(TEXUNIT_WIDE_NODES, rgba32ui, wideNodeTexels);
 SCENE_TEXELS(TEXUNIT_VERTICES, rgba32ui, vertexTexels);
 SCENE_TEXELS(TEXUNIT_TABLES, r32ui, tableTexels);
