@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <string_view>
 
 namespace caustic {
 namespace {
@@ -29,6 +30,15 @@ constexpr std::uint32_t kMaxSamplesPerDispatch = 64;
 // CPU, with no watchdog; the regeneration is off on NVIDIA, whose driver drops long queues.
 // The CAUSTIC_DISPATCH_SECONDS environment variable sets either target (for measuring).
 constexpr double kRegeneratingDispatchSeconds = 1.0;
+
+// The GL format of a scene texel view from its GLSL image format's name (TEXUNIT_*_FORMAT in
+// shaders/shared/layout.h). Evaluated at compile time (TEXEL_VIEW in bindScene): a name it does
+// not know stops the build.
+consteval GLenum texelViewFormat(std::string_view glslFormat) {
+    if (glslFormat == "rgba32ui") return GL_RGBA32UI;
+    if (glslFormat == "r32ui") return GL_R32UI;
+    throw "texelViewFormat: a TEXUNIT_*_FORMAT that is neither rgba32ui nor r32ui";
+}
 
 double targetDispatchSeconds() {
     if (const char* env = std::getenv("CAUSTIC_DISPATCH_SECONDS"); env && *env) {
@@ -603,14 +613,22 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     // The buffer textures over the same buffers (read instead of them with CAUSTIC_FETCH_TEXELS,
     // shaders/scene/buffers.glsl), attached again each time: an upload may have replaced a
     // buffer's data store, and with it its size.
+    // Each view's format is its unit's TEXUNIT_*_FORMAT (shaders/shared/layout.h), the GLSL image
+    // format's name that the shaders' declarations use too, spelled here as the GL enum.
+#define TEXEL_VIEW(unit, buffer) {unit, buffer, texelViewFormat(TEXEL_VIEW_FORMAT_NAME(unit##_FORMAT))}
+#define TEXEL_VIEW_FORMAT_NAME(format) TEXEL_VIEW_STRING(format)
+#define TEXEL_VIEW_STRING(format) #format
     const struct { unsigned unit, buffer; GLenum format; } views[kTexelViews] = {
-        {TEXUNIT_PRIMITIVES, m_primitives, GL_RGBA32UI}, {TEXUNIT_BVH_NODES, m_geometry[0], GL_RGBA32UI},
-        {TEXUNIT_TRIANGLES, m_geometry[3], GL_RGBA32UI}, {TEXUNIT_TLAS_REFS, m_geometry[1], GL_R32UI},
-        {TEXUNIT_INSTANCES, m_geometry[2], GL_RGBA32UI}, {TEXUNIT_MATERIALS, m_materials, GL_RGBA32UI},
-        {TEXUNIT_PRIMITIVE_HITS, m_primitiveHits, GL_RGBA32UI}, {TEXUNIT_WIDE_NODES, m_wideNodes, GL_RGBA32UI},
-        {TEXUNIT_VERTICES, m_geometry[4], GL_RGBA32UI}, {TEXUNIT_TABLES, m_tables, GL_R32UI},
-        {TEXUNIT_LIGHTS, m_lights, GL_RGBA32UI}, {TEXUNIT_LIGHT_TREE, m_lightTree, GL_RGBA32UI},
-        {TEXUNIT_BSDF_TABLES, m_bsdfTables, GL_R32UI}, {TEXUNIT_PAIR_NODES, m_pairNodes, GL_RGBA32UI}};
+        TEXEL_VIEW(TEXUNIT_PRIMITIVES, m_primitives),        TEXEL_VIEW(TEXUNIT_BVH_NODES, m_geometry[0]),
+        TEXEL_VIEW(TEXUNIT_TRIANGLES, m_geometry[3]),        TEXEL_VIEW(TEXUNIT_TLAS_REFS, m_geometry[1]),
+        TEXEL_VIEW(TEXUNIT_INSTANCES, m_geometry[2]),        TEXEL_VIEW(TEXUNIT_MATERIALS, m_materials),
+        TEXEL_VIEW(TEXUNIT_PRIMITIVE_HITS, m_primitiveHits), TEXEL_VIEW(TEXUNIT_WIDE_NODES, m_wideNodes),
+        TEXEL_VIEW(TEXUNIT_VERTICES, m_geometry[4]),         TEXEL_VIEW(TEXUNIT_TABLES, m_tables),
+        TEXEL_VIEW(TEXUNIT_LIGHTS, m_lights),                TEXEL_VIEW(TEXUNIT_LIGHT_TREE, m_lightTree),
+        TEXEL_VIEW(TEXUNIT_BSDF_TABLES, m_bsdfTables),       TEXEL_VIEW(TEXUNIT_PAIR_NODES, m_pairNodes)};
+#undef TEXEL_VIEW_STRING
+#undef TEXEL_VIEW_FORMAT_NAME
+#undef TEXEL_VIEW
     for (int i = 0; i < kTexelViews; ++i) {
         glTextureBuffer(m_texelViews[i], views[i].format, views[i].buffer);
         glBindTextureUnit(views[i].unit, m_texelViews[i]);

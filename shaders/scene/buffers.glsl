@@ -58,6 +58,8 @@ layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[
 // the call makes LLVM spill and reload the caller's live vectors around it; an image load is
 // generated in line (the same loads, a bounds check instead of the call). Bit-identical results;
 // docs/performance.md (session 18) has the figures.
+// `format` is the unit's TEXUNIT_*_FORMAT (shared/layout.h, where the views' formats are kept).
+// (Not pasted from the unit's name: Mesa's GLSL preprocessor expands an argument before pasting.)
 #ifdef CAUSTIC_IMAGE_LOADS
 #define SCENE_TEXELS(unit, format, name) \
     layout(binding = IMAGE_UNIT_TEXELS + unit, format) uniform readonly restrict uimageBuffer name
@@ -67,25 +69,25 @@ layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[
 #define FETCH_U4(tex, i) texelFetch(tex, int(i))
 #endif
 #define FETCH_F4(tex, i) uintBitsToFloat(FETCH_U4(tex, i))
-SCENE_TEXELS(TEXUNIT_PRIMITIVES, rgba32ui, primitiveTexels);
-SCENE_TEXELS(TEXUNIT_BVH_NODES, rgba32ui, bvhNodeTexels);
-SCENE_TEXELS(TEXUNIT_TRIANGLES, rgba32ui, triangleTexels);
-SCENE_TEXELS(TEXUNIT_TLAS_REFS, r32ui, tlasRefTexels);
-SCENE_TEXELS(TEXUNIT_INSTANCES, rgba32ui, instanceTexels);
-SCENE_TEXELS(TEXUNIT_MATERIALS, rgba32ui, materialTexels);
-SCENE_TEXELS(TEXUNIT_PRIMITIVE_HITS, rgba32ui, primitiveHitTexels);
+SCENE_TEXELS(TEXUNIT_PRIMITIVES, TEXUNIT_PRIMITIVES_FORMAT, primitiveTexels);
+SCENE_TEXELS(TEXUNIT_BVH_NODES, TEXUNIT_BVH_NODES_FORMAT, bvhNodeTexels);
+SCENE_TEXELS(TEXUNIT_TRIANGLES, TEXUNIT_TRIANGLES_FORMAT, triangleTexels);
+SCENE_TEXELS(TEXUNIT_TLAS_REFS, TEXUNIT_TLAS_REFS_FORMAT, tlasRefTexels);
+SCENE_TEXELS(TEXUNIT_INSTANCES, TEXUNIT_INSTANCES_FORMAT, instanceTexels);
+SCENE_TEXELS(TEXUNIT_MATERIALS, TEXUNIT_MATERIALS_FORMAT, materialTexels);
+SCENE_TEXELS(TEXUNIT_PRIMITIVE_HITS, TEXUNIT_PRIMITIVE_HITS_FORMAT, primitiveHitTexels);
 // The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only through these views: the
 // 4-wide traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where
-// the views are used anyway. The formats here must match the views' (renderer.cpp, bindScene).
-SCENE_TEXELS(TEXUNIT_WIDE_NODES, rgba32ui, wideNodeTexels);
-SCENE_TEXELS(TEXUNIT_VERTICES, rgba32ui, vertexTexels);
-SCENE_TEXELS(TEXUNIT_TABLES, r32ui, tableTexels);
-SCENE_TEXELS(TEXUNIT_LIGHTS, rgba32ui, lightTexels);
-SCENE_TEXELS(TEXUNIT_LIGHT_TREE, rgba32ui, lightNodeTexels);
-SCENE_TEXELS(TEXUNIT_BSDF_TABLES, r32ui, bsdfTableTexels);
+// the views are used anyway.
+SCENE_TEXELS(TEXUNIT_WIDE_NODES, TEXUNIT_WIDE_NODES_FORMAT, wideNodeTexels);
+SCENE_TEXELS(TEXUNIT_VERTICES, TEXUNIT_VERTICES_FORMAT, vertexTexels);
+SCENE_TEXELS(TEXUNIT_TABLES, TEXUNIT_TABLES_FORMAT, tableTexels);
+SCENE_TEXELS(TEXUNIT_LIGHTS, TEXUNIT_LIGHTS_FORMAT, lightTexels);
+SCENE_TEXELS(TEXUNIT_LIGHT_TREE, TEXUNIT_LIGHT_TREE_FORMAT, lightNodeTexels);
+SCENE_TEXELS(TEXUNIT_BSDF_TABLES, TEXUNIT_BSDF_TABLES_FORMAT, bsdfTableTexels);
 // The meshes' pair BVHs (renderer/bvh.h, buildPairBvh), read only by texel fetches: the pair walk
 // (CAUSTIC_PAIR_BVH, geometry/bvh.glsl) is llvmpipe's configuration.
-SCENE_TEXELS(TEXUNIT_PAIR_NODES, rgba32ui, pairNodeTexels);
+SCENE_TEXELS(TEXUNIT_PAIR_NODES, TEXUNIT_PAIR_NODES_FORMAT, pairNodeTexels);
 #undef SCENE_TEXELS
 
 #ifdef CAUSTIC_FETCH_TEXELS

@@ -32,22 +32,39 @@ using uint = std::uint32_t;
 #define BINDING_LIGHT_TREE 6       // GpuLightNode[]: the light tree (renderer/light_tree.h), root at 0
 #define BINDING_TEST_OUTPUT 7      // test kernels only
 #define TEXUNIT_ENV_MAP 0          // sampler2D: the environment map (RGB radiance)
-// Buffer textures over the scene's storage buffers (usamplerBuffer, RGBA32UI; the top-level entries
-// R32UI), read instead of the buffers when CAUSTIC_FETCH_TEXELS is defined (scene/buffers.glsl).
+// Buffer textures over the scene's storage buffers (usamplerBuffer), read instead of the buffers
+// when CAUSTIC_FETCH_TEXELS is defined (scene/buffers.glsl). Each view's format is here and only
+// here, as TEXUNIT_<name>_FORMAT, the GLSL image format's name: scene/buffers.glsl puts it in the
+// image declaration, renderer.cpp (bindScene) turns it into the GL format the view is made and
+// bound with (an image's format qualifier must be the view's own format).
 #define TEXUNIT_PRIMITIVES 1
+#define TEXUNIT_PRIMITIVES_FORMAT rgba32ui
 #define TEXUNIT_BVH_NODES 2
+#define TEXUNIT_BVH_NODES_FORMAT rgba32ui
 #define TEXUNIT_TRIANGLES 3
-#define TEXUNIT_TLAS_REFS 4
+#define TEXUNIT_TRIANGLES_FORMAT rgba32ui
+#define TEXUNIT_TLAS_REFS 4        // one top-level entry a texel
+#define TEXUNIT_TLAS_REFS_FORMAT r32ui
 #define TEXUNIT_INSTANCES 5
+#define TEXUNIT_INSTANCES_FORMAT rgba32ui
 #define TEXUNIT_MATERIALS 6
+#define TEXUNIT_MATERIALS_FORMAT rgba32ui
 #define TEXUNIT_PRIMITIVE_HITS 7
-#define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] as RGBA32UI texels (CAUSTIC_WIDE_BVH; no storage-buffer form)
-#define TEXUNIT_VERTICES 9         // GpuVertex[] as RGBA32UI texels
-#define TEXUNIT_TABLES 10          // the CDF tables (sceneTables) as R32UI texels
-#define TEXUNIT_LIGHTS 11          // GpuLight[] as RGBA32UI texels
-#define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[] as RGBA32UI texels
-#define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables) as R32UI texels
-#define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh) as RGBA32UI texels (CAUSTIC_PAIR_BVH)
+#define TEXUNIT_PRIMITIVE_HITS_FORMAT rgba32ui
+#define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] (CAUSTIC_WIDE_BVH; no storage-buffer form)
+#define TEXUNIT_WIDE_NODES_FORMAT rgba32ui
+#define TEXUNIT_VERTICES 9         // GpuVertex[]
+#define TEXUNIT_VERTICES_FORMAT rgba32ui
+#define TEXUNIT_TABLES 10          // the CDF tables (sceneTables), one float a texel
+#define TEXUNIT_TABLES_FORMAT r32ui
+#define TEXUNIT_LIGHTS 11          // GpuLight[]
+#define TEXUNIT_LIGHTS_FORMAT rgba32ui
+#define TEXUNIT_LIGHT_TREE 12      // GpuLightNode[]
+#define TEXUNIT_LIGHT_TREE_FORMAT rgba32ui
+#define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables), one float a texel
+#define TEXUNIT_BSDF_TABLES_FORMAT r32ui
+#define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh; CAUSTIC_PAIR_BVH)
+#define TEXUNIT_PAIR_NODES_FORMAT rgba32ui
 // With CAUSTIC_IMAGE_LOADS the same views are bound as read-only image buffers (uimageBuffer) at image
 // unit IMAGE_UNIT_TEXELS + their texture unit (scene/buffers.glsl), after the film's images.
 #define IMAGE_UNIT_TEXELS 4
