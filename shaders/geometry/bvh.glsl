@@ -115,7 +115,8 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, o
     float v = edgeFunction(ax, cy, ay, cx);
     float w = edgeFunction(bx, ay, by, ax);
     // A float edge function that is 0 may be a rounding artefact (never one of the wrong sign):
-    // redone in double (exact products), as in Woop et al.
+    // redone in double (exact products), as in Woop et al. (Not by fma two-products: GLSL's fma
+    // need not round once, and llvmpipe's does not; docs/performance.md, session 19.)
     if (u == 0.0 || v == 0.0 || w == 0.0) {
         double ud = double(cx) * double(by) - double(cy) * double(bx);
         double vd = double(ax) * double(cy) - double(ay) * double(cx);
