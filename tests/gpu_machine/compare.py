@@ -31,7 +31,9 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(ROOT, "tests", "llvmpipe"))
 import mitsuba_bench  # noqa: E402
+from ab import bootstrap_interval  # noqa: E402
 
 CAUSTIC_FILES = {"cornell": "scenes/cornell-box.json", "mesh-knot": "scenes/mesh-knot.json"}
 
@@ -123,6 +125,15 @@ def main():
             w, c = statistics.median(rows[s][n]["wall"]), statistics.median(rows[s][n]["cpu"])
             summary[s][n] = {"wall": w, "cpu": c, "ratio": w / mw, "ratio_cpu": c / mc, "runs": rows[s][n]}
             print("%-10s %-22s %10.3f %8.3f %10.3f %8.3f" % (s, n, w, w / mw, c, c / mc))
+    # Each repetition's own ratio (caustic's run and Mitsuba's render of the same repetition ran
+    # minutes apart at most), with a bootstrap 90 % interval of the median: how sure the ratio is.
+    print("\nper repetition: median ratio over Mitsuba and its bootstrap 90 % interval")
+    for s in args.scenes:
+        for n in names[:-1]:
+            for key in ("wall", "cpu"):
+                ratios = [a / b for a, b in zip(rows[s][n][key], rows[s]["mitsuba"][key])]
+                lo, hi = bootstrap_interval(ratios)
+                print("%-10s %-22s %-5s %.3f [%.3f, %.3f]" % (s, n, key, statistics.median(ratios), lo, hi))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"variant": args.variant, "size": args.size, "max_depth": args.max_depth, "load": [min(loads), max(loads)],

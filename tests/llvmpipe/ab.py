@@ -4,7 +4,9 @@
 Runs caustic-bench once per configuration per round, interleaved (A B A B ...), and prints per
 scene the median of M samples per CPU second and its ratio to the first configuration. On a shared
 or virtual machine a single run can be 10-25 % off; interleaved medians of 3-4 rounds agreed to
-within ~2 % in session 10 (docs/performance.md).
+within ~2 % in session 10 (docs/performance.md), but in session 20 runs of 3-12 rounds of the same
+pair of configurations gave 0.90x to 1.08x. So it also prints, per configuration, the median of
+the per-round ratios with a bootstrap 90 % interval: decide on that interval, not on one median.
 
     tests/llvmpipe/ab.py [--rounds 3] [--size 128] [--spp 8] [--max-depth 7]
                          --config NAME=BENCH[:SHADER_DIR[:VAR=VALUE...]] ... scene.json ...
@@ -16,6 +18,7 @@ VAR=VALUE are further environment variables (CAUSTIC_WIDE_MERGE=0, CAUSTIC_FETCH
 import argparse
 import collections
 import os
+import random
 import statistics
 import subprocess
 import sys
@@ -58,6 +61,21 @@ def main():
         cells = ["%s %.3f (%.3fx)" % (n, statistics.median(rates[(scene, n)]), statistics.median(rates[(scene, n)]) / base)
                  for n in names]
         print("%-28s %s" % (scene, "   ".join(cells)))
+        # The same ratio from each round's own pair of runs (they ran back to back, so a slow spell
+        # of the machine hits both), with a bootstrap 90 % interval of its median: an interval
+        # that contains 1 says the rounds could not tell the configurations apart.
+        for n in names[1:]:
+            ratios = [b / a for a, b in zip(rates[(scene, names[0])], rates[(scene, n)])]
+            lo, hi = bootstrap_interval(ratios)
+            print("%-28s   %s / %s per round: median %.3fx, 90 %% interval [%.3f, %.3f] over %d rounds"
+                  % ("", n, names[0], statistics.median(ratios), lo, hi, len(ratios)))
+
+
+def bootstrap_interval(values, resamples=4000, seed=1):
+    """The 5th and 95th percentiles of the median of `values` resampled with replacement."""
+    rng = random.Random(seed)
+    medians = sorted(statistics.median(rng.choices(values, k=len(values))) for _ in range(resamples))
+    return medians[int(0.05 * resamples)], medians[int(0.95 * resamples) - 1]
 
 
 if __name__ == "__main__":
