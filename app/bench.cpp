@@ -14,6 +14,11 @@
 //   alternately moving the first object (kDirtyTransforms) and adding or removing a small sphere
 //   (kDirtyGeometry): frame times and edit -> finished frame times.
 // --out DIR: writes each render as DIR/<scene>.ppm (ACES, sRGB), to look at what was measured.
+// With $CAUSTIC_WALK_STATS=1 the integrator also counts its mesh walks (Renderer::walkStats) and a
+// "walks" line per mesh scene gives, per sample, the walk loops' iterations its SIMD groups paid
+// for and those their lanes worked: counts that a loaded machine does not move, for judging a
+// change to the walk's schedule (docs/performance.md, session 20). The counting itself slows the
+// render (a ballot per iteration): read the rates of such a run as nothing.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
 #include "renderer/dirty.h"
@@ -269,6 +274,7 @@ int main(int argc, char** argv) {
             cpu.push_back(cpuSeconds() - c0);
             rays.push_back(double(renderer->raysTraced()));
         }
+        const WalkStats walks = renderer->walkStats();  // of the last repetition
         const double w = median(wall), g = median(gpu), n = median(rays), c = median(cpu);
         const double pixelSamples = double(samples) * size * size;
         const std::string name = file.substr(file.find_last_of('/') + 1);
@@ -283,6 +289,19 @@ int main(int argc, char** argv) {
         std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.3f %12.3f %10.2f %9.3f %14.3f%s\n", name.c_str(), size, size,
                     samples, maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, c,
                     pixelSamples / std::max(c, 1e-9) * 1e-6, complete);
+        if (walks.groupSteps > 0) {
+            // CAUSTIC_WALK_STATS: per sample, the walk loops' iterations the groups paid for and
+            // those their lanes worked, and the share of lanes busy.
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "walks %-19s %4dx%-5d  per sample: %.3f group iterations, %.3f lane iterations, %.3f trees; "
+                          "lanes busy %.1f %% of %u",
+                          name.c_str(), size, size, double(walks.groupSteps) / pixelSamples,
+                          double(walks.laneSteps) / pixelSamples, double(walks.trees) / pixelSamples,
+                          100.0 * double(walks.laneSteps) / (double(walks.groupSteps) * std::max(walks.subgroupSize, 1u)),
+                          walks.subgroupSize);
+            extra.push_back(line);
+        }
         if (!outDir.empty()) {
             const std::vector<std::uint8_t> rgb = toSrgb8(film, ToneMap::Aces);
             std::string ppm = "P6\n" + std::to_string(size) + " " + std::to_string(size) + "\n255\n";

@@ -260,7 +260,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     r->m_lights = buffers[3];
     r->m_tables = buffers[4];
     r->m_counters = buffers[5];
-    std::uint32_t zero[4] = {0, 0, 0, 0};
+    const std::uint32_t zero[COUNTER_WORDS] = {};
     glNamedBufferData(r->m_counters, sizeof zero, zero, GL_DYNAMIC_COPY);
     glCreateBuffers(kGeometryBuffers, r->m_geometry);
     // Material textures and the BSDF tables (the GGX albedo table is the same for every scene).
@@ -572,7 +572,7 @@ void Renderer::resetAccumulation() {
         glClearTexImage(m_albedo, 0, GL_RGBA, GL_FLOAT, zero);
         glClearTexImage(m_normal, 0, GL_RGBA, GL_FLOAT, zero);
     }
-    std::uint32_t counters[4] = {0, 0, 0, 0};
+    const std::uint32_t counters[COUNTER_WORDS] = {};
     glNamedBufferSubData(m_counters, 0, sizeof counters, counters);
     m_samplesDone = 0;
     m_bandTile = 0;
@@ -787,9 +787,17 @@ std::uint64_t Renderer::droppedSamples() const {
 }
 
 std::uint64_t Renderer::raysTraced() const {
-    std::uint32_t counters[4] = {0, 0, 0, 0};
+    std::uint32_t counters[COUNTER_WORDS] = {};
     glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
     return (std::uint64_t(counters[COUNTER_RAYS_HI]) << 32) | counters[COUNTER_RAYS_LO];
+}
+
+WalkStats Renderer::walkStats() const {
+    std::uint32_t counters[COUNTER_WORDS] = {};
+    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
+    auto count = [&](int lo) { return (std::uint64_t(counters[lo + 1]) << 32) | counters[lo]; };
+    return {count(COUNTER_WALK_GROUP_STEPS), count(COUNTER_WALK_LANE_STEPS), count(COUNTER_WALK_TREES),
+            counters[COUNTER_SUBGROUP_SIZE]};
 }
 
 std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel, std::size_t maxBytes) {

@@ -33,6 +33,15 @@ inline constexpr std::size_t kMaxReadBackBytes = std::size_t(1) << 30;
 std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel,
                                    std::size_t maxBytes = kMaxReadBackBytes);
 
+// What the mesh walks did (CAUSTIC_WALK_STATS; shaders/shared/layout.h, COUNTER_WALK_*): the
+// walk loops' iterations as the SIMD groups ran them and as their lanes took part in them (the
+// lanes were busy laneSteps / (groupSteps * subgroupSize) of the time paid), and the instance
+// trees walked.
+struct WalkStats {
+    std::uint64_t groupSteps = 0, laneSteps = 0, trees = 0;
+    std::uint32_t subgroupSize = 0;
+};
+
 class Renderer {
 public:
     // Compiles shaders/integrator/path.comp from shaderDir. On failure returns null with the
@@ -106,6 +115,9 @@ public:
     int samplesDone() const { return m_samplesDone; }
     std::uint64_t droppedSamples() const;
     std::uint64_t raysTraced() const;      // since the last restart of accumulation
+    // The mesh walks' statistics since the last restart of accumulation: zeros unless the
+    // integrator was built with them ($CAUSTIC_WALK_STATS, integratorDefines).
+    WalkStats walkStats() const;
 
     // Binds the frame constants (for samples [firstSample, firstSample + samples)) and the scene
     // buffers at their shared binding points; the integrator and test kernels both use it.

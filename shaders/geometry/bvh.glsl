@@ -150,6 +150,28 @@ bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
 // start beyond the closest hit ever saved (docs/performance.md, "integrator profile").
 uint g_bvhStack[BVH_STACK_SIZE];
 
+// The walks' statistics (CAUSTIC_WALK_STATS: a benchmark aid, never on by default; the entry
+// shader enables GL_ARB_shader_ballot and defines CAUSTIC_BALLOT): per invocation, the
+// iterations of the mesh walks' loops it took part in, those in which it was its SIMD group's
+// lowest active lane (so that summed over the group they count the group's iterations), and the
+// instance trees it began to walk; integrator/film.glsl, countWalkStats, adds them up. Counts, not
+// times: a change to the walk's schedule shows in them whatever the machine's load.
+#if defined(CAUSTIC_WALK_STATS) && defined(CAUSTIC_BALLOT)
+#define BVH_WALK_STATS
+uint g_walkGroupSteps = 0u, g_walkLaneSteps = 0u, g_walkTrees = 0u;
+#define WALK_STATS_STEP()                                                                         \
+    {                                                                                             \
+        ++g_walkLaneSteps;                                                                        \
+        uvec2 ballot = unpackUint2x32(ballotARB(true));                                           \
+        uint lowest = ballot.x != 0u ? uint(findLSB(ballot.x)) : 32u + uint(findLSB(ballot.y));   \
+        if (gl_SubGroupInvocationARB == lowest) ++g_walkGroupSteps;                               \
+    }
+#define WALK_STATS_TREE() ++g_walkTrees;
+#else
+#define WALK_STATS_STEP()
+#define WALK_STATS_TREE()
+#endif
+
 // One interior node's step: tests both children against the ray; the nearer one hit becomes
 // `node` and its record `n` (fetched here for its box, so the walk does not fetch it again: a
 // third of the binary walk's fetches; neutral on llvmpipe, session 12), the farther one (when both
@@ -276,6 +298,7 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, o
 // The instance's tree below its root, whose box the ray (o, d in object space) is known to hit.
 bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 invD, bool anyHit, int base,
                        inout TraceHit hit) {
+    WALK_STATS_TREE()
     WatertightRay wr = makeWatertightRay(o, d);
     uint node = inst.info.x;
     uint firstTriangle = inst.info.y;
@@ -294,6 +317,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     for (int i = 0; i < K; ++i) s[i] = 0u;
     int held = 0;
     while (true) {
+        WALK_STATS_STEP()
         if ((ref & WIDE_CHILD_LEAF) == 0u) {
             bool descends = wideDescend(ref, o, invD, hit.t, far, nFar);
             if (nFar >= 3) REGISTER_STACK_PUSH(far.x)
@@ -309,10 +333,12 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     }
 #else
     while (true) {
+        WALK_STATS_STEP()
         // Down to a leaf (or out of the tree) first, then the leaf: the lanes test their leaves'
         // triangles together instead of each step paying for both.
         bool done = false;
         while ((ref & WIDE_CHILD_LEAF) == 0u) {
+            WALK_STATS_STEP()
             bool descends = wideDescend(ref, o, invD, hit.t, far, nFar);
             if (nFar >= 3 && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = far.x;
             if (nFar >= 2 && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = far.y;
@@ -350,6 +376,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     int held = 0;
     uint link = inst.info3.y + 1u;  // the root's record
     while (true) {
+        WALK_STATS_STEP()
         if ((link & PAIR_LINK_LEAF) == 0u) {
             uvec4 a = FETCH_U4(pairNodeTexels, link), b = FETCH_U4(pairNodeTexels, link + 1u);
 #define PAIR_BOUNDS(w, axis) (origin[axis] + vec2(uvec2(w & 0xffffu, w >> 16)) * scale[axis])
@@ -381,6 +408,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     int held = 0;
     GpuBvhNode n = loadBvhNode(node);
     while (true) {
+        WALK_STATS_STEP()
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             uint l = node + 1u, r = n.rightOrFirst;
@@ -405,6 +433,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
 #else
     GpuBvhNode n = loadBvhNode(node);
     while (true) {
+        WALK_STATS_STEP()
         uint count = n.countAndAxis >> 2;
         if (count == 0u) {
             if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;

@@ -46,11 +46,24 @@ PixelSums loadPixelSums(ivec2 ip) {
     return px;
 }
 
-// Adds `rays` to the 64-bit ray count (two 32-bit words: carry into the high word on wrap-around).
-void countRays(uint rays) {
-    uint before = atomicAdd(counters[COUNTER_RAYS_LO], rays);
-    if (before + rays < before) atomicAdd(counters[COUNTER_RAYS_HI], 1u);
+// Adds n to the 64-bit count in words (lo, lo + 1) of the counter buffer (carry into the high
+// word on wrap-around).
+void addCount64(uint lo, uint n) {
+    uint before = atomicAdd(counters[lo], n);
+    if (before + n < before) atomicAdd(counters[lo + 1u], 1u);
 }
+
+void countRays(uint rays) { addCount64(COUNTER_RAYS_LO, rays); }
+
+#ifdef BVH_WALK_STATS
+// This invocation's share of the walks' statistics (geometry/bvh.glsl, WALK_STATS_STEP).
+void countWalkStats() {
+    addCount64(COUNTER_WALK_GROUP_STEPS, g_walkGroupSteps);
+    addCount64(COUNTER_WALK_LANE_STEPS, g_walkLaneSteps);
+    addCount64(COUNTER_WALK_TREES, g_walkTrees);
+    atomicMax(counters[COUNTER_SUBGROUP_SIZE], gl_SubGroupSizeARB);
+}
+#endif
 
 // Stores the sums and counts the dropped samples.
 void storePixelSums(ivec2 ip, PixelSums px) {

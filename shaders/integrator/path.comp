@@ -1,4 +1,10 @@
 #version 450 core
+#ifdef CAUSTIC_WALK_STATS
+// The walks' statistics elect one lane per SIMD group (geometry/bvh.glsl, WALK_STATS_STEP).
+#extension GL_ARB_shader_ballot : require
+#extension GL_ARB_gpu_shader_int64 : require
+#define CAUSTIC_BALLOT 1
+#endif
 // The integrator kernel: frame.dispatch.x samples per pixel per dispatch, each with the random
 // numbers of (seed, pixel, sample index) from the sampler (lib/sampler.glsl), summed into the
 // accumulation images. A sample that
@@ -64,5 +70,8 @@ void main() {
     }
 #endif
     countRays(g_rayCount);
+#ifdef BVH_WALK_STATS
+    countWalkStats();
+#endif
     storePixelSums(ip, px);
 }

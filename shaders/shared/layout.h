@@ -88,6 +88,15 @@ using uint = std::uint32_t;
 #define COUNTER_DROPPED 0          // samples dropped because they were NaN or infinite
 #define COUNTER_RAYS_LO 1          // rays traced, low 32 bits
 #define COUNTER_RAYS_HI 2          // rays traced, high 32 bits
+// The mesh walks' statistics (CAUSTIC_WALK_STATS, a benchmark aid; caustic-bench prints them), each
+// a 64-bit count in two words (low, high): iterations of a walk's loop as its SIMD groups run
+// them (one per group and iteration, whichever of its lanes take part), the same summed over the
+// lanes that take part, and the instance trees whose walk began.
+#define COUNTER_WALK_GROUP_STEPS 3
+#define COUNTER_WALK_LANE_STEPS 5
+#define COUNTER_WALK_TREES 7
+#define COUNTER_SUBGROUP_SIZE 9    // the lanes of a SIMD group (gl_SubGroupSizeARB), with the statistics
+#define COUNTER_WORDS 10
 
 // Primitive types.
 #define PRIM_SPHERE 0u

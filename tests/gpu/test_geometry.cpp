@@ -529,3 +529,47 @@ TEST_CASE("the triangle test's edge functions are never of the wrong sign, the s
     CHECK(gpuWrong == 0);
     CHECK(differ == 0);
 }
+
+TEST_CASE("the walk statistics count what the walks did and change nothing else", "[gpu][geometry]") {
+    // CAUSTIC_WALK_STATS (a benchmark aid, geometry/bvh.glsl): twelve meshes seen by the camera
+    // under a constant sky, rendered without and with the statistics. The images are the same
+    // bit for bit; with them, every walk iteration a group pays for has at least one of its lanes
+    // in it and at most all of them (groupSteps <= laneSteps <= subgroupSize * groupSteps), and
+    // without them the counters stay 0.
+    test::TempDir dir;
+    Scene s = meshScene(dir, 3);
+    s.render.width = s.render.height = 24;
+    s.render.maxDepth = 3;
+    s.camera.position = glm::vec3(0.0f, 1.0f, 9.0f);
+    s.camera.lookAt = glm::vec3(0.0f);
+    s.environment.type = EnvironmentType::Constant;
+    s.environment.radiance = glm::vec3(1.0f);
+    Film plain, counted;
+    WalkStats none, stats;
+    {
+        auto renderer = test::makeRenderer();
+        plain = test::renderFilm(*renderer, s, 4);
+        none = renderer->walkStats();
+    }
+    REQUIRE(setenv("CAUSTIC_WALK_STATS", "1", 1) == 0);
+    {
+        auto renderer = test::makeRenderer();
+        counted = test::renderFilm(*renderer, s, 4);
+        stats = renderer->walkStats();
+    }
+    unsetenv("CAUSTIC_WALK_STATS");
+    CHECK(none.groupSteps == 0);
+    CHECK(none.laneSteps == 0);
+    CHECK(none.trees == 0);
+    INFO("group " << stats.groupSteps << ", lane " << stats.laneSteps << ", trees " << stats.trees << ", subgroup "
+                  << stats.subgroupSize);
+    CHECK(stats.trees > 100);  // the meshes fill much of the image
+    CHECK(stats.groupSteps > stats.trees / std::max(stats.subgroupSize, 1u));
+    CHECK(stats.laneSteps >= stats.groupSteps);
+    CHECK(stats.laneSteps <= std::uint64_t(stats.subgroupSize) * stats.groupSteps);
+    CHECK(stats.subgroupSize >= 1);
+    CHECK(stats.subgroupSize <= 64);
+    int differ = 0;
+    for (size_t i = 0; i < plain.mean.size(); ++i) differ += plain.mean[i] != counted.mean[i];
+    CHECK(differ == 0);
+}
