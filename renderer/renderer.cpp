@@ -780,24 +780,27 @@ Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
     return p;
 }
 
-std::uint64_t Renderer::droppedSamples() const {
-    std::uint32_t counters[4] = {0, 0, 0, 0};
-    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
-    return counters[COUNTER_DROPPED];
+std::array<std::uint32_t, COUNTER_WORDS> Renderer::readCounters() const {
+    std::array<std::uint32_t, COUNTER_WORDS> counters{};
+    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters.data());
+    return counters;
 }
 
-std::uint64_t Renderer::raysTraced() const {
-    std::uint32_t counters[COUNTER_WORDS] = {};
-    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
-    return (std::uint64_t(counters[COUNTER_RAYS_HI]) << 32) | counters[COUNTER_RAYS_LO];
+namespace {
+// The 64-bit count in counter words (lo, lo + 1) (integrator/film.glsl, addCount64).
+std::uint64_t count64(const std::array<std::uint32_t, COUNTER_WORDS>& counters, int lo) {
+    return (std::uint64_t(counters[lo + 1]) << 32) | counters[lo];
 }
+}  // namespace
+
+std::uint64_t Renderer::droppedSamples() const { return readCounters()[COUNTER_DROPPED]; }
+
+std::uint64_t Renderer::raysTraced() const { return count64(readCounters(), COUNTER_RAYS_LO); }
 
 WalkStats Renderer::walkStats() const {
-    std::uint32_t counters[COUNTER_WORDS] = {};
-    glGetNamedBufferSubData(m_counters, 0, sizeof counters, counters);
-    auto count = [&](int lo) { return (std::uint64_t(counters[lo + 1]) << 32) | counters[lo]; };
-    return {count(COUNTER_WALK_GROUP_STEPS), count(COUNTER_WALK_LANE_STEPS), count(COUNTER_WALK_TREES),
-            counters[COUNTER_SUBGROUP_SIZE]};
+    const auto counters = readCounters();
+    return {count64(counters, COUNTER_WALK_GROUP_STEPS), count64(counters, COUNTER_WALK_LANE_STEPS),
+            count64(counters, COUNTER_WALK_TREES), counters[COUNTER_SUBGROUP_SIZE]};
 }
 
 std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel, std::size_t maxBytes) {

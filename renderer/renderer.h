@@ -9,6 +9,7 @@
 #include "renderer/scene.h"
 #include "renderer/shader_loader.h"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -188,6 +189,7 @@ private:
     std::string m_programError;  // the last dispatch's failure to build one, reported once
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal
+    std::array<std::uint32_t, COUNTER_WORDS> readCounters() const;  // the counter buffer's words
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;
     unsigned m_lightTree = 0;    // GpuLightNode[] (CompiledScene::lightTree)
     unsigned m_envTexture = 0;   // m_tables holds all the CDF tables (packTables)

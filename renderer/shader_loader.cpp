@@ -235,9 +235,9 @@ ShaderDefines integratorDefines() {
     if (const char* env = std::getenv("CAUSTIC_IMAGE_LOADS"); env && *env) imageLoads = std::strcmp(env, "0") != 0;
     if (imageLoads && fetchTexels && imageUnitsForTexelViews()) defines.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
     // The mesh walks' statistics (geometry/bvh.glsl, CAUSTIC_WALK_STATS; Renderer::walkStats,
-    // printed by caustic-bench): a benchmark aid, on only where $CAUSTIC_WALK_STATS = 1. Counts do
+    // printed by caustic-bench): a benchmark aid, on only where $CAUSTIC_WALK_STATS is set (and not 0). Counts do
     // not move with the machine's load as timings do (docs/performance.md, session 20).
-    if (const char* env = std::getenv("CAUSTIC_WALK_STATS"); env && std::strcmp(env, "1") == 0)
+    if (const char* env = std::getenv("CAUSTIC_WALK_STATS"); env && *env && std::strcmp(env, "0") != 0)
         defines.emplace_back("CAUSTIC_WALK_STATS", "1");
     return defines;
 }

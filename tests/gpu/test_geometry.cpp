@@ -564,7 +564,7 @@ TEST_CASE("the walk statistics count what the walks did and change nothing else"
     INFO("group " << stats.groupSteps << ", lane " << stats.laneSteps << ", trees " << stats.trees << ", subgroup "
                   << stats.subgroupSize);
     CHECK(stats.trees > 100);  // the meshes fill much of the image
-    CHECK(stats.groupSteps > stats.trees / std::max(stats.subgroupSize, 1u));
+    CHECK(stats.laneSteps >= stats.trees);  // each tree walk takes at least one iteration
     CHECK(stats.laneSteps >= stats.groupSteps);
     CHECK(stats.laneSteps <= std::uint64_t(stats.subgroupSize) * stats.groupSteps);
     CHECK(stats.subgroupSize >= 1);
