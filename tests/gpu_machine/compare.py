@@ -60,6 +60,25 @@ def caustic_run(bench, scenes, size, spp, max_depth, extra, env):
     return rates
 
 
+def machine_summary():
+    """The CPU the ratio was measured on: its model, CPU count and widest vector ISA. The knot's
+    ratio moves with it by about 1.25x (docs/performance.md, session 21: Mitsuba's LLVM back end
+    and Embree use AVX-512 where llvmpipe gains nothing from it), so every run prints it."""
+    model, flags = "unknown CPU", set()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                if key.strip() == "model name" and model == "unknown CPU":
+                    model = value.strip()
+                elif key.strip() == "flags" and not flags:
+                    flags = set(value.split())
+    except OSError:
+        pass
+    isa = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "AVX" if "avx" in flags else "SSE"
+    return "%s, %d CPUs, %s" % (model, os.cpu_count() or 0, isa)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--variant", default="llvm_ad_rgb")
@@ -89,6 +108,8 @@ def main():
     names = [label for label, _ in configs] + ["mitsuba"]
     rows = {s: {n: {"wall": [], "cpu": []} for n in names} for s in args.scenes}
     loads = []
+    machine = machine_summary()
+    print("machine: %s; Mitsuba %s (drjit %s), %s" % (machine, mi.__version__, dr.__version__, args.variant), flush=True)
     print("rep  %-22s %-10s %12s %14s  load(1 min)" % ("renderer", "scene", "Msamples/s", "Msamples/cpu-s"), flush=True)
     for rep in range(args.reps):
         for label, env in configs:
@@ -136,7 +157,7 @@ def main():
                 print("%-10s %-22s %-5s %.3f [%.3f, %.3f]" % (s, n, key, statistics.median(ratios), lo, hi))
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"variant": args.variant, "size": args.size, "max_depth": args.max_depth, "load": [min(loads), max(loads)],
+            json.dump({"machine": machine, "variant": args.variant, "size": args.size, "max_depth": args.max_depth, "load": [min(loads), max(loads)],
                        "scenes": summary}, f, indent=1)
 
 
