@@ -26,10 +26,12 @@
 #include "renderer/bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -837,6 +839,36 @@ bool intersectTriangle(const WatertightRay& r, const glm::vec3& v0, const glm::v
 
 namespace {
 
+// Whether binary node b is an interior node whose subtree holds at most mergeMax primitives,
+// as one range [first, first + count) (the builder partitions in place, so a subtree's leaves
+// are consecutive; checked all the same): the wide trees make it one leaf.
+bool smallSubtree(const std::vector<BvhNode>& nodes, std::uint32_t mergeMax, std::uint32_t b, std::uint32_t& first,
+                  std::uint32_t& count) {
+    if (nodes[b].isLeaf()) return false;
+    std::uint32_t l = b, r = b;
+    while (!nodes[l].isLeaf()) l = l + 1;
+    while (!nodes[r].isLeaf()) r = nodes[r].rightOrFirst;
+    first = nodes[l].rightOrFirst;
+    const std::uint32_t end = nodes[r].rightOrFirst + nodes[r].count();
+    if (end <= first || end - first > mergeMax) return false;
+    count = end - first;
+    std::uint32_t sum = 0, stack[64], sp = 0;
+    stack[sp++] = b;
+    while (sp > 0) {
+        const std::uint32_t i = stack[--sp];
+        const BvhNode& n = nodes[i];
+        if (n.isLeaf()) {
+            if (n.rightOrFirst < first || n.rightOrFirst + n.count() > end) return false;
+            sum += n.count();
+        } else {
+            if (sp + 2 > 64) return false;
+            stack[sp++] = i + 1;
+            stack[sp++] = n.rightOrFirst;
+        }
+    }
+    return sum == count;
+}
+
 struct WideCollapse {
     const std::vector<BvhNode>& nodes;
     std::uint32_t base;
@@ -844,33 +876,8 @@ struct WideCollapse {
     std::uint32_t mergeMax;
     bool ok = true;
 
-    // Whether binary node b is an interior node whose subtree holds at most mergeMax primitives,
-    // as one range [first, first + count) (the builder partitions in place, so a subtree's leaves
-    // are consecutive; checked all the same): the 4-wide tree makes it one leaf.
     bool smallSubtree(std::uint32_t b, std::uint32_t& first, std::uint32_t& count) const {
-        if (nodes[b].isLeaf()) return false;
-        std::uint32_t l = b, r = b;
-        while (!nodes[l].isLeaf()) l = l + 1;
-        while (!nodes[r].isLeaf()) r = nodes[r].rightOrFirst;
-        first = nodes[l].rightOrFirst;
-        const std::uint32_t end = nodes[r].rightOrFirst + nodes[r].count();
-        if (end <= first || end - first > mergeMax) return false;
-        count = end - first;
-        std::uint32_t sum = 0, stack[64], sp = 0;
-        stack[sp++] = b;
-        while (sp > 0) {
-            const std::uint32_t i = stack[--sp];
-            const BvhNode& n = nodes[i];
-            if (n.isLeaf()) {
-                if (n.rightOrFirst < first || n.rightOrFirst + n.count() > end) return false;
-                sum += n.count();
-            } else {
-                if (sp + 2 > 64) return false;
-                stack[sp++] = i + 1;
-                stack[sp++] = n.rightOrFirst;
-            }
-        }
-        return sum == count;
+        return caustic::smallSubtree(nodes, mergeMax, b, first, count);
     }
 
     static void setBox(WideBvhNode& w, int k, const glm::vec3& lo, const glm::vec3& hi) {
@@ -990,14 +997,30 @@ int gridExponent(float lo, float hi, std::uint32_t top) {
 std::uint32_t& boundBytes(gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
 std::uint32_t boundBytes(const gpu::GpuWideBvhNode& node, int w) { return w < 4 ? node.qXY[w] : node.qZ[w - 4]; }
 
+// A grid's bound: origin + q * s (s = 2^(exponent - 127)), in float as the shaders decode it. The
+// product is exact (q < 2^8, s a power of two): fused or not, the sum is the one rounding.
+float decodeGridBound(std::uint32_t originBits, std::uint32_t exponent, std::uint32_t q) {
+    const volatile float product = static_cast<float>(q) * scaleOf(exponent);
+    return std::bit_cast<float>(originBits) + product;
+}
+
+// A child's bytes on one axis of a wide node's grid (origin, exponent): the largest byte that
+// decodes at or below its minimum and the smallest that decodes at or above its maximum.
+void quantizeChildBounds(std::uint32_t originBits, std::uint32_t exponent, float lo, float hi, std::uint32_t& bl,
+                         std::uint32_t& bh) {
+    const float origin = std::bit_cast<float>(originBits), s = scaleOf(exponent);
+    bl = static_cast<std::uint32_t>(std::clamp(std::floor((lo - origin) / s), 0.0f, 255.0f));
+    while (bl > 0 && decodeGridBound(originBits, exponent, bl) > lo) --bl;
+    while (bl < 255 && decodeGridBound(originBits, exponent, bl + 1) <= lo) ++bl;
+    bh = static_cast<std::uint32_t>(std::clamp(std::ceil((hi - origin) / s), 0.0f, 255.0f));
+    while (bh < 255 && decodeGridBound(originBits, exponent, bh) < hi) ++bh;
+    while (bh > 0 && decodeGridBound(originBits, exponent, bh - 1) >= hi) --bh;
+}
+
 }  // namespace
 
 float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q) {
-    const float s = scaleOf((node.head.w >> (8 * axis)) & 0xffu);
-    // The product is exact (q < 2^8, s a power of two): fused or not, the sum is the one
-    // rounding, as in the shader.
-    const volatile float product = static_cast<float>(q) * s;
-    return std::bit_cast<float>(node.head[axis]) + product;
+    return decodeGridBound(node.head[axis], (node.head.w >> (8 * axis)) & 0xffu, q);
 }
 
 void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi) {
@@ -1024,20 +1047,11 @@ gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& w) {
         out.head[a] = std::bit_cast<std::uint32_t>(lo);
         const int e = gridExponent(lo, hi, 255);
         out.head.w |= static_cast<std::uint32_t>(e) << (8 * a);
-        const float s = scaleOf(static_cast<std::uint32_t>(e));
         std::uint32_t qlo = 0, qhi = 0;
         for (int k = 0; k < 4; ++k) {
             std::uint32_t bl = 255, bh = 0;  // empty: inverted
-            if (w.child[k] != kWideEmpty && mins[a][k] <= maxs[a][k]) {
-                // Lower bound: the largest byte that decodes at or below the child's minimum.
-                bl = static_cast<std::uint32_t>(std::clamp(std::floor((mins[a][k] - lo) / s), 0.0f, 255.0f));
-                while (bl > 0 && decodeWideBound(out, a, bl) > mins[a][k]) --bl;
-                while (bl < 255 && decodeWideBound(out, a, bl + 1) <= mins[a][k]) ++bl;
-                // Upper bound: the smallest byte that decodes at or above the child's maximum.
-                bh = static_cast<std::uint32_t>(std::clamp(std::ceil((maxs[a][k] - lo) / s), 0.0f, 255.0f));
-                while (bh < 255 && decodeWideBound(out, a, bh) < maxs[a][k]) ++bh;
-                while (bh > 0 && decodeWideBound(out, a, bh - 1) >= maxs[a][k]) --bh;
-            }
+            if (w.child[k] != kWideEmpty && mins[a][k] <= maxs[a][k])
+                quantizeChildBounds(out.head[a], static_cast<std::uint32_t>(e), mins[a][k], maxs[a][k], bl, bh);
             qlo |= bl << (8 * k);
             qhi |= bh << (8 * k);
         }
@@ -1190,6 +1204,187 @@ void appendWideBvh(std::span<const gpu::GpuWideBvhNode> nodes, std::uint32_t bas
     for (std::size_t i = start; i < out.size(); ++i)
         for (int k = 0; k < 4; ++k)
             if ((out[i].child[k] & kWideLeaf) == 0u) out[i].child[k] += base;  // (kWideEmpty has the leaf bit)
+}
+
+namespace {
+
+// The 8-wide collapse (buildWide8Bvh in bvh.h): WideCollapse's rule with eight children a node
+// (`kids`: each node's children, node references as indices into it), then the slots (place).
+// (The rule fills the upper nodes and leaves the lowest short: below a node of 8 children, each
+// binary node with two leaves becomes a node of 2. A ray meets the upper nodes most; a pass that
+// let a node take a child's children into its free slots changed no node of the knot's tree nor
+// of random soups' (session 21), so there is none.)
+struct Wide8Collapse {
+    struct Child { glm::vec3 lo, hi; std::uint32_t ref; };
+    const std::vector<BvhNode>& nodes;
+    std::uint32_t mergeMax;
+    std::vector<std::vector<Child>> kids;
+    bool ok = true;
+
+    // A leaf's reference; a long leaf becomes a node of shorter ones (its box for each).
+    std::uint32_t leafRef(std::uint32_t first, std::uint32_t count, const glm::vec3& lo, const glm::vec3& hi) {
+        if (first > kWideLeafMaxFirst || count > kWideLeafMaxFirst - first + 1u) {
+            ok = false;
+            return kWideEmpty;
+        }
+        if (count <= kWideLeafMaxCount) return kWideLeaf | (count << 27) | first;
+        const auto index = static_cast<std::uint32_t>(kids.size());
+        kids.emplace_back();
+        const std::uint32_t part = std::max((count + 7u) / 8u, 1u);
+        std::vector<Child> parts;
+        for (std::uint32_t f = first; f < first + count; f += part)
+            parts.push_back({lo, hi, leafRef(f, std::min(part, first + count - f), lo, hi)});
+        kids[index] = std::move(parts);
+        return index;
+    }
+
+    // The node for binary node `b` (or, for a binary leaf at the root, a node holding it): its
+    // children, opening the interior child of largest surface area while there are fewer than 8.
+    std::uint32_t node(std::uint32_t b) {
+        const auto index = static_cast<std::uint32_t>(kids.size());
+        kids.emplace_back();
+        std::uint32_t bins[8];
+        int n = 0;
+        if (nodes[b].isLeaf()) {
+            bins[n++] = b;
+        } else {
+            bins[n++] = b + 1;
+            bins[n++] = nodes[b].rightOrFirst;
+        }
+        while (n < 8) {
+            int best = -1;
+            float bestArea = -1.0f;
+            for (int k = 0; k < n; ++k) {
+                std::uint32_t f, c;
+                if (nodes[bins[k]].isLeaf() || smallSubtree(nodes, mergeMax, bins[k], f, c)) continue;
+                const float a = nodes[bins[k]].bounds().halfArea();
+                if (a > bestArea) { bestArea = a; best = k; }
+            }
+            if (best < 0) break;
+            const std::uint32_t opened = bins[best];
+            bins[best] = opened + 1;
+            bins[n++] = nodes[opened].rightOrFirst;
+        }
+        std::vector<Child> children;
+        for (int k = 0; k < n; ++k) {
+            const BvhNode& c = nodes[bins[k]];
+            std::uint32_t first = 0, count = 0;
+            const std::uint32_t ref = c.isLeaf() ? leafRef(c.rightOrFirst, c.count(), c.boundsMin, c.boundsMax)
+                                      : smallSubtree(nodes, mergeMax, bins[k], first, count)
+                                          ? leafRef(first, count, c.boundsMin, c.boundsMax)
+                                          : node(bins[k]);
+            children.push_back({c.boundsMin, c.boundsMax, ref});
+        }
+        kids[index] = std::move(children);
+        return index;
+    }
+
+    // The slots: slot s is the one a ray of octant s (bit a set: direction negative on axis a)
+    // visits first, and a ray of octant o visits slots in the order p ^ o, p = 0, 1, ... So slot s
+    // should hold the child met first along the direction of octant s: the assignment of children
+    // to slots that minimises the sum of dot(child centre - node centre, octant s's diagonal),
+    // made greedily (cheapest pair first) where Ylitie et al. 2017 solve it exactly; an
+    // approximate order costs only visits, never a hit.
+    static std::array<Child, 8> place(const std::vector<Child>& children) {
+        std::array<Child, 8> slots;
+        for (Child& c : slots) c = {glm::vec3(0.0f), glm::vec3(0.0f), kWideEmpty};
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        for (const Child& c : children) {
+            lo = glm::min(lo, c.lo);
+            hi = glm::max(hi, c.hi);
+        }
+        const glm::vec3 centre = 0.5f * (lo + hi);
+        bool kidUsed[8] = {}, slotUsed[8] = {};
+        for (std::size_t round = 0; round < children.size(); ++round) {
+            float best = std::numeric_limits<float>::infinity();
+            int bk = -1, bs = -1;
+            for (std::size_t k = 0; k < children.size(); ++k) {
+                if (kidUsed[k]) continue;
+                const glm::vec3 d = 0.5f * (children[k].lo + children[k].hi) - centre;
+                for (int slot = 0; slot < 8; ++slot) {
+                    if (slotUsed[slot]) continue;
+                    const glm::vec3 diagonal((slot & 1) ? -1.0f : 1.0f, (slot & 2) ? -1.0f : 1.0f, (slot & 4) ? -1.0f : 1.0f);
+                    const float cost = glm::dot(d, diagonal);
+                    if (bk < 0 || cost < best) { best = cost; bk = int(k); bs = slot; }
+                }
+            }
+            kidUsed[bk] = slotUsed[bs] = true;
+            slots[std::size_t(bs)] = children[std::size_t(bk)];
+        }
+        return slots;
+    }
+};
+
+// Word w (0-5: lo x, hi x, lo y, hi y, lo z, hi z) of slots 4 h to 4 h + 3's bytes in a node's texels.
+std::uint32_t& wide8Bytes(glm::uvec4* node, int w, int h) { return node[1 + w / 2][2 * (w % 2) + h]; }
+
+}  // namespace
+
+bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out) {
+    out.clear();
+    if (bvh.nodes.empty()) return true;
+    std::uint32_t mergeMax = kWideMergeMax;
+    if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
+        mergeMax = static_cast<std::uint32_t>(std::min(std::strtoul(env, nullptr, 10), 15ul));
+    Wide8Collapse c{bvh.nodes, mergeMax, {}};
+    c.node(0);
+    if (!c.ok || c.kids.size() > kWide8MaxNodes) return false;  // (the texel indices fit 24 bits)
+    out.assign(c.kids.size() * kWide8Texels, glm::uvec4(0u));
+    for (std::size_t i = 0; i < c.kids.size(); ++i) {
+        glm::uvec4* node = &out[i * kWide8Texels];
+        const std::array<Wide8Collapse::Child, 8> kids = Wide8Collapse::place(c.kids[i]);
+        for (int k = 0; k < 8; ++k) {
+            const std::uint32_t ref = kids[k].ref;
+            node[4 + k / 4][k % 4] = (ref & kWideLeaf) != 0u ? ref : ref * kWide8Texels;  // a node's first texel
+        }
+        for (int a = 0; a < 3; ++a) {
+            // The grid spans the union of the children that are there.
+            float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+            for (const auto& kid : kids) {
+                if (kid.ref == kWideEmpty || !(kid.lo[a] <= kid.hi[a])) continue;
+                lo = std::min(lo, kid.lo[a]);
+                hi = std::max(hi, kid.hi[a]);
+            }
+            if (!(lo <= hi)) lo = hi = 0.0f;
+            node[0][a] = std::bit_cast<std::uint32_t>(lo);
+            const auto e = static_cast<std::uint32_t>(gridExponent(lo, hi, 255));
+            node[0].w |= e << (8 * a);
+            for (int k = 0; k < 8; ++k) {
+                std::uint32_t bl = 255, bh = 0;  // empty: inverted
+                if (kids[k].ref != kWideEmpty && kids[k].lo[a] <= kids[k].hi[a])
+                    quantizeChildBounds(node[0][a], e, kids[k].lo[a], kids[k].hi[a], bl, bh);
+                wide8Bytes(node, 2 * a, k / 4) |= bl << (8 * (k % 4));
+                wide8Bytes(node, 2 * a + 1, k / 4) |= bh << (8 * (k % 4));
+            }
+        }
+    }
+    return true;
+}
+
+bool wide8BvhRequested() {
+    const char* env = std::getenv("CAUSTIC_WIDE_BVH");
+    return env && std::strcmp(env, "8") == 0;
+}
+
+bool appendWide8Bvh(std::span<const glm::uvec4> texels, std::uint32_t base, std::vector<glm::uvec4>& out) {
+    if (base + texels.size() > std::size_t(kWide8MaxNodes) * kWide8Texels) return false;
+    const std::size_t start = out.size();
+    out.insert(out.end(), texels.begin(), texels.end());
+    for (std::size_t i = start; i < out.size(); i += kWide8Texels)
+        for (int k = 0; k < 8; ++k) {
+            std::uint32_t& ref = out[i + 4 + k / 4][k % 4];
+            if ((ref & kWideLeaf) == 0u) ref += base;  // (kWideEmpty has the leaf bit)
+        }
+    return true;
+}
+
+void decodeWide8Box(std::span<const glm::uvec4> node, int k, glm::vec3& lo, glm::vec3& hi) {
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t e = (node[0].w >> (8 * a)) & 0xffu;
+        const std::uint32_t wl = node[1 + a][k / 4], wh = node[1 + a][2 + k / 4];
+        lo[a] = decodeGridBound(node[0][a], e, (wl >> (8 * (k % 4))) & 0xffu);
+        hi[a] = decodeGridBound(node[0][a], e, (wh >> (8 * (k % 4))) & 0xffu);
+    }
 }
 
 Ray transformRay(const glm::mat4& worldToObject, const Ray& ray) {

@@ -146,6 +146,39 @@ float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q
 // Child k's decoded box.
 void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi);
 
+// ---- The 8-wide BVH (CAUSTIC_WIDE_BVH=8, on request) ---------------------------------------------
+// The binary tree collapsed as collapseBvh4 does it but to eight children a node, each node six
+// RGBA32UI texels (96 bytes): texel 0 the grid (xyz: the origin's float bits, w: the three biased
+// exponents in bytes 0-2), texels 1-3 the children's bytes on x, y and z (each texel: lo of slots
+// 0-3, lo of slots 4-7, hi of slots 0-3, hi of slots 4-7; byte k % 4 of its word for slot k; the
+// same grid and rounding as quantizeWideNode), texels 4-5 the eight slots' references (as
+// WideBvhNode::child: kWideEmpty, kWideLeaf | count << 27 | first, or a node's first texel, 6 x
+// its index: the walk's address with no multiply). After Ylitie, Karras and Laine 2017 ("Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"): a walk step tests eight boxes
+// and queues the children it hits as one stack entry (the node and a mask) instead of sorting and
+// pushing them one by one; the children are placed in the slots so that a ray visits them about
+// near first in the order p ^ its octant (Wide8Collapse::place), with no sort at all. On llvmpipe
+// it walks 19 % fewer iterations than the 4-wide tree and is 0.88-0.97x as fast (each step reads
+// six texels and decodes 48 planes; docs/performance.md, session 21), so it is not the default
+// there; it is kept for the measurement on NVIDIA that the paper's numbers call for (run.sh).
+inline constexpr std::uint32_t kWide8Texels = 6u;
+// A stack entry holds a node's first texel in 24 bits (and its pending children's mask in 8).
+inline constexpr std::uint32_t kWide8MaxNodes = (1u << 24) / kWide8Texels;
+// `bvh`'s 8-wide form at base 0 (node references relative to its root, texel 0). False (out empty)
+// where a leaf's first primitive is beyond kWideLeafMaxFirst or the nodes are more than
+// kWide8MaxNodes.
+bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out);
+// Appends a buildWide8Bvh result to `out` as if built with its root at texel `base` (node
+// references moved by base). False (nothing appended) beyond kWide8MaxNodes nodes.
+bool appendWide8Bvh(std::span<const glm::uvec4> texels, std::uint32_t base, std::vector<glm::uvec4>& out);
+// Slot k's decoded box from a node's six texels.
+void decodeWide8Box(std::span<const glm::uvec4> node, int k, glm::vec3& lo, glm::vec3& hi);
+// Whether $CAUSTIC_WIDE_BVH is 8: the walk reads the 8-wide nodes (renderer/shader_loader.cpp), and
+// only then does a mesh's import build them (248 ms and 23 MB for a million triangles on the
+// development VM, where the 4-wide form takes 157 ms; read once per import, so a process sets it
+// before it loads meshes).
+bool wide8BvhRequested();
+
 // ---- The pair BVH: the binary tree as llvmpipe's walk reads it (CAUSTIC_PAIR_BVH) ----------------
 // One record per interior node of the binary tree, 32 bytes (two RGBA32UI texels), holding both
 // children's boxes and links, so that a step of the walk reads two texels where the binary nodes

@@ -69,6 +69,7 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
         {"BVH nodes", sizeOf(c.bvhNodes), 16},
         {"4-wide BVH nodes", sizeOf(c.wideNodes), 16},
         {"pair BVH records", sizeOf(c.pairNodes), 16},
+        {"8-wide BVH nodes", sizeOf(c.wide8Nodes), 16},
         {"top-level BVH entries", sizeOf(c.tlasRefs), 4},
         {"mesh instances", sizeOf(c.instances), 16},
         {"mesh triangles", sizeOf(c.triangles), 16},

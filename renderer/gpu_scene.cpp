@@ -642,16 +642,22 @@ struct Builder {
         // (CAUSTIC_PAIR_BVH), made with its cache entry and placed here (a copy and an add).
         out.wideNodes.clear();
         out.pairNodes.clear();
-        std::vector<std::uint32_t> wideRootOf, pairRootOf;
+        out.wide8Nodes.clear();
+        std::vector<std::uint32_t> wideRootOf, pairRootOf, wide8RootOf;
         for (const auto& entry : out.meshEntries) {
             wideRootOf.push_back(static_cast<std::uint32_t>(out.wideNodes.size()));
             appendWideBvh(entry->wideNodes, wideRootOf.back(), out.wideNodes);
             pairRootOf.push_back(static_cast<std::uint32_t>(out.pairNodes.size()));
             appendPairBvh(entry->pairNodes, pairRootOf.back(), out.pairNodes);
+            wide8RootOf.push_back(static_cast<std::uint32_t>(out.wide8Nodes.size()));
+            if (!appendWide8Bvh(entry->wide8Nodes, wide8RootOf.back(), out.wide8Nodes)) {
+                *error = "the scene's meshes need more than 2^24 8-wide BVH nodes";
+                return false;
+            }
         }
         for (size_t i = 0; i < out.instances.size(); ++i) {
             const std::uint32_t mesh = out.meshBvh.instances[i].mesh;
-            out.instances[i].info3 = glm::uvec4(wideRootOf[mesh], pairRootOf[mesh], 0, 0);
+            out.instances[i].info3 = glm::uvec4(wideRootOf[mesh], pairRootOf[mesh], wide8RootOf[mesh], 0);
         }
         return true;
     }

@@ -77,6 +77,9 @@ struct CompiledScene {
     std::vector<gpu::GpuWideBvhNode> wideNodes;
     // Every mesh's BVH again as pair records (renderer/bvh.h, buildPairBvh), for CAUSTIC_PAIR_BVH.
     std::vector<glm::uvec4> pairNodes;
+    // Every mesh's BVH again, 8-wide (renderer/bvh.h, buildWide8Bvh), for CAUSTIC_WIDE_BVH=8; an
+    // instance's root node is info3.z.
+    std::vector<glm::uvec4> wide8Nodes;
     std::vector<gpu::GpuTriangle> triangles;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<float> meshLightCdf;
@@ -100,6 +103,7 @@ struct MeshCacheEntry {
     // before session 13.
     std::vector<gpu::GpuWideBvhNode> wideNodes;
     std::vector<glm::uvec4> pairNodes;
+    std::vector<glm::uvec4> wide8Nodes;  // (CAUSTIC_WIDE_BVH=8; buildWide8Bvh)
     std::vector<glm::vec3> positions;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material

@@ -68,6 +68,10 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
         *error = file + ": more triangles than the GPU's BVHs can index (2^27)";
         return false;
     }
+    if (wide8BvhRequested() && !buildWide8Bvh(entry->blas.bvh, entry->wide8Nodes)) {
+        *error = file + ": more triangles than the GPU's BVHs can index (2^27, or 2^24 8-wide nodes)";
+        return false;
+    }
     entry->wideNodes.reserve(wide.size());
     for (const WideBvhNode& w : wide) entry->wideNodes.push_back(quantizeWideNode(w));
     return true;

@@ -273,6 +273,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, std::st
     glCreateBuffers(1, &r->m_primitiveHits);
     glCreateBuffers(1, &r->m_wideNodes);
     glCreateBuffers(1, &r->m_pairNodes);
+    glCreateBuffers(1, &r->m_wide8Nodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
     r->m_imageLoads = imageUnitsForTexelViews();
     if (!computeBsdfTables(shaderDir, r->m_bsdfTables, error)) return nullptr;
@@ -289,6 +290,7 @@ Renderer::~Renderer() {
     glDeleteBuffers(1, &m_primitiveHits);
     glDeleteBuffers(1, &m_wideNodes);
     glDeleteBuffers(1, &m_pairNodes);
+    glDeleteBuffers(1, &m_wide8Nodes);
     glDeleteTextures(kTexelViews, m_texelViews);
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
@@ -545,6 +547,7 @@ std::string Renderer::upload(bool meshes) {
         uploadBuffer(m_geometry[3], m_compiled.triangles);
         uploadBuffer(m_wideNodes, m_compiled.wideNodes);
         uploadBuffer(m_pairNodes, m_compiled.pairNodes);
+        uploadBuffer(m_wide8Nodes, m_compiled.wide8Nodes);
         uploadBuffer(m_geometry[4], m_compiled.vertices);
     } else {  // the top level's reserve only
         glNamedBufferSubData(m_geometry[0], 0, GLsizeiptr(m_compiled.tlasNodeCapacity * sizeof(gpu::GpuBvhNode)),
@@ -625,7 +628,8 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
         TEXEL_VIEW(TEXUNIT_PRIMITIVE_HITS, m_primitiveHits), TEXEL_VIEW(TEXUNIT_WIDE_NODES, m_wideNodes),
         TEXEL_VIEW(TEXUNIT_VERTICES, m_geometry[4]),         TEXEL_VIEW(TEXUNIT_TABLES, m_tables),
         TEXEL_VIEW(TEXUNIT_LIGHTS, m_lights),                TEXEL_VIEW(TEXUNIT_LIGHT_TREE, m_lightTree),
-        TEXEL_VIEW(TEXUNIT_BSDF_TABLES, m_bsdfTables),       TEXEL_VIEW(TEXUNIT_PAIR_NODES, m_pairNodes)};
+        TEXEL_VIEW(TEXUNIT_BSDF_TABLES, m_bsdfTables),       TEXEL_VIEW(TEXUNIT_PAIR_NODES, m_pairNodes),
+        TEXEL_VIEW(TEXUNIT_WIDE8_NODES, m_wide8Nodes)};
 #undef TEXEL_VIEW_STRING
 #undef TEXEL_VIEW_FORMAT_NAME
 #undef TEXEL_VIEW

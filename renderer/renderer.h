@@ -200,8 +200,9 @@ private:
     // Buffer textures over primitives, BVH nodes (binary and 4-wide), triangles, vertices,
     // top-level entries, instances, materials, the primitives' hit records, lights, the light
     // tree, the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
-    static constexpr int kTexelViews = 14;
+    static constexpr int kTexelViews = 15;
     unsigned m_pairNodes = 0;      // the meshes' pair BVHs (CAUSTIC_PAIR_BVH), RGBA32UI texels
+    unsigned m_wide8Nodes = 0;     // the meshes' 8-wide BVHs (CAUSTIC_WIDE_BVH=8), RGBA32UI texels
     unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (CAUSTIC_WIDE_BVH)
     unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
     unsigned m_texelViews[kTexelViews] = {};

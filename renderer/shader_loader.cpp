@@ -1,5 +1,6 @@
 #include "renderer/shader_loader.h"
 
+#include "renderer/bvh.h"
 #include "renderer/file_util.h"
 #include "shaders/shared/layout.h"
 
@@ -203,14 +204,16 @@ ShaderDefines integratorDefines() {
     // 1.09x, textured-mesh 1.11x, gltf-cutouts 1.04x; against the binary nodes about 1.3x on the
     // knot (docs/performance.md, session 13). $CAUSTIC_WIDE_BVH = 0 or 1 and $CAUSTIC_PAIR_BVH
     // = 1 choose (the pair records when the 4-wide nodes are off); neither forces the binary
-    // nodes, NVIDIA's (the others are unmeasured there).
+    // nodes, NVIDIA's (the others are unmeasured there). $CAUSTIC_WIDE_BVH = 8 takes the 8-wide
+    // nodes (renderer/bvh.h, buildWide8Bvh): 0.88-0.97x on llvmpipe (session 21), kept to be
+    // measured on NVIDIA.
     const char* wideEnv = std::getenv("CAUSTIC_WIDE_BVH");
     const char* pairEnv = std::getenv("CAUSTIC_PAIR_BVH");
     const bool pairAsked = pairEnv && *pairEnv && std::strcmp(pairEnv, "0") != 0;
     bool wide = onLlvmpipe() && !pairAsked;
     if (wideEnv && *wideEnv) wide = std::strcmp(wideEnv, "0") != 0;
     wide = wide && fetchTexels;
-    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", "1");
+    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", wide8BvhRequested() ? "8" : "1");
     if (pairAsked && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
     // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);

@@ -262,6 +262,38 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, o
 }
 #endif
 
+#if defined(CAUSTIC_WIDE_BVH) && CAUSTIC_WIDE_BVH == 8 && defined(CAUSTIC_FETCH_TEXELS)
+// One step through an 8-wide node (renderer/bvh.h, buildWide8Bvh; six texels, the first four
+// read here): its eight children's boxes slab-tested at once, as slabTest does it, the near and far
+// planes' bytes picked by the direction's signs before they are decoded. Returns the children hit
+// as a mask in the walk's order: bit p for slot p ^ oct (oct: the direction's octant).
+uint wide8Hits(uint t0, vec3 o, vec3 invD, float tMax, uint oct, out uvec4 r0, out uvec4 r1) {
+    r0 = FETCH_U4(wide8NodeTexels, t0 + 4u);
+    r1 = FETCH_U4(wide8NodeTexels, t0 + 5u);
+    uvec4 head = FETCH_U4(wide8NodeTexels, t0);
+    uvec4 qx = FETCH_U4(wide8NodeTexels, t0 + 1u), qy = FETCH_U4(wide8NodeTexels, t0 + 2u);
+    uvec4 qz = FETCH_U4(wide8NodeTexels, t0 + 3u);
+    vec3 origin = uintBitsToFloat(head.xyz);
+    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+    // (near of slots 0-3, near of 4-7, far of 0-3, far of 4-7) on each axis
+    uvec4 px = invD.x < 0.0 ? qx.zwxy : qx, py = invD.y < 0.0 ? qy.zwxy : qy, pz = invD.z < 0.0 ? qz.zwxy : qz;
+#define W8_PLANE(w, axis) ((origin[axis] + vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu) * scale[axis] - o[axis]) * invD[axis])
+    vec4 tn0 = max(max(W8_PLANE(px.x, 0), W8_PLANE(py.x, 1)), max(W8_PLANE(pz.x, 2), vec4(0.0)));
+    vec4 tn1 = max(max(W8_PLANE(px.y, 0), W8_PLANE(py.y, 1)), max(W8_PLANE(pz.y, 2), vec4(0.0)));
+    vec4 tf0 = min(min(W8_PLANE(px.z, 0), W8_PLANE(py.z, 1)), W8_PLANE(pz.z, 2)) * 1.0000004;
+    vec4 tf1 = min(min(W8_PLANE(px.w, 0), W8_PLANE(py.w, 1)), W8_PLANE(pz.w, 2)) * 1.0000004;
+#undef W8_PLANE
+    bvec4 h0 = lessThanEqual(tn0, min(tf0, vec4(tMax))), h1 = lessThanEqual(tn1, min(tf1, vec4(tMax)));
+    uvec4 b0 = mix(uvec4(0u), uvec4(1u, 2u, 4u, 8u), h0), b1 = mix(uvec4(0u), uvec4(16u, 32u, 64u, 128u), h1);
+    uint m = (b0.x | b0.y) | (b0.z | b0.w) | (b1.x | b1.y) | (b1.z | b1.w);
+    // Slot k's bit to bit k ^ oct: XOR by each of oct's bits swaps bits, pairs or nibbles.
+    m = (oct & 1u) != 0u ? ((m & 0x55u) << 1) | ((m >> 1) & 0x55u) : m;
+    m = (oct & 2u) != 0u ? ((m & 0x33u) << 2) | ((m >> 2) & 0x33u) : m;
+    m = (oct & 4u) != 0u ? ((m & 0x0fu) << 4) | (m >> 4) : m;
+    return m;
+}
+#endif
+
 // The register stack of the mesh walks (CAUSTIC_REGISTER_STACK; docs/design.md): the walk's K
 // newest pending entries in its variables s[0..K-1] (s[0] the newest, `held` of them), the older
 // ones on the memory stack above `base`, which holds entries only while s is full. Macros over the
@@ -304,7 +336,55 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     uint firstTriangle = inst.info.y;
     int sp = base;
     bool found = false;
-#if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
+#if defined(CAUSTIC_WIDE_BVH) && CAUSTIC_WIDE_BVH == 8 && defined(CAUSTIC_FETCH_TEXELS)
+    // The 8-wide nodes (wide8Hits): the node whose children are being visited and their mask in
+    // `group` (the node's first texel | the mask << 24), one stack entry per node whose children are
+    // left when the walk goes down: at most one push a step, no sort. Each iteration is a node's
+    // step or a leaf's triangles, then fetches the next child's reference.
+#ifdef CAUSTIC_REGISTER_STACK
+    const int K = CAUSTIC_REGISTER_STACK;
+#else
+    const int K = 1;
+#endif
+    uint s[K];
+    for (int i = 0; i < K; ++i) s[i] = 0u;
+    int held = 0;
+    uint oct = (invD.x < 0.0 ? 1u : 0u) | (invD.y < 0.0 ? 2u : 0u) | (invD.z < 0.0 ? 4u : 0u);
+    uint ref = inst.info3.z;  // the root, a node
+    uint group = 0u;
+    while (true) {
+        WALK_STATS_STEP()
+        if ((ref & WIDE_CHILD_LEAF) == 0u) {
+            uvec4 r0, r1;
+            uint hits = wide8Hits(ref, o, invD, hit.t, oct, r0, r1);
+            if (hits != 0u) {
+                // The first child at once (its reference is in the texels just read).
+                uint p = uint(findLSB(hits));
+                uint slot = p ^ oct;
+                uint next = (slot < 4u ? r0 : r1)[slot & 3u];
+                hits &= hits - 1u;
+                if (hits != 0u) {
+                    if (group >= (1u << 24)) REGISTER_STACK_PUSH(group)
+                    group = ref | (hits << 24);
+                }
+                ref = next;
+                continue;
+            }
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u,
+                                      anyHit, hit)) {
+            found = true;
+            if (anyHit) return true;
+        }
+        if (group < (1u << 24)) {
+            REGISTER_STACK_POP(group)
+        }
+        uint p = uint(findLSB(group >> 24));
+        group &= ~(1u << (24u + p));
+        uint slot = p ^ oct;
+        uvec4 refs = FETCH_U4(wide8NodeTexels, (group & 0xffffffu) + 4u + (slot >> 2));
+        ref = refs[slot & 3u];
+    }
+#elif defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
     uint ref = inst.info3.x;
     uvec3 far;
     int nFar;

@@ -88,6 +88,9 @@ SCENE_TEXELS(TEXUNIT_BSDF_TABLES, TEXUNIT_BSDF_TABLES_FORMAT, bsdfTableTexels);
 // The meshes' pair BVHs (renderer/bvh.h, buildPairBvh), read only by texel fetches: the pair walk
 // (CAUSTIC_PAIR_BVH, geometry/bvh.glsl) is llvmpipe's configuration.
 SCENE_TEXELS(TEXUNIT_PAIR_NODES, TEXUNIT_PAIR_NODES_FORMAT, pairNodeTexels);
+// The meshes' 8-wide BVHs (renderer/bvh.h, buildWide8Bvh; six texels a node), read only by texel
+// fetches: the 8-wide walk (CAUSTIC_WIDE_BVH=8, geometry/bvh.glsl) is on request only.
+SCENE_TEXELS(TEXUNIT_WIDE8_NODES, TEXUNIT_WIDE8_NODES_FORMAT, wide8NodeTexels);
 #undef SCENE_TEXELS
 
 #ifdef CAUSTIC_FETCH_TEXELS

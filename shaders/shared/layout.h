@@ -65,10 +65,14 @@ using uint = std::uint32_t;
 #define TEXUNIT_BSDF_TABLES_FORMAT r32ui
 #define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh; CAUSTIC_PAIR_BVH)
 #define TEXUNIT_PAIR_NODES_FORMAT rgba32ui
+#define TEXUNIT_WIDE8_NODES 15     // the meshes' 8-wide BVHs (renderer/bvh.h, buildWide8Bvh; CAUSTIC_WIDE_BVH=8)
+#define TEXUNIT_WIDE8_NODES_FORMAT rgba32ui
 // With CAUSTIC_IMAGE_LOADS the same views are bound as read-only image buffers (uimageBuffer) at image
 // unit IMAGE_UNIT_TEXELS + their texture unit (scene/buffers.glsl), after the film's images.
 #define IMAGE_UNIT_TEXELS 4
-#define TEXUNIT_LAST TEXUNIT_PAIR_NODES  // the highest TEXUNIT_*
+// The highest TEXUNIT_*: 16 units, as many as GL guarantees a compute shader
+// (GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS >= 16): a further view needs that limit checked.
+#define TEXUNIT_LAST TEXUNIT_WIDE8_NODES
 #define PAIR_LINK_LEAF 0x80000000u
 #define PAIR_LEAF_MAX_FIRST 0x07ffffffu
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)

@@ -345,7 +345,13 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     test::TempDir dir;
     Scene s = meshScene(dir, 3);
     std::string error;
-    REQUIRE(renderer->setScene(s, &error));
+    // The meshes' 8-wide form is built only where it is asked for (wide8BvhRequested): asked
+    // while the scene is loaded, then the defaults back for the configurations below.
+    REQUIRE(::setenv("CAUSTIC_WIDE_BVH", "8", 1) == 0);
+    const bool loaded = renderer->setScene(s, &error);
+    ::unsetenv("CAUSTIC_WIDE_BVH");
+    REQUIRE(loaded);
+    REQUIRE(!renderer->compiled().wide8Nodes.empty());
     const CompiledScene& c = renderer->compiled();
     REQUIRE(c.instances.size() == 12);
     std::mt19937 rng(5);
@@ -406,6 +412,12 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     // defaults when they change.
     ShaderDefines specialisedDefaults = specialised;
     for (const auto& d : integratorDefines()) specialisedDefaults.push_back(d);
+    // The 8-wide nodes (CAUSTIC_WIDE_BVH=8, on request): one stack entry per node whose children
+    // are left; without CAUSTIC_REGISTER_STACK the walk holds one entry and spills the rest.
+    ShaderDefines specialisedWide8Images = specialisedFetch;
+    specialisedWide8Images.emplace_back("CAUSTIC_WIDE_BVH", "8");
+    specialisedWide8Images.emplace_back("CAUSTIC_REGISTER_STACK", "2");
+    specialisedWide8Images.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
     ShaderDefines specialisedPairs = specialisedRegisters;
     specialisedPairs.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // The register stack's spills and refills (two entries held, the rest in memory) on every ray
@@ -427,7 +439,9 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
         {"4-wide BVH, register stack of 2, specialised, image loads", specialisedWideImages},
         {"the renderer's defaults on this driver, specialised", specialisedDefaults},
         {"pair BVH, image loads, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_IMAGE_LOADS", "1"}}},
-        {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}}};
+        {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
+        {"8-wide BVH, one entry held, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "8"}}},
+        {"8-wide BVH, register stack of 2, specialised, image loads", specialisedWide8Images}};
     // The image-load configurations need more image units than GL guarantees (8); llvmpipe, where
     // the suite runs, has them, so there they always run.
     if (onLlvmpipe()) REQUIRE(imageUnitsForTexelViews());

@@ -10,7 +10,8 @@
 # compare: only caustic against Mitsuba 3's cuda_ad_rgb in one interleaved run (compare.py: the
 # Cornell box and mesh-knot at 1024 x 1024, caustic max depth 7 = Mitsuba max_depth 8, 64 spp,
 # 3 repetitions; caustic as it runs on NVIDIA by default, and scene-specialised, and specialised
-# with buffer textures), results in $OUT/compare.txt and compare.json. Needs .gpu/mitsuba.tar.xz
+# with buffer textures, with the 4-wide and the 8-wide nodes), results in $OUT/compare.txt and
+# compare.json. Needs .gpu/mitsuba.tar.xz
 # (pack_mitsuba.sh), carried in a second call (it does not fit beside the payload):
 #   call 1: carry [".gpu/payload.tar.xz", ".gpu/debs"], run.sh quick (or nothing: just unpacks)
 #   call 2: carry [".gpu/mitsuba.tar.xz"], run.sh compare (git-ignored paths from call 1 stay)
@@ -43,6 +44,7 @@ compare() {
     --size 1024 --spp 64 --mitsuba-spp 64 --max-depth 7 --reps 3 --bench $B/caustic-bench \
     --config general --config specialised:CAUSTIC_SPECIALIZE=1 \
     --config specialised-texels:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1 \
+    --config specialised-texels-8wide:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1:CAUSTIC_WIDE_BVH=8 \
     --json "$OUT/compare.json" cornell mesh-knot 2>&1 | tee "$OUT/compare.txt"
 }
 if [ "${1:-}" = compare ]; then
@@ -72,6 +74,13 @@ fi
   python3 tests/gpu_machine/make_mesh_scene.py /tmp/caustic-gpu/big-mesh > /dev/null
   echo "## 1M-triangle mesh: caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays"
   timeout 120 $B/caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays /tmp/caustic-gpu/big-mesh/mesh-big.json 2>&1
+  # The same through buffer textures with the 8-wide nodes (Ylitie et al. 2017's layout, unmeasured
+  # on NVIDIA; 0.88-0.97x on llvmpipe) and, for the same reads, with the 4-wide ones.
+  for wide in 8 1; do
+    echo "## 1M-triangle mesh, CAUSTIC_FETCH_TEXELS=1 CAUSTIC_WIDE_BVH=$wide"
+    CAUSTIC_FETCH_TEXELS=1 CAUSTIC_WIDE_BVH=$wide timeout 90 $B/caustic-bench --size 1024 --samples 64 --max-depth 7 \
+      --repeat 2 --rays /tmp/caustic-gpu/big-mesh/mesh-big.json 2>&1 | tail -2
+  done
   echo "## the editor's frames: caustic-bench --size 1024 --interactive 300"
   timeout 120 $B/caustic-bench --size 1024 --samples 16 --repeat 1 --interactive 300 scenes/cornell-box.json scenes/mesh-knot.json 2>&1 | grep "^interactive"
   echo "## the editor's frames: caustic-bench --size 2048 --interactive 300"
