@@ -869,6 +869,13 @@ bool smallSubtree(const std::vector<BvhNode>& nodes, std::uint32_t mergeMax, std
     return sum == count;
 }
 
+// The wide trees' kWideMergeMax, or $CAUSTIC_WIDE_MERGE for measuring (docs/performance.md).
+std::uint32_t wideMergeMax() {
+    if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
+        return static_cast<std::uint32_t>(std::min(std::strtoul(env, nullptr, 10), 15ul));
+    return kWideMergeMax;
+}
+
 struct WideCollapse {
     const std::vector<BvhNode>& nodes;
     std::uint32_t base;
@@ -963,11 +970,7 @@ struct WideCollapse {
 bool collapseBvh4(const Bvh& bvh, std::uint32_t base, std::vector<WideBvhNode>& out) {
     if (bvh.nodes.empty()) return true;
     const std::size_t start = out.size();
-    // $CAUSTIC_WIDE_MERGE overrides kWideMergeMax, for measuring (docs/performance.md).
-    std::uint32_t mergeMax = kWideMergeMax;
-    if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
-        mergeMax = static_cast<std::uint32_t>(std::min(std::strtoul(env, nullptr, 10), 15ul));
-    WideCollapse c{bvh.nodes, base - static_cast<std::uint32_t>(start), out, mergeMax};
+    WideCollapse c{bvh.nodes, base - static_cast<std::uint32_t>(start), out, wideMergeMax()};
     c.node(0);
     if (!c.ok) out.resize(start);
     return c.ok;
@@ -1323,10 +1326,7 @@ std::uint32_t& wide8Bytes(glm::uvec4* node, int w, int h) { return node[1 + w / 
 bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out) {
     out.clear();
     if (bvh.nodes.empty()) return true;
-    std::uint32_t mergeMax = kWideMergeMax;
-    if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
-        mergeMax = static_cast<std::uint32_t>(std::min(std::strtoul(env, nullptr, 10), 15ul));
-    Wide8Collapse c{bvh.nodes, mergeMax, {}};
+    Wide8Collapse c{bvh.nodes, wideMergeMax(), {}};
     c.node(0);
     if (!c.ok || c.kids.size() > kWide8MaxNodes) return false;  // (the texel indices fit 24 bits)
     out.assign(c.kids.size() * kWide8Texels, glm::uvec4(0u));
