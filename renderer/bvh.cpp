@@ -1361,6 +1361,11 @@ bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out) {
     return true;
 }
 
+bool pairBvhRequested() {
+    const char* env = std::getenv("CAUSTIC_PAIR_BVH");
+    return env && *env && std::strcmp(env, "0") != 0;
+}
+
 bool wide8BvhRequested() {
     const char* env = std::getenv("CAUSTIC_WIDE_BVH");
     return env && std::strcmp(env, "8") == 0;

@@ -206,6 +206,10 @@ inline constexpr std::uint32_t kPairEmpty = 0xffffffffu;
 // `base`. False (nothing appended) where a leaf's first primitive is beyond kPairLeafMaxFirst or a
 // record's index beyond 2^31.
 bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out);
+// Whether $CAUSTIC_PAIR_BVH asks for the pair records (set and not 0): the walk reads them
+// (renderer/shader_loader.cpp), and only then does a mesh's import build them (165 ms and 31 MB
+// for a million triangles on the development VM; before session 21 every import did).
+bool pairBvhRequested();
 // Appends `tree` (a buildPairBvh result made at base 0) to `out` as if it had been made at `base`
 // (its records' links moved by base): what a mesh's cached tree becomes in a scene's layout.
 void appendPairBvh(std::span<const glm::uvec4> tree, std::uint32_t base, std::vector<glm::uvec4>& out);

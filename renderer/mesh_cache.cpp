@@ -64,7 +64,8 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
         return false;
     }
     std::vector<WideBvhNode> wide;
-    if (!collapseBvh4(entry->blas.bvh, 0, wide) || !buildPairBvh(entry->blas.bvh, 0, entry->pairNodes)) {
+    if (!collapseBvh4(entry->blas.bvh, 0, wide) ||
+        (pairBvhRequested() && !buildPairBvh(entry->blas.bvh, 0, entry->pairNodes))) {
         *error = file + ": more triangles than the GPU's BVHs can index (2^27)";
         return false;
     }

@@ -208,8 +208,7 @@ ShaderDefines integratorDefines() {
     // nodes (renderer/bvh.h, buildWide8Bvh): 0.88-0.97x on llvmpipe (session 21), kept to be
     // measured on NVIDIA.
     const char* wideEnv = std::getenv("CAUSTIC_WIDE_BVH");
-    const char* pairEnv = std::getenv("CAUSTIC_PAIR_BVH");
-    const bool pairAsked = pairEnv && *pairEnv && std::strcmp(pairEnv, "0") != 0;
+    const bool pairAsked = pairBvhRequested();
     bool wide = onLlvmpipe() && !pairAsked;
     if (wideEnv && *wideEnv) wide = std::strcmp(wideEnv, "0") != 0;
     wide = wide && fetchTexels;

@@ -345,13 +345,17 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     test::TempDir dir;
     Scene s = meshScene(dir, 3);
     std::string error;
-    // The meshes' 8-wide form is built only where it is asked for (wide8BvhRequested): asked
-    // while the scene is loaded, then the defaults back for the configurations below.
+    // The meshes' 8-wide form and pair records are built only where they are asked for
+    // (wide8BvhRequested, pairBvhRequested): asked while the scene is loaded, then the defaults
+    // back for the configurations below.
     REQUIRE(::setenv("CAUSTIC_WIDE_BVH", "8", 1) == 0);
+    REQUIRE(::setenv("CAUSTIC_PAIR_BVH", "1", 1) == 0);
     const bool loaded = renderer->setScene(s, &error);
     ::unsetenv("CAUSTIC_WIDE_BVH");
+    ::unsetenv("CAUSTIC_PAIR_BVH");
     REQUIRE(loaded);
     REQUIRE(!renderer->compiled().wide8Nodes.empty());
+    REQUIRE(!renderer->compiled().pairNodes.empty());
     const CompiledScene& c = renderer->compiled();
     REQUIRE(c.instances.size() == 12);
     std::mt19937 rng(5);
