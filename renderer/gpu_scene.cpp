@@ -638,8 +638,9 @@ struct Builder {
         }
         out.meshBvh.tlas = Bvh{};  // the CPU mirror of the mesh-only top level, for CPU queries
         buildTlas(out.meshBvh);
-        // Each mesh's BVH in its 4-wide form (CAUSTIC_WIDE_BVH) and as pair records
-        // (CAUSTIC_PAIR_BVH), made with its cache entry and placed here (a copy and an add).
+        // Each mesh's BVH in its 4-wide form (CAUSTIC_WIDE_BVH), and where asked for as pair
+        // records (CAUSTIC_PAIR_BVH) and 8-wide nodes (CAUSTIC_WIDE_BVH=8), made with its cache
+        // entry and placed here (a copy and an add; an entry without one appends nothing).
         out.wideNodes.clear();
         out.pairNodes.clear();
         out.wide8Nodes.clear();
@@ -651,7 +652,7 @@ struct Builder {
             appendPairBvh(entry->pairNodes, pairRootOf.back(), out.pairNodes);
             wide8RootOf.push_back(static_cast<std::uint32_t>(out.wide8Nodes.size()));
             if (!appendWide8Bvh(entry->wide8Nodes, wide8RootOf.back(), out.wide8Nodes)) {
-                *error = "the scene's meshes need more than 2^24 8-wide BVH nodes";
+                *error = "the scene's meshes need more than 2^24 / 6 8-wide BVH nodes (CAUSTIC_WIDE_BVH=8)";
                 return false;
             }
         }
