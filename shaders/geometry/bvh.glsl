@@ -263,10 +263,11 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, o
 #endif
 
 #if defined(CAUSTIC_WIDE_BVH) && CAUSTIC_WIDE_BVH == 8 && defined(CAUSTIC_FETCH_TEXELS)
-// One step through an 8-wide node (renderer/bvh.h, buildWide8Bvh; six texels, the first four
-// read here): its eight children's boxes slab-tested at once, as slabTest does it, the near and far
-// planes' bytes picked by the direction's signs before they are decoded. Returns the children hit
-// as a mask in the walk's order: bit p for slot p ^ oct (oct: the direction's octant).
+// One step through an 8-wide node (renderer/bvh.h, buildWide8Bvh; its six texels, the children's
+// references (r0, r1) too, so that the walk goes on to the first child without another fetch):
+// its eight children's boxes slab-tested at once, as slabTest does it, the near and far planes'
+// bytes picked by the direction's signs before they are decoded. Returns the children hit as a
+// mask in the walk's order: bit p for slot p ^ oct (oct: the direction's octant).
 uint wide8Hits(uint t0, vec3 o, vec3 invD, float tMax, uint oct, out uvec4 r0, out uvec4 r1) {
     r0 = FETCH_U4(wide8NodeTexels, t0 + 4u);
     r1 = FETCH_U4(wide8NodeTexels, t0 + 5u);
@@ -340,7 +341,8 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     // The 8-wide nodes (wide8Hits): the node whose children are being visited and their mask in
     // `group` (the node's first texel | the mask << 24), one stack entry per node whose children are
     // left when the walk goes down: at most one push a step, no sort. Each iteration is a node's
-    // step or a leaf's triangles, then fetches the next child's reference.
+    // step, which goes on to its first child hit at once, or a leaf's triangles, after which the
+    // next child's reference is read from its node (or a node's entry popped first).
 #ifdef CAUSTIC_REGISTER_STACK
     const int K = CAUSTIC_REGISTER_STACK;
 #else
