@@ -869,6 +869,38 @@ bool smallSubtree(const std::vector<BvhNode>& nodes, std::uint32_t mergeMax, std
     return sum == count;
 }
 
+// The children of the wide node made for binary node b (b itself when it is a leaf at the root):
+// while there are fewer than `width`, the interior child of largest surface area that is not a
+// small subtree is replaced by its two children, in place (the order is the 4-wide nodes' slot
+// order). Returns how many; used by the 4- and 8-wide collapses.
+int wideChildren(const std::vector<BvhNode>& nodes, std::uint32_t mergeMax, std::uint32_t b, std::uint32_t* kids,
+                 int width) {
+    int n = 0;
+    if (nodes[b].isLeaf()) {
+        kids[n++] = b;
+    } else {
+        kids[n++] = b + 1;
+        kids[n++] = nodes[b].rightOrFirst;
+    }
+    while (n < width) {
+        int best = -1;
+        float bestArea = -1.0f;
+        for (int k = 0; k < n; ++k) {
+            std::uint32_t f, c;
+            if (nodes[kids[k]].isLeaf() || smallSubtree(nodes, mergeMax, kids[k], f, c)) continue;
+            const float a = nodes[kids[k]].bounds().halfArea();
+            if (a > bestArea) { bestArea = a; best = k; }
+        }
+        if (best < 0) break;
+        const std::uint32_t opened = kids[best];
+        for (int k = n; k > best + 1; --k) kids[k] = kids[k - 1];
+        kids[best] = opened + 1;
+        kids[best + 1] = nodes[opened].rightOrFirst;
+        ++n;
+    }
+    return n;
+}
+
 // The wide trees' kWideMergeMax, or $CAUSTIC_WIDE_MERGE for measuring (docs/performance.md).
 std::uint32_t wideMergeMax() {
     if (const char* env = std::getenv("CAUSTIC_WIDE_MERGE"); env && *env)
@@ -929,29 +961,7 @@ struct WideCollapse {
         const auto index = static_cast<std::uint32_t>(out.size());
         out.push_back(emptyNode());
         std::uint32_t kids[4];
-        int n = 0;
-        if (nodes[b].isLeaf()) {
-            kids[n++] = b;
-        } else {
-            kids[n++] = b + 1;
-            kids[n++] = nodes[b].rightOrFirst;
-        }
-        while (n < 4) {
-            int best = -1;
-            float bestArea = -1.0f;
-            for (int k = 0; k < n; ++k) {
-                std::uint32_t f, c;
-                if (nodes[kids[k]].isLeaf() || smallSubtree(kids[k], f, c)) continue;
-                const float a = nodes[kids[k]].bounds().halfArea();
-                if (a > bestArea) { bestArea = a; best = k; }
-            }
-            if (best < 0) break;
-            const std::uint32_t opened = kids[best];
-            for (int k = n; k > best + 1; --k) kids[k] = kids[k - 1];
-            kids[best] = opened + 1;
-            kids[best + 1] = nodes[opened].rightOrFirst;
-            ++n;
-        }
+        const int n = wideChildren(nodes, mergeMax, b, kids, 4);
         for (int k = 0; k < n; ++k) {
             const BvhNode& c = nodes[kids[k]];
             std::uint32_t first = 0, count = 0;
@@ -1241,33 +1251,12 @@ struct Wide8Collapse {
         return index;
     }
 
-    // The node for binary node `b` (or, for a binary leaf at the root, a node holding it): its
-    // children, opening the interior child of largest surface area while there are fewer than 8.
+    // The node for binary node `b` (or, for a binary leaf at the root, a node holding it).
     std::uint32_t node(std::uint32_t b) {
         const auto index = static_cast<std::uint32_t>(kids.size());
         kids.emplace_back();
         std::uint32_t bins[8];
-        int n = 0;
-        if (nodes[b].isLeaf()) {
-            bins[n++] = b;
-        } else {
-            bins[n++] = b + 1;
-            bins[n++] = nodes[b].rightOrFirst;
-        }
-        while (n < 8) {
-            int best = -1;
-            float bestArea = -1.0f;
-            for (int k = 0; k < n; ++k) {
-                std::uint32_t f, c;
-                if (nodes[bins[k]].isLeaf() || smallSubtree(nodes, mergeMax, bins[k], f, c)) continue;
-                const float a = nodes[bins[k]].bounds().halfArea();
-                if (a > bestArea) { bestArea = a; best = k; }
-            }
-            if (best < 0) break;
-            const std::uint32_t opened = bins[best];
-            bins[best] = opened + 1;
-            bins[n++] = nodes[opened].rightOrFirst;
-        }
+        const int n = wideChildren(nodes, mergeMax, b, bins, 8);
         std::vector<Child> children;
         for (int k = 0; k < n; ++k) {
             const BvhNode& c = nodes[bins[k]];

@@ -300,6 +300,18 @@ uint wide8Hits(uint t0, vec3 o, vec3 invD, float tMax, uint oct, out uvec4 r0, o
 // ones on the memory stack above `base`, which holds entries only while s is full. Macros over the
 // walk's own variables: a function taking the stack `inout` made the memory-stack walk 0.65-0.76x
 // on llvmpipe (session 12).
+// The stack's variables, at the walk's start: K of them (CAUSTIC_REGISTER_STACK; the pair and
+// 8-wide walks, which always use the macros, hold 1 without it), none held.
+#ifdef CAUSTIC_REGISTER_STACK
+#define REGISTER_STACK_K CAUSTIC_REGISTER_STACK
+#else
+#define REGISTER_STACK_K 1
+#endif
+#define REGISTER_STACK_DECLARE()                                                                \
+    const int K = REGISTER_STACK_K;                                                             \
+    uint s[K];                                                                                  \
+    for (int i = 0; i < K; ++i) s[i] = 0u;                                                      \
+    int held = 0;
 #define REGISTER_STACK_PUSH(value)                                                              \
     {                                                                                           \
         if (held == K) {                                                                        \
@@ -343,14 +355,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     // left when the walk goes down: at most one push a step, no sort. Each iteration is a node's
     // step, which goes on to its first child hit at once, or a leaf's triangles, after which the
     // next child's reference is read from its node (or a node's entry popped first).
-#ifdef CAUSTIC_REGISTER_STACK
-    const int K = CAUSTIC_REGISTER_STACK;
-#else
-    const int K = 1;
-#endif
-    uint s[K];
-    for (int i = 0; i < K; ++i) s[i] = 0u;
-    int held = 0;
+    REGISTER_STACK_DECLARE()
     uint oct = (invD.x < 0.0 ? 1u : 0u) | (invD.y < 0.0 ? 2u : 0u) | (invD.z < 0.0 ? 4u : 0u);
     uint ref = inst.info3.z;  // the root, a node
     uint group = 0u;
@@ -394,10 +399,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     // With the register stack (REGISTER_STACK_PUSH and _POP above), one loop: a step or a leaf
     // per iteration (llvmpipe's default; knot 1.05-1.14x over the pair walk, 2.2x over the memory
     // stack's nested loops below; docs/performance.md, session 13).
-    const int K = CAUSTIC_REGISTER_STACK;
-    uint s[K];
-    for (int i = 0; i < K; ++i) s[i] = 0u;
-    int held = 0;
+    REGISTER_STACK_DECLARE()
     while (true) {
         WALK_STATS_STEP()
         if ((ref & WIDE_CHILD_LEAF) == 0u) {
@@ -448,14 +450,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
     uvec4 head = FETCH_U4(pairNodeTexels, inst.info3.y);
     vec3 origin = uintBitsToFloat(head.xyz);
     vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
-#ifdef CAUSTIC_REGISTER_STACK
-    const int K = CAUSTIC_REGISTER_STACK;
-#else
-    const int K = 1;
-#endif
-    uint s[K];
-    for (int i = 0; i < K; ++i) s[i] = 0u;
-    int held = 0;
+    REGISTER_STACK_DECLARE()
     uint link = inst.info3.y + 1u;  // the root's record
     while (true) {
         WALK_STATS_STEP()
@@ -484,10 +479,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
 #elif defined(CAUSTIC_REGISTER_STACK)
     // The newest CAUSTIC_REGISTER_STACK entries held in variables (s[0] the newest), the older ones
     // on the memory stack above `base`, which holds entries only while s is full.
-    const int K = CAUSTIC_REGISTER_STACK;
-    uint s[K];
-    for (int i = 0; i < K; ++i) s[i] = 0u;
-    int held = 0;
+    REGISTER_STACK_DECLARE()
     GpuBvhNode n = loadBvhNode(node);
     while (true) {
         WALK_STATS_STEP()

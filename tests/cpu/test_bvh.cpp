@@ -578,12 +578,13 @@ TEST_CASE("Binned SAH beats a median split in SAH cost", "[bvh]") {
     }
 }
 
-TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside its ancestors' boxes", "[bvh]") {
-    // The GPU walks this form (CAUSTIC_WIDE_BVH); its traversal is checked against the CPU BVH
-    // in tests/gpu/test_geometry.cpp. Leaves longer than kWideLeafMaxCount (leaf 16 here) become
-    // nodes of shorter leaves.
-    struct Setting { const char* name; BvhBuildOptions opt; };
-    std::vector<Setting> settings;
+// The binary trees the wide collapses are tested on: the default build, leaves of one triangle
+// (every small subtree merged), leaves as long as allowed (longer than kWideLeafMaxCount get
+// split into nodes) and a median split.
+namespace {
+struct WideSetting { const char* name; BvhBuildOptions opt; };
+std::vector<WideSetting> wideSettings() {
+    std::vector<WideSetting> settings;
     settings.push_back({"default", {}});
     BvhBuildOptions o;
     o.maxLeafSize = 1;
@@ -597,10 +598,19 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
     o.sah = false;
     o.maxLeafSize = 4;
     settings.push_back({"median split", o});
+    return settings;
+}
+}  // namespace
+
+TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside its ancestors' boxes", "[bvh]") {
+    // The GPU walks this form (CAUSTIC_WIDE_BVH); its traversal is checked against the CPU BVH
+    // in tests/gpu/test_geometry.cpp. Leaves longer than kWideLeafMaxCount (leaf 16 here) become
+    // nodes of shorter leaves.
+    const std::vector<WideSetting> settings = wideSettings();
     for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
         const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 3u + 5u);
         const std::vector<Aabb> boxes = triangleBoxes(m);
-        for (const Setting& s : settings) {
+        for (const WideSetting& s : settings) {
             INFO(n << " triangles, " << s.name);
             const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
             std::vector<WideBvhNode> wide(5);  // appended after 5 others: indices are absolute
@@ -665,25 +675,11 @@ TEST_CASE("buildWide8Bvh: every leaf once, each decoded box containing what lies
     // node references as texel indices. What a ray needs: every triangle inside every decoded box
     // above it (else the walk could miss a triangle the ray hits). Its traversal is checked
     // against the CPU BVH in tests/gpu/test_geometry.cpp.
-    struct Setting { const char* name; BvhBuildOptions opt; };
-    std::vector<Setting> settings;
-    settings.push_back({"default", {}});
-    BvhBuildOptions o;
-    o.maxLeafSize = 1;
-    settings.push_back({"leaf 1", o});
-    o = {};
-    o.bins = 64;
-    o.maxLeafSize = 16;
-    o.traversalCost = 4.0f;  // leaves as long as allowed: longer than kWideLeafMaxCount get split
-    settings.push_back({"leaf 16", o});
-    o = {};
-    o.sah = false;
-    o.maxLeafSize = 4;
-    settings.push_back({"median split", o});
+    const std::vector<WideSetting> settings = wideSettings();
     for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
         const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 5u + 3u);
         const std::vector<Aabb> boxes = triangleBoxes(m);
-        for (const Setting& s : settings) {
+        for (const WideSetting& s : settings) {
             INFO(n << " triangles, " << s.name);
             const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
             std::vector<glm::uvec4> tree;
