@@ -1355,10 +1355,14 @@ bool pairBvhRequested() {
     return env && *env && std::strcmp(env, "0") != 0;
 }
 
-bool wide8BvhRequested() {
+int wideBvhRequest() {
     const char* env = std::getenv("CAUSTIC_WIDE_BVH");
-    return env && std::strcmp(env, "8") == 0;
+    if (!env || !*env) return -1;
+    if (std::strcmp(env, "0") == 0) return 0;
+    return std::strcmp(env, "8") == 0 ? 8 : 4;
 }
+
+bool wide8BvhRequested() { return wideBvhRequest() == 8; }
 
 bool appendWide8Bvh(std::span<const glm::uvec4> texels, std::uint32_t base, std::vector<glm::uvec4>& out) {
     if (base + texels.size() > std::size_t(kWide8MaxNodes) * kWide8Texels) return false;

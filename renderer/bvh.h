@@ -173,6 +173,10 @@ bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out);
 bool appendWide8Bvh(std::span<const glm::uvec4> texels, std::uint32_t base, std::vector<glm::uvec4>& out);
 // Slot k's decoded box from a node's six texels.
 void decodeWide8Box(std::span<const glm::uvec4> node, int k, glm::vec3& lo, glm::vec3& hi);
+// What $CAUSTIC_WIDE_BVH asks for, its one reading: -1 unset or empty (the driver's default,
+// renderer/shader_loader.cpp), 0 ("0": not the wide nodes), 8 ("8": the 8-wide nodes) or 4 (any
+// other value: the 4-wide nodes).
+int wideBvhRequest();
 // Whether $CAUSTIC_WIDE_BVH is 8: the walk reads the 8-wide nodes (renderer/shader_loader.cpp), and
 // only then does a mesh's import build them (248 ms and 23 MB for a million triangles on the
 // development VM, where the 4-wide form takes 157 ms; read once per import, so a process sets it

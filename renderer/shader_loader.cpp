@@ -207,12 +207,12 @@ ShaderDefines integratorDefines() {
     // nodes, NVIDIA's (the others are unmeasured there). $CAUSTIC_WIDE_BVH = 8 takes the 8-wide
     // nodes (renderer/bvh.h, buildWide8Bvh): 0.88-0.97x on llvmpipe (session 21), kept to be
     // measured on NVIDIA.
-    const char* wideEnv = std::getenv("CAUSTIC_WIDE_BVH");
+    const int wideAsked = wideBvhRequest();
     const bool pairAsked = pairBvhRequested();
     bool wide = onLlvmpipe() && !pairAsked;
-    if (wideEnv && *wideEnv) wide = std::strcmp(wideEnv, "0") != 0;
+    if (wideAsked >= 0) wide = wideAsked != 0;
     wide = wide && fetchTexels;
-    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", wide8BvhRequested() ? "8" : "1");
+    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", wideAsked == 8 ? "8" : "1");
     if (pairAsked && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
     // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
     // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
