@@ -286,9 +286,13 @@ int main(int argc, char** argv) {
         const Film film = renderer->readFilm();
         const float counted = film.count[film.index(size / 2, size / 2)] + 0.5f;
         const char* complete = int(counted) == samples + 0 ? "" : "  INCOMPLETE: the image holds fewer samples";
-        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.3f %12.3f %10.2f %9.3f %14.3f%s\n", name.c_str(), size, size,
+        // A scene program that failed to build leaves the general one rendering (right, slower):
+        // its rates are not the scene program's, and an A/B of a shader change would compare the
+        // wrong programs without this mark (session 22: a type error in a specialised-only path).
+        const char* fellBack = renderer->programFellBack() ? "  FALLBACK: the general program (the scene's failed to build)" : "";
+        std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.3f %12.3f %10.2f %9.3f %14.3f%s%s\n", name.c_str(), size, size,
                     samples, maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, c,
-                    pixelSamples / std::max(c, 1e-9) * 1e-6, complete);
+                    pixelSamples / std::max(c, 1e-9) * 1e-6, complete, fellBack);
         if (walks.groupSteps > 0) {
             // CAUSTIC_WALK_STATS: per sample, the walk loops' iterations the groups paid for and
             // those their lanes worked, and the share of lanes busy.

@@ -323,14 +323,22 @@ bool Renderer::selectProgram(std::string* error) {
     std::string why;
     const bool built = m_specialize ? useProgram(featureDefines(), &why)
                                     : useProgram(generalDefines(hasAlphaMask(m_compiled)), &why);
-    if (built) return true;
-    std::string generalWhy;
-    if (const unsigned general = generalProgram(&generalWhy)) {
-        std::fprintf(stderr, "caustic: the %s integrator failed to build, using the general one: %s\n",
-                     m_specialize ? "specialised" : "alpha-masked", why.c_str());
-        m_program = general;
+    if (built) {
+        m_programFellBack = false;
         return true;
     }
+    std::string generalWhy;
+    if (const unsigned general = generalProgram(&generalWhy)) {
+        // Said once per failure, not before every dispatch (each selects its program).
+        if (!m_programFellBack || why != m_fallbackReason)
+            std::fprintf(stderr, "caustic: the %s integrator failed to build, using the general one: %s\n",
+                         m_specialize ? "specialised" : "alpha-masked", why.c_str());
+        m_fallbackReason = why;
+        m_program = general;
+        m_programFellBack = true;
+        return true;
+    }
+    m_programFellBack = false;
     m_program = 0;
     *error = why;
     return false;

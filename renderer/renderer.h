@@ -145,6 +145,10 @@ public:
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     // The integrator the last dispatch used (before any: the general one, built if need be).
     unsigned program();
+    // Whether that is the general program standing in for the scene's own, which failed to build
+    // (selectProgram; the reason went to stderr): the image is right but slower, so a benchmark
+    // must not report its figures as the scene program's (caustic-bench marks the row FALLBACK).
+    bool programFellBack() const { return m_programFellBack; }
     // Builds the general program now (create() does only where it renders): the check that the
     // whole source compiles, for a shader reload that must keep the last working shaders.
     bool checkSource(std::string* error) { return generalProgram(error) != 0; }
@@ -186,6 +190,8 @@ private:
     std::map<std::string, std::string> m_programFailures;  // the compiler's message, by the same keys
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
+    bool m_programFellBack = false;  // programFellBack
+    std::string m_fallbackReason;    // the failure the last fallback reported (on stderr, once)
     std::string m_programError;  // the last dispatch's failure to build one, reported once
     unsigned m_accum = 0, m_accumSq = 0;
     unsigned m_albedo = 0, m_normal = 0;   // the AOVs: sums of the first non-specular albedo and normal

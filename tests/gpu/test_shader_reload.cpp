@@ -63,3 +63,53 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
     const ImageStats stats = imageStats(after);
     for (int c = 0; c < 3; ++c) CHECK((stats.mean[c] > 0.0 && std::isfinite(stats.mean[c])));
 }
+
+// A scene's own program that fails to build leaves the general one rendering (selectProgram): the
+// image is the scene's, only slower, so the renderer says so (programFellBack) and caustic-bench
+// marks the row FALLBACK; compare.py and ab.py refuse such rows. Without it an A/B of a shader
+// change that broke only the specialised build measured the general program (session 22).
+TEST_CASE("a scene program that fails to build falls back to the general one, which renders the same image and is reported",
+          "[gpu][bench]") {
+    glContext();
+    const char* was = std::getenv("CAUSTIC_SPECIALIZE");
+    const std::string saved = was ? was : "";
+    REQUIRE(::setenv("CAUSTIC_SPECIALIZE", "1", 1) == 0);  // every driver builds the scene's program
+    const Scene scene = cornellBox(16);
+    auto good = makeRenderer();
+    const Film reference = renderFilm(*good, scene, 2);
+    CHECK_FALSE(good->programFellBack());
+
+    // Broken only where the scene's features are defined: the specialised build, not the general.
+    const fs::path dir = fs::temp_directory_path() / ("caustic-fallback-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
+    {
+        const fs::path features = dir / "scene" / "features.glsl";
+        std::ifstream in(features);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream out(features, std::ios::trunc);
+        out << "#ifdef CAUSTIC_MATERIALS\n#error a specialised build broken on purpose\n#endif\n" << text;
+    }
+    std::string error;
+    auto fallback = Renderer::create(dir.string(), &error);
+    INFO(error);
+    REQUIRE(fallback);
+    REQUIRE(fallback->setScene(scene, &error));
+    CHECK(fallback->programFellBack());
+    const Film film = renderFilm(*fallback, scene, 2);
+    CHECK(fallback->programFellBack());
+    fs::remove_all(dir);
+    if (was) ::setenv("CAUSTIC_SPECIALIZE", saved.c_str(), 1); else ::unsetenv("CAUSTIC_SPECIALIZE");
+
+    // The general program computes what the scene's would have (shaders/scene/features.glsl):
+    // the same samples, pixel by pixel.
+    REQUIRE(film.width == reference.width);
+    REQUIRE(film.height == reference.height);
+    double worst = 0.0;
+    for (size_t i = 0; i < film.mean.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, double(std::abs(film.mean[i][c] - reference.mean[i][c])) /
+                                        std::max(1e-3, double(std::abs(reference.mean[i][c]))));
+    INFO("largest relative difference " << worst);
+    CHECK(worst < 1e-4);
+}

@@ -52,6 +52,9 @@ def caustic_run(bench, scenes, size, spp, max_depth, extra, env):
             if line.startswith(f + " "):
                 if "INCOMPLETE" in line:
                     sys.exit("compare.py: caustic-bench says the image is incomplete:\n" + line)
+                if "FALLBACK" in line:
+                    sys.exit("compare.py: caustic-bench rendered with the general program (the scene's failed to "
+                             "build):\n" + line + "\n" + r.stderr)
                 f = line.split()
                 # (an older caustic-bench has no CPU-time columns)
                 rates[s] = (float(f[6]), float(f[10]) if len(f) > 10 and f[10] != "INCOMPLETE:" else float("nan"))

@@ -52,6 +52,8 @@ def main():
             if r.returncode != 0 or "failed" in r.stderr:
                 sys.exit("ab.py: %s: %s" % (name, r.stderr.strip()[:400]))
             for line in r.stdout.splitlines():
+                if "FALLBACK" in line or "INCOMPLETE" in line:
+                    sys.exit("ab.py: %s: %s" % (name, line))
                 f = line.split()
                 if len(f) > 10 and f[0].endswith(".json"):
                     rates[(f[0], name)].append(float(f[10]))
