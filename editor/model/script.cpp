@@ -31,6 +31,7 @@ const std::map<std::string, Signature>& commands() {
         {"compare", {1, 1, ""}},              // on | off: split view snapshot | live
         {"render_to_file", {1, 1, ""}},       // render the scene's samples and write the PNG
         {"expect_error", {1, 1, ""}},         // the last error message contains the text
+        {"expect_message", {1, 1, ""}},       // the last message, info or error, contains the text
         {"expect_undo_steps", {1, 1, "n"}},
         {"report", {1, 1, ""}},               // frame-time and edit-latency figures as JSON
         {"denoise", {0, 1, "n"}},             // denoise now and wait until the viewport shows it [timeout s]

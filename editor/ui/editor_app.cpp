@@ -270,6 +270,14 @@ void renderFrame(EditorUi& ui) {
         notify(ui, step.error, true);
         ui.shownError.fromRender = true;
     }
+    // The scene's own integrator failed to build and the general one renders it (right, slower;
+    // the compiler's message is on stderr): said once in the status bar when it starts, so the
+    // user knows why the viewport is slow (a defect of the shaders, not of the scene).
+    const bool fellBack = ui.renderer->programFellBack();
+    if (fellBack && !ui.fallbackNoticed)
+        notify(ui, "the integrator built for this scene failed to compile (see the terminal); "
+                   "rendering with the general one, which is slower");
+    ui.fallbackNoticed = fellBack;
     if (step.show && ui.display)
         ui.display->update(ui.renderer->accumulationTexture(), step.width, step.height, ui.state.view.toneMap,
                            ui.state.view.exposure);

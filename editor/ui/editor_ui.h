@@ -107,6 +107,7 @@ struct EditorUi {
     std::string lastMessage;          // status bar: the latest info or error
     bool lastMessageIsError = false;
     ShownError shownError;            // where the shown error came from (cleared when its cause is gone)
+    bool fallbackNoticed = false;     // the status bar said the general integrator stands in (editor_app.cpp)
 
     // Dialogs.
     FileBrowserState browser;

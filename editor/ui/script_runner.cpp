@@ -470,6 +470,11 @@ bool ScriptRunner::run(EditorUi& ui, const ScriptLine& line) {
         m_renderStarted = false;
         return true;
     }
+    if (op == "expect_message") {   // the status bar's last message, info or error, contains the text
+        if (ui.lastMessage.find(a[0]) == std::string::npos)
+            fail(ui, line, "expected a message containing '" + a[0] + "', the last message is '" + ui.lastMessage + "'");
+        return true;
+    }
     if (op == "expect_error") {
         if (!ui.lastMessageIsError || ui.lastMessage.find(a[0]) == std::string::npos)
             fail(ui, line, "expected an error containing '" + a[0] + "', the last message is '" + ui.lastMessage + "'");

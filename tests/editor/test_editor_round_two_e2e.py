@@ -5,7 +5,8 @@ and not when another panel does. EditorSaveAsElsewhere: the sky-spheres scene (w
 ../assets/sky.hdr) saved into a sub-folder and into the parent of its folder still batch-renders,
 to the same image as the original (its relative paths used to be written unchanged).
 EditorNoNeedlessRestart: a new target sample count and a new, unused material keep the
-accumulated image; moving an object restarts it.
+accumulated image; moving an object restarts it. EditorFallbackNotice: when the integrator built
+for the scene does not compile, the status bar says the general one renders it.
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
@@ -141,6 +142,39 @@ class EditorNoNeedlessRestart(EditorSessionCase):
 
     def test_target_and_unused_material_keep_the_image(self):
         self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+
+FALLBACK_SCRIPT = """
+wait_samples 1
+expect_message "rendering with the general one"
+quit
+"""
+
+
+class EditorFallbackNotice(EditorSessionCase):
+    """The integrator built for the scene fails to compile (a copy of the shaders broken where only
+    the scene-specialised build reads them): the general integrator renders it, and the status bar
+    says so instead of only the terminal (session 22)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-fallback-")
+        shaders = os.path.join(cls.tmp, "shaders")
+        shutil.copytree(os.path.join(SOURCE_DIR, "shaders"), shaders)
+        features = os.path.join(shaders, "scene", "features.glsl")
+        with open(features) as f:
+            text = f.read()
+        with open(features, "w") as f:
+            f.write("#ifdef CAUSTIC_MATERIALS\n#error a specialised build broken on purpose\n#endif\n" + text)
+        shutil.copy(CORNELL, os.path.join(cls.tmp, "scene.json"))
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(FALLBACK_SCRIPT)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"),
+                                extra_env={"CAUSTIC_SHADER_DIR": shaders, "CAUSTIC_SPECIALIZE": "1"})
+
+    def test_notice(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+        self.assertIn("failed to build, using the general one", self.editor.stderr)
 
 
 if __name__ == "__main__":
