@@ -10,7 +10,7 @@
 # compare: only caustic against Mitsuba 3's cuda_ad_rgb in one interleaved run (compare.py: the
 # Cornell box and mesh-knot at 1024 x 1024, caustic max depth 7 = Mitsuba max_depth 8, 64 spp,
 # 3 repetitions; caustic as it runs on NVIDIA by default, and scene-specialised, and specialised
-# with buffer textures, with the 4-wide and the 8-wide nodes), results in $OUT/compare.txt and
+# with buffer textures: the binary, the 4-wide and the 8-wide nodes), results in $OUT/compare.txt and
 # compare.json. Needs .gpu/mitsuba.tar.xz
 # (pack_mitsuba.sh), carried in a second call (it does not fit beside the payload):
 #   call 1: carry [".gpu/payload.tar.xz", ".gpu/debs"], run.sh quick (or nothing: just unpacks)
@@ -44,6 +44,7 @@ compare() {
     --size 1024 --spp 64 --mitsuba-spp 64 --max-depth 7 --reps 3 --bench $B/caustic-bench \
     --config general --config specialised:CAUSTIC_SPECIALIZE=1 \
     --config specialised-texels:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1 \
+    --config specialised-texels-4wide:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1:CAUSTIC_WIDE_BVH=1 \
     --config specialised-texels-8wide:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1:CAUSTIC_WIDE_BVH=8 \
     --json "$OUT/compare.json" cornell mesh-knot 2>&1 | tee "$OUT/compare.txt"
 }
