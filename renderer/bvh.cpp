@@ -869,6 +869,20 @@ bool smallSubtree(const std::vector<BvhNode>& nodes, std::uint32_t mergeMax, std
     return sum == count;
 }
 
+// A wide tree's leaf of primitives [first, first + count) as its child word (WideBvhNode::child),
+// for both collapses: the word where the leaf fits one; 0 where it is longer than
+// kWideLeafMaxCount (the collapse splits it into up to `width` leaves of wideLeafPart primitives
+// under a node with its box); kWideEmpty with ok false where its primitives lie beyond
+// kWideLeafMaxFirst.
+std::uint32_t wideLeafWord(std::uint32_t first, std::uint32_t count, bool& ok) {
+    if (first > kWideLeafMaxFirst || count > kWideLeafMaxFirst - first + 1u) {
+        ok = false;
+        return kWideEmpty;
+    }
+    return count <= kWideLeafMaxCount ? kWideLeaf | count << kLeafCountShift | first : 0u;
+}
+std::uint32_t wideLeafPart(std::uint32_t count, std::uint32_t width) { return std::max((count + width - 1u) / width, 1u); }
+
 // The children of the wide node made for binary node b (b itself when it is a leaf at the root):
 // while there are fewer than `width`, the interior child of largest surface area that is not a
 // small subtree is replaced by its two children, in place (the order is the 4-wide nodes' slot
@@ -937,14 +951,10 @@ struct WideCollapse {
 
     // A leaf's reference; a long leaf becomes a node of shorter ones (its box for each).
     std::uint32_t leafRef(std::uint32_t first, std::uint32_t count, const glm::vec3& lo, const glm::vec3& hi) {
-        if (first > kWideLeafMaxFirst || count > kWideLeafMaxFirst - first + 1u) {
-            ok = false;
-            return kWideEmpty;
-        }
-        if (count <= kWideLeafMaxCount) return kWideLeaf | (count << 27) | first;
+        if (const std::uint32_t word = wideLeafWord(first, count, ok); word != 0u) return word;
         const auto index = static_cast<std::uint32_t>(out.size());
         out.push_back(emptyNode());
-        const std::uint32_t part = std::max((count + 3u) / 4u, 1u);
+        const std::uint32_t part = wideLeafPart(count, 4u);
         for (int k = 0; k < 4; ++k) {
             const std::uint32_t f = first + std::uint32_t(k) * part;
             if (f >= first + count) break;
@@ -1166,7 +1176,7 @@ struct PairBuild {
         if (!c.leaf) return record(childOf(c.node + 1), childOf(nodes[c.node].rightOrFirst));
         if (c.count <= kPairLeafMaxCount) {
             if (c.first > kPairLeafMaxFirst) ok = false;
-            return kPairLeaf | c.count << 27 | (c.first & kPairLeafMaxFirst);
+            return kPairLeaf | c.count << kLeafCountShift | (c.first & kPairLeafMaxFirst);
         }
         // A longer leaf: two halves with its box (depth log2(count / 15)).
         Child a = c, b = c;
@@ -1236,14 +1246,10 @@ struct Wide8Collapse {
 
     // A leaf's reference; a long leaf becomes a node of shorter ones (its box for each).
     std::uint32_t leafRef(std::uint32_t first, std::uint32_t count, const glm::vec3& lo, const glm::vec3& hi) {
-        if (first > kWideLeafMaxFirst || count > kWideLeafMaxFirst - first + 1u) {
-            ok = false;
-            return kWideEmpty;
-        }
-        if (count <= kWideLeafMaxCount) return kWideLeaf | (count << 27) | first;
+        if (const std::uint32_t word = wideLeafWord(first, count, ok); word != 0u) return word;
         const auto index = static_cast<std::uint32_t>(kids.size());
         kids.emplace_back();
-        const std::uint32_t part = std::max((count + 7u) / 8u, 1u);
+        const std::uint32_t part = wideLeafPart(count, 8u);
         std::vector<Child> parts;
         for (std::uint32_t f = first; f < first + count; f += part)
             parts.push_back({lo, hi, leafRef(f, std::min(part, first + count - f), lo, hi)});

@@ -107,10 +107,12 @@ struct WideBvhNode {
     std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << 27 | first, or a node's index
     std::uint32_t pad[4];
 };
-inline constexpr std::uint32_t kWideEmpty = 0xffffffffu;
-inline constexpr std::uint32_t kWideLeaf = 0x80000000u;
-inline constexpr std::uint32_t kWideLeafMaxCount = 15u;
-inline constexpr std::uint32_t kWideLeafMaxFirst = (1u << 27) - 1u;
+// (The words' layout is shaders/shared/layout.h's, which the shaders decode.)
+inline constexpr std::uint32_t kWideEmpty = WIDE_CHILD_EMPTY;
+inline constexpr std::uint32_t kWideLeaf = WIDE_CHILD_LEAF;
+inline constexpr std::uint32_t kLeafCountShift = LEAF_COUNT_SHIFT;  // a leaf's count << this | first
+inline constexpr std::uint32_t kWideLeafMaxCount = WIDE_LEAF_MAX_COUNT;
+inline constexpr std::uint32_t kWideLeafMaxFirst = WIDE_LEAF_MAX_FIRST;
 // Subtrees of at most this many primitives become one leaf of the 4-wide tree. The binary tree's
 // SAH (traversal cost 0.125) makes leaves of ~1 triangle, right for a GPU's cheap box tests; on
 // llvmpipe each leaf costs a pass of the traversal's outer loop for all 8 lanes, and leaves of
@@ -202,9 +204,9 @@ bool wide8BvhRequested();
 // binary leaf becomes records of shorter leaves with the same box) or the absolute texel index of
 // the child's record (< 2^31). A tree whose root is a leaf gets one record: the leaf, and an
 // empty child (decoded inverted on every axis: never hit). An empty tree appends nothing.
-inline constexpr std::uint32_t kPairLeaf = 0x80000000u;
-inline constexpr std::uint32_t kPairLeafMaxCount = 15u;
-inline constexpr std::uint32_t kPairLeafMaxFirst = (1u << 27) - 1u;
+inline constexpr std::uint32_t kPairLeaf = PAIR_LINK_LEAF;
+inline constexpr std::uint32_t kPairLeafMaxCount = LEAF_MAX_COUNT;
+inline constexpr std::uint32_t kPairLeafMaxFirst = PAIR_LEAF_MAX_FIRST;
 inline constexpr std::uint32_t kPairEmpty = 0xffffffffu;
 // Appends `bvh`'s pair form to `out`, whose element out.size() has the absolute texel index
 // `base`. False (nothing appended) where a leaf's first primitive is beyond kPairLeafMaxFirst or a

@@ -200,6 +200,11 @@ bool bvhDescend(inout GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tM
     return false;
 }
 
+// A leaf's word in the wide nodes and the pair records (shared/layout.h): its first triangle and
+// its count.
+#define LEAF_FIRST(word) ((word) & ((1u << LEAF_COUNT_SHIFT) - 1u))
+#define LEAF_COUNT(word) (((word) >> LEAF_COUNT_SHIFT) & LEAF_MAX_COUNT)
+
 // A leaf's triangles, [first, first + count) of the instance's (from firstTriangle): a hit
 // nearer than hit.t replaces it. The one place where a triangle hit is accepted, for both forms of
 // the instance's traversal. True when a hit was found.
@@ -377,7 +382,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
                 ref = next;
                 continue;
             }
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u,
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref),
                                       anyHit, hit)) {
             found = true;
             if (anyHit) return true;
@@ -408,7 +413,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
             if (nFar >= 2) REGISTER_STACK_PUSH(far.y)
             if (nFar >= 1) REGISTER_STACK_PUSH(far.z)
             if (descends) continue;
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u,
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref),
                                       anyHit, hit)) {
             found = true;
             if (anyHit) return true;
@@ -432,7 +437,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
             ref = g_bvhStack[--sp];
         }
         if (done) break;
-        if (traceLeafTriangles(wr, inst, instance, firstTriangle, ref & WIDE_LEAF_MAX_FIRST, (ref >> 27) & 15u, anyHit,
+        if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref), anyHit,
                                hit)) {
             found = true;
             if (anyHit) return true;
@@ -469,7 +474,7 @@ bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 inv
                 link = firstFirst ? b.z : b.w;
                 continue;
             }
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, link & PAIR_LEAF_MAX_FIRST, (link >> 27) & 15u,
+        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(link), LEAF_COUNT(link),
                                       anyHit, hit)) {
             found = true;
             if (anyHit) return true;

@@ -74,7 +74,11 @@ using uint = std::uint32_t;
 // (GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS >= 16): a further view needs that limit checked.
 #define TEXUNIT_LAST TEXUNIT_WIDE8_NODES
 #define PAIR_LINK_LEAF 0x80000000u
-#define PAIR_LEAF_MAX_FIRST 0x07ffffffu
+// A leaf's word in the wide nodes and the pair records: the leaf bit | count << LEAF_COUNT_SHIFT |
+// first (count in [1, LEAF_MAX_COUNT], first < 2^LEAF_COUNT_SHIFT).
+#define LEAF_COUNT_SHIFT 27u
+#define LEAF_MAX_COUNT 15u
+#define PAIR_LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
@@ -243,8 +247,8 @@ CAUSTIC_STRUCT(GpuWideBvhNode) {
 };
 #define WIDE_CHILD_EMPTY 0xffffffffu
 #define WIDE_CHILD_LEAF 0x80000000u
-#define WIDE_LEAF_MAX_COUNT 15u
-#define WIDE_LEAF_MAX_FIRST 0x07ffffffu
+#define WIDE_LEAF_MAX_COUNT LEAF_MAX_COUNT
+#define WIDE_LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
 
 // A placed mesh: its BVH and triangles, and the affine transforms both ways (rows).
 CAUSTIC_STRUCT(GpuInstance) {

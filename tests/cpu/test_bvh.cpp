@@ -640,7 +640,7 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
                     CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
                     CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
                     if ((w.child[k] & kWideLeaf) != 0) {
-                        const std::uint32_t first = w.child[k] & kWideLeafMaxFirst, count = (w.child[k] >> 27) & 15u;
+                        const std::uint32_t first = w.child[k] & kWideLeafMaxFirst, count = (w.child[k] >> kLeafCountShift) & kWideLeafMaxCount;
                         REQUIRE(count >= 1);
                         REQUIRE(first + count <= seen.size());
                         ++leaves;
@@ -717,7 +717,7 @@ TEST_CASE("buildWide8Bvh: every leaf once, each decoded box containing what lies
                     ++children;
                     const glm::vec3 clo = glm::max(lo, it.lo), chi = glm::min(hi, it.hi);
                     if ((ref & kWideLeaf) != 0u) {
-                        const std::uint32_t first = ref & kWideLeafMaxFirst, count = (ref >> 27) & 15u;
+                        const std::uint32_t first = ref & kWideLeafMaxFirst, count = (ref >> kLeafCountShift) & kWideLeafMaxCount;
                         REQUIRE(count >= 1);
                         REQUIRE(first + count <= seen.size());
                         for (std::uint32_t t = first; t < first + count; ++t) {
@@ -799,7 +799,7 @@ TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, wi
                 WideBvhNode w{};
                 for (int k = 0; k < 4; ++k) {
                     const bool empty = trial % 5 == 0 ? k >= 2 : (trial % 7 == 3 && k == 1);
-                    w.child[k] = empty ? kWideEmpty : kWideLeaf | (1u << 27) | std::uint32_t(k);
+                    w.child[k] = empty ? kWideEmpty : kWideLeaf | (1u << kLeafCountShift) | std::uint32_t(k);
                     float* mins[3] = {w.minX, w.minY, w.minZ};
                     float* maxs[3] = {w.maxX, w.maxY, w.maxZ};
                     for (int a = 0; a < 3; ++a) {
@@ -890,7 +890,7 @@ TEST_CASE("buildPairBvh: every leaf once, each decoded box containing what lies 
                         CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
                         CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
                         if ((link & kPairLeaf) != 0) {
-                            const std::uint32_t first = link & kPairLeafMaxFirst, count = (link >> 27) & 15u;
+                            const std::uint32_t first = link & kPairLeafMaxFirst, count = (link >> kLeafCountShift) & kPairLeafMaxCount;
                             REQUIRE(count >= 1);
                             REQUIRE(first + count <= seen.size());
                             Aabb leaf;
