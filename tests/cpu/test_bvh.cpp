@@ -600,74 +600,90 @@ std::vector<WideSetting> wideSettings() {
     settings.push_back({"median split", o});
     return settings;
 }
+
+// Both wide forms are checked on random soups of 1, 3, 40 and 3000 triangles, each built with
+// every setting above: check(n, setting, the triangles' boxes, the binary build).
+template <typename Check>
+void forEachWideCase(std::uint32_t seedScale, std::uint32_t seedOffset, Check&& check) {
+    const std::vector<WideSetting> settings = wideSettings();
+    for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
+        const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * seedScale + seedOffset);
+        const std::vector<Aabb> boxes = triangleBoxes(m);
+        for (const WideSetting& s : settings) {
+            INFO(n << " triangles, " << s.name);
+            check(n, s, boxes, buildBlas(m.positions, m.triangles, s.opt));
+        }
+    }
+}
+
+// A wide node's leaf reference (either form): counts its triangles in seen and checks that each
+// lies inside the box the walk meets it in (lo, hi). Returns the leaf's triangle count.
+std::uint32_t checkWideLeaf(std::uint32_t ref, glm::vec3 lo, glm::vec3 hi, const MeshBlas& blas,
+                            const std::vector<Aabb>& boxes, std::vector<int>& seen) {
+    const std::uint32_t first = ref & kWideLeafMaxFirst, count = (ref >> kLeafCountShift) & kWideLeafMaxCount;
+    REQUIRE(count >= 1);
+    REQUIRE(first + count <= seen.size());
+    for (std::uint32_t t = first; t < first + count; ++t) {
+        ++seen[t];
+        const Aabb tb = boxes[blas.triangleIds[t]];
+        CHECK(glm::all(glm::lessThanEqual(lo, tb.min)));
+        CHECK(glm::all(glm::greaterThanEqual(hi, tb.max)));
+    }
+    return count;
+}
 }  // namespace
 
 TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside its ancestors' boxes", "[bvh]") {
     // The GPU walks this form (CAUSTIC_WIDE_BVH); its traversal is checked against the CPU BVH
     // in tests/gpu/test_geometry.cpp. Leaves longer than kWideLeafMaxCount (leaf 16 here) become
     // nodes of shorter leaves.
-    const std::vector<WideSetting> settings = wideSettings();
-    for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
-        const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 3u + 5u);
-        const std::vector<Aabb> boxes = triangleBoxes(m);
-        for (const WideSetting& s : settings) {
-            INFO(n << " triangles, " << s.name);
-            const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
-            std::vector<WideBvhNode> wide(5);  // appended after 5 others: indices are absolute
-            const std::uint32_t base = 5;
-            REQUIRE(collapseBvh4(blas.bvh, base, wide));
-            REQUIRE(wide.size() > 5);
-            std::vector<int> seen(blas.triangles.size(), 0);
-            std::size_t reached = 0, leaves = 0, mergedLeaves = 0;
-            // Walk from the root with each child's box; every box must contain what is below it.
-            struct Item { std::uint32_t ref; glm::vec3 lo, hi; };
-            std::vector<Item> todo{{base, glm::vec3(-1e30f), glm::vec3(1e30f)}};
-            while (!todo.empty()) {
-                const Item it = todo.back();
-                todo.pop_back();
-                REQUIRE(it.ref >= base);
-                REQUIRE(it.ref - base < wide.size() - 5);
-                const WideBvhNode& w = wide[it.ref];
-                ++reached;
-                int children = 0;
-                for (int k = 0; k < 4; ++k) {
-                    const glm::vec3 lo(w.minX[k], w.minY[k], w.minZ[k]), hi(w.maxX[k], w.maxY[k], w.maxZ[k]);
-                    if (w.child[k] == kWideEmpty) {
-                        CHECK(lo.x > hi.x);  // an inverted box: never entered
-                        continue;
-                    }
-                    ++children;
-                    CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
-                    CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
-                    if ((w.child[k] & kWideLeaf) != 0) {
-                        const std::uint32_t first = w.child[k] & kWideLeafMaxFirst, count = (w.child[k] >> kLeafCountShift) & kWideLeafMaxCount;
-                        REQUIRE(count >= 1);
-                        REQUIRE(first + count <= seen.size());
-                        ++leaves;
-                        // Binary leaves of one triangle: a longer leaf is a merged subtree.
-                        if (s.opt.maxLeafSize == 1) CHECK(count <= kWideMergeMax);
-                        mergedLeaves += count == kWideMergeMax;
-                        for (std::uint32_t t = first; t < first + count; ++t) {
-                            ++seen[t];
-                            const Aabb tb = boxes[blas.triangleIds[t]];
-                            CHECK(glm::all(glm::lessThanEqual(lo, tb.min)));
-                            CHECK(glm::all(glm::greaterThanEqual(hi, tb.max)));
-                        }
-                    } else {
-                        todo.push_back({w.child[k], lo, hi});
-                    }
+    forEachWideCase(3u, 5u, [](std::size_t n, const WideSetting& s, const std::vector<Aabb>& boxes, const MeshBlas& blas) {
+        std::vector<WideBvhNode> wide(5);  // appended after 5 others: indices are absolute
+        const std::uint32_t base = 5;
+        REQUIRE(collapseBvh4(blas.bvh, base, wide));
+        REQUIRE(wide.size() > 5);
+        std::vector<int> seen(blas.triangles.size(), 0);
+        std::size_t reached = 0, leaves = 0, mergedLeaves = 0;
+        // Walk from the root with each child's box; every box must contain what is below it.
+        struct Item { std::uint32_t ref; glm::vec3 lo, hi; };
+        std::vector<Item> todo{{base, glm::vec3(-1e30f), glm::vec3(1e30f)}};
+        while (!todo.empty()) {
+            const Item it = todo.back();
+            todo.pop_back();
+            REQUIRE(it.ref >= base);
+            REQUIRE(it.ref - base < wide.size() - 5);
+            const WideBvhNode& w = wide[it.ref];
+            ++reached;
+            int children = 0;
+            for (int k = 0; k < 4; ++k) {
+                const glm::vec3 lo(w.minX[k], w.minY[k], w.minZ[k]), hi(w.maxX[k], w.maxY[k], w.maxZ[k]);
+                if (w.child[k] == kWideEmpty) {
+                    CHECK(lo.x > hi.x);  // an inverted box: never entered
+                    continue;
                 }
-                CHECK(children >= 1);
+                ++children;
+                CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
+                CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
+                if ((w.child[k] & kWideLeaf) != 0) {
+                    const std::uint32_t count = checkWideLeaf(w.child[k], lo, hi, blas, boxes, seen);
+                    ++leaves;
+                    // Binary leaves of one triangle: a longer leaf is a merged subtree.
+                    if (s.opt.maxLeafSize == 1) CHECK(count <= kWideMergeMax);
+                    mergedLeaves += count == kWideMergeMax;
+                } else {
+                    todo.push_back({w.child[k], lo, hi});
+                }
             }
-            CHECK(reached == wide.size() - 5);  // no node unreached
-            // Small subtrees were merged into leaves (most pairs of sibling leaves are).
-            if (s.opt.maxLeafSize == 1 && n > 100) CHECK(mergedLeaves * 4 > leaves);
-            for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
-            // Fewer steps: about a third of the binary tree's interior nodes (2 to 4 children each).
-            const std::size_t interior = (blas.bvh.nodes.size() - 1) / 2;
-            if (n > 100 && s.opt.maxLeafSize <= kWideLeafMaxCount) CHECK(wide.size() - 5 <= interior / 2 + 1);
+            CHECK(children >= 1);
         }
-    }
+        CHECK(reached == wide.size() - 5);  // no node unreached
+        // Small subtrees were merged into leaves (most pairs of sibling leaves are).
+        if (s.opt.maxLeafSize == 1 && n > 100) CHECK(mergedLeaves * 4 > leaves);
+        for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
+        // Fewer steps: about a third of the binary tree's interior nodes (2 to 4 children each).
+        const std::size_t interior = (blas.bvh.nodes.size() - 1) / 2;
+        if (n > 100 && s.opt.maxLeafSize <= kWideLeafMaxCount) CHECK(wide.size() - 5 <= interior / 2 + 1);
+    });
 }
 
 TEST_CASE("buildWide8Bvh: every leaf once, each decoded box containing what lies below it, references moved by appendWide8Bvh", "[bvh]") {
@@ -675,76 +691,61 @@ TEST_CASE("buildWide8Bvh: every leaf once, each decoded box containing what lies
     // node references as texel indices. What a ray needs: every triangle inside every decoded box
     // above it (else the walk could miss a triangle the ray hits). Its traversal is checked
     // against the CPU BVH in tests/gpu/test_geometry.cpp.
-    const std::vector<WideSetting> settings = wideSettings();
-    for (std::size_t n : {std::size_t(1), std::size_t(3), std::size_t(40), std::size_t(3000)}) {
-        const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 5u + 3u);
-        const std::vector<Aabb> boxes = triangleBoxes(m);
-        for (const WideSetting& s : settings) {
-            INFO(n << " triangles, " << s.name);
-            const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
-            std::vector<glm::uvec4> tree;
-            REQUIRE(buildWide8Bvh(blas.bvh, tree));
-            REQUIRE(!tree.empty());
-            REQUIRE(tree.size() % kWide8Texels == 0);
-            // Placed after 5 other nodes: every node reference moves by their 30 texels.
-            const std::uint32_t base = 5 * kWide8Texels;
-            std::vector<glm::uvec4> texels(base, glm::uvec4(0u));
-            REQUIRE(appendWide8Bvh(tree, base, texels));
-            REQUIRE(texels.size() == base + tree.size());
-            std::vector<int> seen(blas.triangles.size(), 0), reached(tree.size() / kWide8Texels, 0);
-            // Each item: a node and the intersection of the decoded boxes above it.
-            struct Item { std::uint32_t texel; glm::vec3 lo, hi; };
-            std::vector<Item> todo{{base, glm::vec3(-INFINITY), glm::vec3(INFINITY)}};
-            while (!todo.empty()) {
-                const Item it = todo.back();
-                todo.pop_back();
-                REQUIRE(it.texel >= base);
-                REQUIRE((it.texel - base) % kWide8Texels == 0);
-                REQUIRE(it.texel - base < tree.size());
-                ++reached[(it.texel - base) / kWide8Texels];
-                const std::span<const glm::uvec4> node(&texels[it.texel], kWide8Texels);
-                int children = 0;
-                for (int k = 0; k < 8; ++k) {
-                    const std::uint32_t ref = node[4 + k / 4][k % 4];
-                    glm::vec3 lo, hi;
-                    decodeWide8Box(node, k, lo, hi);
-                    if (ref == kWideEmpty) {
-                        CHECK(lo.x > hi.x);  // inverted on every axis: never entered
-                        CHECK(lo.y > hi.y);
-                        CHECK(lo.z > hi.z);
-                        continue;
-                    }
-                    ++children;
-                    const glm::vec3 clo = glm::max(lo, it.lo), chi = glm::min(hi, it.hi);
-                    if ((ref & kWideLeaf) != 0u) {
-                        const std::uint32_t first = ref & kWideLeafMaxFirst, count = (ref >> kLeafCountShift) & kWideLeafMaxCount;
-                        REQUIRE(count >= 1);
-                        REQUIRE(first + count <= seen.size());
-                        for (std::uint32_t t = first; t < first + count; ++t) {
-                            ++seen[t];
-                            const Aabb tb = boxes[blas.triangleIds[t]];
-                            CHECK(glm::all(glm::lessThanEqual(clo, tb.min)));
-                            CHECK(glm::all(glm::greaterThanEqual(chi, tb.max)));
-                        }
-                    } else {
-                        todo.push_back({ref, clo, chi});
-                    }
+    forEachWideCase(5u, 3u, [](std::size_t n, const WideSetting& s, const std::vector<Aabb>& boxes, const MeshBlas& blas) {
+        std::vector<glm::uvec4> tree;
+        REQUIRE(buildWide8Bvh(blas.bvh, tree));
+        REQUIRE(!tree.empty());
+        REQUIRE(tree.size() % kWide8Texels == 0);
+        // Placed after 5 other nodes: every node reference moves by their 30 texels.
+        const std::uint32_t base = 5 * kWide8Texels;
+        std::vector<glm::uvec4> texels(base, glm::uvec4(0u));
+        REQUIRE(appendWide8Bvh(tree, base, texels));
+        REQUIRE(texels.size() == base + tree.size());
+        std::vector<int> seen(blas.triangles.size(), 0), reached(tree.size() / kWide8Texels, 0);
+        // Each item: a node and the intersection of the decoded boxes above it.
+        struct Item { std::uint32_t texel; glm::vec3 lo, hi; };
+        std::vector<Item> todo{{base, glm::vec3(-INFINITY), glm::vec3(INFINITY)}};
+        while (!todo.empty()) {
+            const Item it = todo.back();
+            todo.pop_back();
+            REQUIRE(it.texel >= base);
+            REQUIRE((it.texel - base) % kWide8Texels == 0);
+            REQUIRE(it.texel - base < tree.size());
+            ++reached[(it.texel - base) / kWide8Texels];
+            const std::span<const glm::uvec4> node(&texels[it.texel], kWide8Texels);
+            int children = 0;
+            for (int k = 0; k < 8; ++k) {
+                const std::uint32_t ref = node[4 + k / 4][k % 4];
+                glm::vec3 lo, hi;
+                decodeWide8Box(node, k, lo, hi);
+                if (ref == kWideEmpty) {
+                    CHECK(lo.x > hi.x);  // inverted on every axis: never entered
+                    CHECK(lo.y > hi.y);
+                    CHECK(lo.z > hi.z);
+                    continue;
                 }
-                CHECK(children >= 1);
+                ++children;
+                const glm::vec3 clo = glm::max(lo, it.lo), chi = glm::min(hi, it.hi);
+                if ((ref & kWideLeaf) != 0u) {
+                    checkWideLeaf(ref, clo, chi, blas, boxes, seen);
+                } else {
+                    todo.push_back({ref, clo, chi});
+                }
             }
-            for (int r : reached) REQUIRE(r == 1);  // a tree: every node reached once
-            for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
-            // Wider: an SAH tree of 3000 triangles collapses into fewer nodes than its 4-wide form
-            // (566 against 924 when this was written; a median-split tree's lowest nodes are
-            // short, and it is not checked).
-            if (n > 100 && s.opt.sah && s.opt.maxLeafSize <= kWideLeafMaxCount) {
-                std::vector<WideBvhNode> four;
-                REQUIRE(collapseBvh4(blas.bvh, 0, four));
-                INFO(tree.size() / kWide8Texels << " 8-wide nodes, " << four.size() << " 4-wide");
-                CHECK(tree.size() / kWide8Texels * 4 <= four.size() * 3);
-            }
+            CHECK(children >= 1);
         }
-    }
+        for (int r : reached) REQUIRE(r == 1);  // a tree: every node reached once
+        for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
+        // Wider: an SAH tree of 3000 triangles collapses into fewer nodes than its 4-wide form
+        // (566 against 924 when this was written; a median-split tree's lowest nodes are
+        // short, and it is not checked).
+        if (n > 100 && s.opt.sah && s.opt.maxLeafSize <= kWideLeafMaxCount) {
+            std::vector<WideBvhNode> four;
+            REQUIRE(collapseBvh4(blas.bvh, 0, four));
+            INFO(tree.size() / kWide8Texels << " 8-wide nodes, " << four.size() << " 4-wide");
+            CHECK(tree.size() / kWide8Texels * 4 <= four.size() * 3);
+        }
+    });
     // Beyond the 24 bits a stack entry has for a node's texel, appending refuses.
     std::vector<glm::uvec4> tree(kWide8Texels, glm::uvec4(0u)), out;
     CHECK_FALSE(appendWide8Bvh(tree, kWide8MaxNodes * kWide8Texels, out));
