@@ -21,6 +21,8 @@ import subprocess
 import sys
 import tempfile
 
+from test_editor_e2e import xvfb_run  # the editor's own exit status under xvfb-run
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 
@@ -70,8 +72,7 @@ def main():
         env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"))
         batch = None
         try:
-            run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", args.bin, scene_file],
-                                 env=env, capture_output=True, text=True, timeout=3600)
+            run = xvfb_run([args.bin, scene_file], env, 3600, "1600x1000x24", tmp)
             if args.converge:
                 batch = subprocess.run([args.bin, "--scene", scene_file, "--samples", str(args.converge),
                                         "--output", os.path.join(tmp, "batch")],

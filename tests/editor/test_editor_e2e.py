@@ -82,6 +82,29 @@ def diff_stats(rows_a, rows_b):
 EDITOR_TIMEOUT = 2400
 
 
+def xvfb_run(argv, env, timeout, screen, status_dir):
+    """argv under xvfb-run on a screen of that size (WxHxD), with argv's own exit status.
+
+    A shell between xvfb-run and argv writes that status to a file in status_dir: xvfb-run
+    returns 5 instead of its command's status when removing its temporary folder fails after the
+    command ended (CI saw that once, after the crash session's exit 3), and that is not the
+    editor's doing. Without the file (Xvfb never started) xvfb-run's status stands."""
+    fd, status_file = tempfile.mkstemp(prefix="exit-status-", dir=status_dir)
+    os.close(fd)
+    os.unlink(status_file)
+    record = '"$@"; status=$?; echo "$status" > "$0"; exit "$status"'
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 " + screen, "sh", "-c", record, status_file] + argv,
+                         capture_output=True, text=True, env=env, timeout=timeout)
+    if os.path.exists(status_file):
+        with open(status_file) as f:
+            text = f.read().strip()
+        os.unlink(status_file)
+        if text and run.returncode != int(text):
+            run.stderr += "(xvfb-run exited %d; the command's own status %s is the one checked)\n" % (run.returncode, text)
+            run.returncode = int(text)
+    return run
+
+
 def run_editor(tmp, script_name, scene, extra_env=None, timeout=EDITOR_TIMEOUT):
     """One scripted editor session under xvfb-run; config (recent files, autosave) in tmp/home."""
     env = dict(os.environ)
@@ -89,25 +112,7 @@ def run_editor(tmp, script_name, scene, extra_env=None, timeout=EDITOR_TIMEOUT):
                CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"),
                CAUSTIC_EDITOR_WINDOW="1280x720", LP_NUM_THREADS="2")
     env.update(extra_env or {})
-    # The editor's own exit status, written by a shell between xvfb-run and the editor: xvfb-run
-    # returns 5 instead of the command's status when removing its temporary folder fails after
-    # the command ended (CI saw that once, after the crash session's exit 3), and that is not
-    # the editor's doing. Without the file (Xvfb never started) xvfb-run's status stands.
-    fd, status_file = tempfile.mkstemp(prefix="exit-status-", dir=tmp)
-    os.close(fd)
-    os.unlink(status_file)
-    record = '"$@"; status=$?; echo "$status" > "$0"; exit "$status"'
-    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24",
-                          "sh", "-c", record, status_file, BIN, scene],
-                         capture_output=True, text=True, env=env, timeout=timeout)
-    if os.path.exists(status_file):
-        with open(status_file) as f:
-            text = f.read().strip()
-        os.unlink(status_file)
-        if text and run.returncode != int(text):
-            run.stderr += "(xvfb-run exited %d; the editor's own status %s is the one checked)\n" % (run.returncode, text)
-            run.returncode = int(text)
-    return run
+    return xvfb_run([BIN, scene], env, timeout, "1280x720x24", tmp)
 
 
 class EditorSessionCase(unittest.TestCase):
