@@ -12,10 +12,19 @@
 # inside. With the benchmarks:
 #   ab.py --config mesa25=build/caustic-bench --config mesa26=ROOT/bench scenes/mesh-knot.json
 #   compare.py --bench ROOT/bench ...      (caustic on the newer Mesa against Mitsuba)
-# Before deleting ROOT: umount ROOT/tmp ROOT/<checkout> ROOT/dev ROOT/proc.
+# ROOT holds this checkout and /tmp through bind mounts: `mesa_next.sh --unmount [ROOT]` undoes
+# them, and must come before deleting ROOT (else rm -r would go through them).
 set -euo pipefail
-root=${1:-/tmp/caustic-mesa-next}
 checkout=$(cd "$(dirname "$0")/../.." && pwd)
+if [ "${1:-}" = --unmount ]; then
+    root=${2:-/tmp/caustic-mesa-next}
+    for m in tmp "${checkout#/}" dev proc; do
+        if mountpoint -q "$root/$m"; then umount "$root/$m"; fi
+    done
+    echo "unmounted; $root can be deleted" >&2
+    exit 0
+fi
+root=${1:-/tmp/caustic-mesa-next}
 mirror=$(sed -n 's/^URIs: *//p' /etc/apt/sources.list.d/debian.sources 2>/dev/null | head -1)
 mirror=${mirror:-http://deb.debian.org/debian}
 command -v debootstrap > /dev/null || apt-get install -y -q debootstrap > /dev/null
