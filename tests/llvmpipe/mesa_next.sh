@@ -17,14 +17,14 @@
 set -euo pipefail
 checkout=$(cd "$(dirname "$0")/../.." && pwd)
 if [ "${1:-}" = --unmount ]; then
-    root=${2:-/tmp/caustic-mesa-next}
+    root=$(realpath -m "${2:-/tmp/caustic-mesa-next}")
     for m in tmp "${checkout#/}" dev proc; do
         if mountpoint -q "$root/$m"; then umount "$root/$m"; fi
     done
     echo "unmounted; $root can be deleted" >&2
     exit 0
 fi
-root=${1:-/tmp/caustic-mesa-next}
+root=$(realpath -m "${1:-/tmp/caustic-mesa-next}")  # the wrapper names it, from any folder
 mirror=$(sed -n 's/^URIs: *//p' /etc/apt/sources.list.d/debian.sources 2>/dev/null | head -1)
 mirror=${mirror:-http://deb.debian.org/debian}
 command -v debootstrap > /dev/null || apt-get install -y -q debootstrap > /dev/null
