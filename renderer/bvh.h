@@ -104,7 +104,7 @@ struct Bvh {
 // fewer, wider steps test more boxes per step (docs/performance.md).
 struct WideBvhNode {
     float minX[4], maxX[4], minY[4], maxY[4], minZ[4], maxZ[4];
-    std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << 27 | first, or a node's index
+    std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << kLeafCountShift | first, or a node's index
     std::uint32_t pad[4];
 };
 // (The words' layout is shaders/shared/layout.h's, which the shaders decode.)
@@ -154,7 +154,7 @@ void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::v
 // exponents in bytes 0-2), texels 1-3 the children's bytes on x, y and z (each texel: lo of slots
 // 0-3, lo of slots 4-7, hi of slots 0-3, hi of slots 4-7; byte k % 4 of its word for slot k; the
 // same grid and rounding as quantizeWideNode), texels 4-5 the eight slots' references (as
-// WideBvhNode::child: kWideEmpty, kWideLeaf | count << 27 | first, or a node's first texel, 6 x
+// WideBvhNode::child: kWideEmpty, kWideLeaf | count << kLeafCountShift | first, or a node's first texel, 6 x
 // its index: the walk's address with no multiply). After Ylitie, Karras and Laine 2017 ("Efficient
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"): a walk step tests eight boxes
 // and queues the children it hits as one stack entry (the node and a mask) instead of sorting and
@@ -199,8 +199,8 @@ bool wide8BvhRequested();
 // Layout of one tree at texel `base`: the header (xyz: the origin's float bits, w: the biased
 // exponents of the three scales in bytes 0-2), then the records, the root's first (at base + 1),
 // each two texels: (lo x, hi x, lo y, hi y), (lo z, hi z, link 0, link 1), child 0's 16-bit value
-// in the low half of each word and child 1's in the high half. A link is kPairLeaf | count << 27 |
-// first (the mesh's triangles [first, first + count), count in [1, 15], first < 2^27; a longer
+// in the low half of each word and child 1's in the high half. A link is a leaf's word (kPairLeaf |
+// count << kLeafCountShift | first: the mesh's triangles [first, first + count); a longer
 // binary leaf becomes records of shorter leaves with the same box) or the absolute texel index of
 // the child's record (< 2^31). A tree whose root is a leaf gets one record: the leaf, and an
 // empty child (decoded inverted on every axis: never hit). An empty tree appends nothing.

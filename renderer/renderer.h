@@ -203,9 +203,9 @@ private:
     static constexpr int kGeometryBuffers = 5;
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
-    // Buffer textures over primitives, BVH nodes (binary and 4-wide), triangles, vertices,
-    // top-level entries, instances, materials, the primitives' hit records, lights, the light
-    // tree, the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
+    // Buffer textures over primitives, BVH nodes (binary, 4-wide, 8-wide and pair records),
+    // triangles, vertices, top-level entries, instances, materials, the primitives' hit records,
+    // lights, the light tree, the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
     static constexpr int kTexelViews = 15;
     unsigned m_pairNodes = 0;      // the meshes' pair BVHs (CAUSTIC_PAIR_BVH), RGBA32UI texels
     unsigned m_wide8Nodes = 0;     // the meshes' 8-wide BVHs (CAUSTIC_WIDE_BVH=8), RGBA32UI texels

@@ -73,12 +73,14 @@ using uint = std::uint32_t;
 // The highest TEXUNIT_*: 16 units, as many as GL guarantees a compute shader
 // (GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS >= 16): a further view needs that limit checked.
 #define TEXUNIT_LAST TEXUNIT_WIDE8_NODES
-#define PAIR_LINK_LEAF 0x80000000u
-// A leaf's word in the wide nodes and the pair records: the leaf bit | count << LEAF_COUNT_SHIFT |
-// first (count in [1, LEAF_MAX_COUNT], first < 2^LEAF_COUNT_SHIFT).
+// A leaf's word in the wide nodes and the pair records: LEAF_BIT | count << LEAF_COUNT_SHIFT |
+// first (count in [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST).
+#define LEAF_BIT 0x80000000u
 #define LEAF_COUNT_SHIFT 27u
 #define LEAF_MAX_COUNT 15u
-#define PAIR_LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
+#define LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
+#define PAIR_LINK_LEAF LEAF_BIT
+#define PAIR_LEAF_MAX_FIRST LEAF_MAX_FIRST
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
@@ -236,9 +238,9 @@ CAUSTIC_STRUCT(GpuBvhNode) {
 // per axis (bound = origin + q * 2^(e - 127)): the origin's float bits in head.xyz and the biased
 // exponents e in bytes 0-2 of head.w; qXY = (lo x, hi x, lo y, hi y), qZ.xy = (lo z, hi z), child
 // k's byte k of each word. The decoded boxes contain the children's (an empty child's is
-// inverted: never hit). Children: WIDE_CHILD_EMPTY, WIDE_CHILD_LEAF | count << 27 | first
-// (triangles [first, first + count) of the mesh's, count in [1, 15], first < 2^27; a longer binary
-// leaf becomes a node of leaves), or the index of a child node in wideNodes.
+// inverted: never hit). Children: WIDE_CHILD_EMPTY, a leaf's word (WIDE_CHILD_LEAF | count <<
+// LEAF_COUNT_SHIFT | first: triangles [first, first + count) of the mesh's; a longer binary leaf
+// becomes a node of leaves), or the index of a child node in wideNodes.
 CAUSTIC_STRUCT(GpuWideBvhNode) {
     uvec4 head;    // xyz: origin (float bits), w: exponents
     uvec4 qXY;
@@ -246,9 +248,9 @@ CAUSTIC_STRUCT(GpuWideBvhNode) {
     uvec4 child;
 };
 #define WIDE_CHILD_EMPTY 0xffffffffu
-#define WIDE_CHILD_LEAF 0x80000000u
+#define WIDE_CHILD_LEAF LEAF_BIT
 #define WIDE_LEAF_MAX_COUNT LEAF_MAX_COUNT
-#define WIDE_LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
+#define WIDE_LEAF_MAX_FIRST LEAF_MAX_FIRST
 
 // A placed mesh: its BVH and triangles, and the affine transforms both ways (rows).
 CAUSTIC_STRUCT(GpuInstance) {
