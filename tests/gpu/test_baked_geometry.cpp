@@ -7,6 +7,7 @@
 // edit that moves a primitive or a mesh must build a new program, never render the old geometry.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/env.h"
 
 #include <catch2/catch.hpp>
 
@@ -64,9 +65,11 @@ Scene withKnots(Scene s) {
 // A renderer that specialises (the default on llvmpipe; forced elsewhere, e.g. NVIDIA), with
 // baking on or off.
 std::unique_ptr<Renderer> specialisingRenderer(bool bake) {
-    ::setenv("CAUSTIC_SPECIALIZE", "1", 1);
-    auto r = test::makeRenderer();
-    ::unsetenv("CAUSTIC_SPECIALIZE");
+    std::unique_ptr<Renderer> r;
+    {
+        const test::ScopedEnv specialise("CAUSTIC_SPECIALIZE", "1");
+        r = test::makeRenderer();
+    }
     r->setBakeGeometry(bake);
     return r;
 }

@@ -3,6 +3,7 @@
 // the shared vertices and edges of a closed mesh never escape it; and moving instances through
 // Renderer::update (top level only) gives the same hits as a fresh build.
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/env.h"
 #include "tests/support/meshes.h"
 
 #include <glad/gl.h>
@@ -348,12 +349,10 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     // The meshes' 8-wide form and pair records are built only where they are asked for
     // (wide8BvhRequested, pairBvhRequested): asked while the scene is loaded, then the defaults
     // back for the configurations below.
-    REQUIRE(::setenv("CAUSTIC_WIDE_BVH", "8", 1) == 0);
-    REQUIRE(::setenv("CAUSTIC_PAIR_BVH", "1", 1) == 0);
-    const bool loaded = renderer->setScene(s, &error);
-    ::unsetenv("CAUSTIC_WIDE_BVH");
-    ::unsetenv("CAUSTIC_PAIR_BVH");
-    REQUIRE(loaded);
+    {
+        const test::ScopedEnv wide8("CAUSTIC_WIDE_BVH", "8"), pairs("CAUSTIC_PAIR_BVH", "1");
+        REQUIRE(renderer->setScene(s, &error));
+    }
     REQUIRE(!renderer->compiled().wide8Nodes.empty());
     REQUIRE(!renderer->compiled().pairNodes.empty());
     const CompiledScene& c = renderer->compiled();
@@ -569,13 +568,12 @@ TEST_CASE("the walk statistics count what the walks did and change nothing else"
         plain = test::renderFilm(*renderer, s, 4);
         none = renderer->walkStats();
     }
-    REQUIRE(setenv("CAUSTIC_WALK_STATS", "1", 1) == 0);
     {
+        const test::ScopedEnv counting("CAUSTIC_WALK_STATS", "1");
         auto renderer = test::makeRenderer();
         counted = test::renderFilm(*renderer, s, 4);
         stats = renderer->walkStats();
     }
-    unsetenv("CAUSTIC_WALK_STATS");
     CHECK(none.groupSteps == 0);
     CHECK(none.laneSteps == 0);
     CHECK(none.trees == 0);

@@ -6,6 +6,7 @@
 // escape to an environment at different depths, end by Russian roulette, or probe glass.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/env.h"
 
 #include <catch2/catch.hpp>
 
@@ -19,14 +20,11 @@ namespace {
 // dispatch after the first hold as many samples as the renderer allows (64), so that lanes do
 // start later samples within a dispatch.
 Film renderWith(bool regenerate, const Scene& scene, int samples) {
-    ::setenv("CAUSTIC_REGENERATE", regenerate ? "1" : "0", 1);
-    ::setenv("CAUSTIC_DISPATCH_SECONDS", "60", 1);
+    const test::ScopedEnv regeneration("CAUSTIC_REGENERATE", regenerate ? "1" : "0");
+    const test::ScopedEnv dispatch("CAUSTIC_DISPATCH_SECONDS", "60");
     auto r = test::makeRenderer();
     CHECK(test::hasDefine(integratorDefines(), "CAUSTIC_REGENERATE") == regenerate);
-    const Film film = test::renderFilm(*r, scene, samples);
-    ::unsetenv("CAUSTIC_REGENERATE");
-    ::unsetenv("CAUSTIC_DISPATCH_SECONDS");
-    return film;
+    return test::renderFilm(*r, scene, samples);
 }
 
 void requireSameImage(const Scene& scene, int samples) {

@@ -7,6 +7,8 @@
 // from the good sources still renders.
 #include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/env.h"
+#include "tests/support/meshes.h"  // TempDir
 
 #include <catch2/catch.hpp>
 
@@ -17,7 +19,6 @@
 #include <fstream>
 #include <string>
 
-#include <unistd.h>
 
 using namespace caustic;
 using namespace caustic::test;
@@ -30,8 +31,8 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
     const Scene scene = cornellBox(16);
     const Film before = renderFilm(*good, scene, 1);
 
-    const fs::path dir = fs::temp_directory_path() / ("caustic-reload-" + std::to_string(::getpid()));
-    fs::remove_all(dir);
+    const TempDir tmp;
+    const fs::path dir = tmp.path / "shaders";
     fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
     {
         std::ofstream env(dir / "lights" / "environment.glsl", std::ios::app);
@@ -53,7 +54,6 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
         INFO(sceneError);
         CHECK(sceneError.find("lights/environment.glsl") != std::string::npos);
     }
-    fs::remove_all(dir);
 
     // The renderer made from the good sources is untouched: its next samples accumulate.
     good->render(1);
@@ -73,17 +73,15 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
 TEST_CASE("a scene program that fails to build falls back to the general one, which renders the same image and is reported",
           "[gpu][bench]") {
     glContext();
-    const char* was = std::getenv("CAUSTIC_SPECIALIZE");
-    const std::string saved = was ? was : "";
-    REQUIRE(::setenv("CAUSTIC_SPECIALIZE", "1", 1) == 0);  // every driver builds the scene's program
+    const ScopedEnv specialise("CAUSTIC_SPECIALIZE", "1");  // every driver builds the scene's program
     const Scene scene = cornellBox(16);
     auto good = makeRenderer();
     const Film reference = renderFilm(*good, scene, 2);
     CHECK_FALSE(good->programFellBack());
 
     // Broken only where the scene's features are defined: the specialised build, not the general.
-    const fs::path dir = fs::temp_directory_path() / ("caustic-fallback-" + std::to_string(::getpid()));
-    fs::remove_all(dir);
+    const TempDir tmp;
+    const fs::path dir = tmp.path / "shaders";
     fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
     {
         const fs::path features = dir / "scene" / "features.glsl";
@@ -100,8 +98,6 @@ TEST_CASE("a scene program that fails to build falls back to the general one, wh
     CHECK(fallback->programFellBack());
     const Film film = renderFilm(*fallback, scene, 2);
     CHECK(fallback->programFellBack());
-    fs::remove_all(dir);
-    if (was) ::setenv("CAUSTIC_SPECIALIZE", saved.c_str(), 1); else ::unsetenv("CAUSTIC_SPECIALIZE");
 
     // The general program computes what the scene's would have (shaders/scene/features.glsl):
     // the same samples, pixel by pixel.
