@@ -831,19 +831,32 @@ SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileF
     return result;
 }
 
-SceneLoadResult loadScene(const std::string& file) {
+namespace {
+
+// A scene file's read (`read` returns its result), with whatever escapes it (out of memory, an
+// exception not foreseen) turned into a message naming the file: never a crash.
+template <class Read>
+SceneLoadResult guardedSceneRead(const std::string& file, Read&& read) {
     try {
+        return read();
+    } catch (const std::bad_alloc&) {
+        return SceneLoadResult{std::nullopt, file + ": out of memory while reading the scene"};
+    } catch (...) {
+        return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
+    }
+}
+
+}  // namespace
+
+SceneLoadResult loadScene(const std::string& file) {
+    return guardedSceneRead(file, [&] {
         std::string error;
         const std::optional<std::string> text = readTextFile(file, &error);
         if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
         SceneLoadResult result = parseScene(*text, file);
         if (result.scene) result.scene->sourcePath = file;
         return result;
-    } catch (const std::bad_alloc&) {
-        return SceneLoadResult{std::nullopt, file + ": out of memory while reading the scene"};
-    } catch (...) {
-        return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
-    }
+    });
 }
 
 bool parseSceneOverride(const std::string& text, SceneOverride* out, std::string* error) {
@@ -905,7 +918,7 @@ Json* resolveOverridePath(Json& root, const std::string& path, std::string* erro
 
 SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverride>& overrides) {
     if (overrides.empty()) return loadScene(file);
-    try {
+    return guardedSceneRead(file, [&] {
         std::string error;
         const std::optional<std::string> text = readTextFile(file, &error);
         if (!text) return SceneLoadResult{std::nullopt, oneLine(error)};
@@ -931,11 +944,7 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
         SceneLoadResult result = parseScene(root.dump(2), file + " (with --set)");
         if (result.scene) result.scene->sourcePath = file;
         return result;
-    } catch (const std::bad_alloc&) {
-        return SceneLoadResult{std::nullopt, file + ": out of memory while reading the scene"};
-    } catch (...) {
-        return SceneLoadResult{std::nullopt, file + ": internal error while reading the scene"};
-    }
+    });
 }
 
 namespace {
