@@ -2,6 +2,7 @@
 // selection, names, modified tracking, files (open keeps the scene on error, atomic save,
 // autosave, recent files).
 #include "editor/model/editor_state.h"
+#include "tests/editor/cornell_state.h"
 #include "renderer/scene_io.h"
 
 #include <catch2/catch.hpp>
@@ -15,15 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kCornell = std::string(CAUSTIC_SOURCE_DIR) + "/scenes/cornell-box.json";
-
-EditorState cornell() {
-    EditorState s;
-    std::string error;
-    REQUIRE(s.open(kCornell, &error));
-    s.takeDirty();
-    return s;
-}
+using test::kCornell;
+EditorState cornell() { return test::openCornell(); }
 
 int objectIndex(const EditorState& s, const std::string& name) {
     EntityRef r = findEntity(s.scene, EntityKind::Object, name);

@@ -2,6 +2,7 @@
 // infinity in a transform, a target of 0 samples. Before, the editor took them and the scene could
 // then not be saved ("not saved, the scene is invalid").
 #include "editor/model/editor_state.h"
+#include "tests/editor/cornell_state.h"
 #include "renderer/scene_io.h"
 
 #include <catch2/catch.hpp>
@@ -18,15 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kCornell = std::string(CAUSTIC_SOURCE_DIR) + "/scenes/cornell-box.json";
-
-EditorState cornell() {
-    EditorState s;
-    std::string error;
-    REQUIRE(s.open(kCornell, &error));
-    s.takeDirty();
-    return s;
-}
+using test::kCornell;
+EditorState cornell() { return test::openCornell(); }
 
 // The scene still saves (and loads back) after whatever was tried.
 void requireSaveable(const EditorState& s) {

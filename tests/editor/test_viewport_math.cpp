@@ -1,6 +1,7 @@
 // The viewport's CPU geometry: rays match the GPU camera, picking finds what is under a pixel,
 // camera navigation, and the inverse of Transform::toMatrix; plus the frame pacer and scripts.
 #include "editor/model/editor_state.h"
+#include "tests/editor/cornell_state.h"
 #include "editor/model/frame_pacer.h"
 #include "editor/model/script.h"
 #include "editor/model/viewport_math.h"
@@ -18,12 +19,7 @@ using namespace caustic::editor;
 
 namespace {
 
-EditorState cornell() {
-    EditorState s;
-    std::string error;
-    REQUIRE(s.open(std::string(CAUSTIC_SOURCE_DIR) + "/scenes/cornell-box.json", &error));
-    return s;
-}
+EditorState cornell() { return test::openCornell(false); }
 
 void checkNear(glm::vec3 a, glm::vec3 b, float eps = 1e-4f) {
     INFO("a = (" << a.x << ", " << a.y << ", " << a.z << "), b = (" << b.x << ", " << b.y << ", " << b.z << ")");
