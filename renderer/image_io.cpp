@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string_view>
 
 namespace caustic {
 namespace {
@@ -120,11 +121,19 @@ namespace {
 // A reader may throw instead of failing (OpenImageIO 2.4's BMP reader throws std::length_error
 // from open() on a run-length file whose header declares an impossible size: found by fuzz_image),
 // which counts as that reader's refusal.
+// Nor OpenImageIO's movie reader, which it gives .mp4, .mov, .avi, .mpg and six more extensions:
+// it hands the file to FFmpeg's demuxers (libavformat), a large parser for hostile bytes, and
+// no texture or environment map is a movie (fuzz_image found libavformat leaking on such inputs,
+// docs/reliability.md). A movie-named file that is an image of a common format is still read.
 std::unique_ptr<OIIO::ImageInput> openWith(const std::string& format, const std::string& path, std::string* why) {
     try {
         auto in = OIIO::ImageInput::create(format, false);
         if (!in) {
             *why = OIIO::geterror();
+            return nullptr;
+        }
+        if (std::string_view(in->format_name()) == "FFmpeg movie") {
+            *why = "'." + format + "' names a movie format, which is not read as an image";
             return nullptr;
         }
         OIIO::ImageSpec spec;

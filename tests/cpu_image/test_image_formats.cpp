@@ -91,6 +91,23 @@ TEST_CASE("images: an extension no reader knows, or none, is refused with a mess
     CHECK(error == dir.file("noext") + ": cannot read image: the file name has no extension to tell its format");
 }
 
+// OpenImageIO reads .mp4, .mov, .avi, ... with its movie reader, through FFmpeg's demuxers, which
+// open a PPM under such a name as a one-frame movie: no image reaches FFmpeg now. An image of a
+// common format under a movie's name is read as a misnamed file is.
+TEST_CASE("images: a movie's extension does not reach FFmpeg, and a PNG under one still reads", "[image]") {
+    test::TempDir dir;
+    writePpm(dir.file("frame.mp4"));
+    writePng(dir.file("a.png"));
+    std::filesystem::copy_file(dir.file("a.png"), dir.file("texture.mov"));
+    ImageData image;
+    std::string error;
+    CHECK_FALSE(readImage(dir.file("frame.mp4"), &image, &error));
+    CHECK(error == dir.file("frame.mp4") + ": cannot read image: '.mp4' names a movie format, which is not read as an image");
+    const ImageData png = readOk(dir.file("texture.mov"));
+    CHECK(png.width == 2);
+    CHECK(png.height == 1);
+}
+
 // Found by fuzz_image (docs/reliability.md): OpenImageIO 2.4's BMP reader throws std::length_error
 // from open() on this run-length file; the CLI died with "unexpected failure:
 // vector::_M_default_append", naming no file, and the fuzzer's process with std::terminate.
