@@ -123,7 +123,7 @@ namespace {
 // which counts as that reader's refusal.
 // Nor OpenImageIO's movie reader, which it gives .mp4, .mov, .avi, .mpg and six more extensions:
 // it hands the file to FFmpeg's demuxers (libavformat), a large parser for hostile bytes, and
-// no texture or environment map is a movie (fuzz_image found libavformat leaking on such inputs,
+// no texture or environment map is a movie (fuzz_image found FFmpeg leaking on such inputs,
 // docs/reliability.md). A movie-named file that is an image of a common format is still read.
 std::unique_ptr<OIIO::ImageInput> openWith(const std::string& format, const std::string& path, std::string* why) {
     try {
