@@ -879,7 +879,7 @@ std::uint32_t wideLeafWord(std::uint32_t first, std::uint32_t count, bool& ok) {
         ok = false;
         return kWideEmpty;
     }
-    return count <= kWideLeafMaxCount ? kWideLeaf | count << kLeafCountShift | first : 0u;
+    return count <= kWideLeafMaxCount ? leafWord(first, count) : 0u;
 }
 std::uint32_t wideLeafPart(std::uint32_t count, std::uint32_t width) { return std::max((count + width - 1u) / width, 1u); }
 
@@ -1176,7 +1176,7 @@ struct PairBuild {
         if (!c.leaf) return record(childOf(c.node + 1), childOf(nodes[c.node].rightOrFirst));
         if (c.count <= kPairLeafMaxCount) {
             if (c.first > kPairLeafMaxFirst) ok = false;
-            return kPairLeaf | c.count << kLeafCountShift | (c.first & kPairLeafMaxFirst);
+            return leafWord(c.first & kPairLeafMaxFirst, c.count);
         }
         // A longer leaf: two halves with its box (depth log2(count / 15)).
         Child a = c, b = c;

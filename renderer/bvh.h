@@ -111,6 +111,11 @@ struct WideBvhNode {
 inline constexpr std::uint32_t kWideEmpty = WIDE_CHILD_EMPTY;
 inline constexpr std::uint32_t kWideLeaf = WIDE_CHILD_LEAF;
 inline constexpr std::uint32_t kLeafCountShift = LEAF_COUNT_SHIFT;  // a leaf's count << this | first
+// A leaf's word (the wide trees' children and the pair records' links): primitives [first, first +
+// count), count in [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST (the callers check).
+inline constexpr std::uint32_t leafWord(std::uint32_t first, std::uint32_t count) {
+    return LEAF_BIT | count << LEAF_COUNT_SHIFT | first;
+}
 inline constexpr std::uint32_t kWideLeafMaxCount = WIDE_LEAF_MAX_COUNT;
 inline constexpr std::uint32_t kWideLeafMaxFirst = WIDE_LEAF_MAX_FIRST;
 // Subtrees of at most this many primitives become one leaf of the 4-wide tree. The binary tree's

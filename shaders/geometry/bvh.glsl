@@ -202,7 +202,7 @@ bool bvhDescend(inout GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tM
 
 // A leaf's word in the wide nodes and the pair records (shared/layout.h): its first triangle and
 // its count.
-#define LEAF_FIRST(word) ((word) & ((1u << LEAF_COUNT_SHIFT) - 1u))
+#define LEAF_FIRST(word) ((word) & LEAF_MAX_FIRST)
 #define LEAF_COUNT(word) (((word) >> LEAF_COUNT_SHIFT) & LEAF_MAX_COUNT)
 
 // A leaf's triangles, [first, first + count) of the instance's (from firstTriangle): a hit
