@@ -17,7 +17,7 @@
 // With $CAUSTIC_WALK_STATS=1 the integrator also counts its mesh walks (Renderer::walkStats) and a
 // "walks" line per mesh scene gives, per sample, the walk loops' iterations its SIMD groups paid
 // for and those their lanes worked: counts that a loaded machine does not move, for judging a
-// change to the walk's schedule (docs/performance.md, session 20). The counting itself slows the
+// change to the walk's schedule (docs/performance.md, "How to measure"). The counting itself slows the
 // render (a ballot per iteration): read the rates of such a run as nothing.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
@@ -220,12 +220,16 @@ int main(int argc, char** argv) {
     std::string error;
     auto context = HeadlessGlContext::create(false, &error);
     if (!context) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
-    auto renderer = Renderer::create(defaultShaderDir(), &error);
+    std::vector<std::string> configWarnings;
+    const IntegratorConfig config = IntegratorConfig::fromEnvironment(&configWarnings);
+    for (const std::string& w : configWarnings) std::fprintf(stderr, "caustic-bench: %s\n", w.c_str());
+    auto renderer = Renderer::create(defaultShaderDir(), config, &error);
     if (!renderer) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
     renderer->setImageReader(readImageWithoutOpenImageIo);  // HDR, PNG and JPEG without OpenImageIO
     renderer->setBakeGeometry(true);            // as batch mode renders (app/main.cpp)
     std::printf("# %s | %s | %s\n", context->info().vendor.c_str(), context->info().renderer.c_str(),
                 context->info().version.c_str());
+    std::printf("# %s\n", renderer->config().describe().c_str());
     std::printf("%-24s %10s %6s %5s %9s %9s %12s %12s %10s %9s %14s\n", "scene", "size", "spp", "depth", "wall s", "gpu s",
                 "Msamples/s", "Mrays/s", "rays/smp", "cpu s", "Msamples/cpu-s");
     GLuint query = 0;
@@ -234,7 +238,7 @@ int main(int argc, char** argv) {
     if (traceOnly) {
         ShaderLoader loader(defaultShaderDir());
         ShaderSource source;
-        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", integratorDefines(), &source, &error) ||
+        if (!loader.load(defaultShaderDir() + "/bench/rays.comp", renderer->config().defines(), &source, &error) ||
             !(raysProgram = compileComputeProgram(source, "bench/rays.comp", &error))) {
             std::fprintf(stderr, "caustic-bench: %s\n", error.c_str());
             return 1;
@@ -288,7 +292,7 @@ int main(int argc, char** argv) {
         const char* complete = int(counted) == samples + 0 ? "" : "  INCOMPLETE: the image holds fewer samples";
         // A scene program that failed to build leaves the general one rendering (right, slower):
         // its rates are not the scene program's, and an A/B of a shader change would compare the
-        // wrong programs without this mark (session 22: a type error in a specialised-only path).
+        // wrong programs without this mark (as when a type error sits in a specialised-only path).
         const char* fellBack = renderer->programFellBack() ? "  FALLBACK: the general program (the scene's failed to build)" : "";
         std::printf("%-24s %4dx%-5d %6d %5d %9.3f %9s %12.3f %12.3f %10.2f %9.3f %14.3f%s%s\n", name.c_str(), size, size,
                     samples, maxDepth, w, gpuText, pixelSamples / w * 1e-6, n / w * 1e-6, n / pixelSamples, c,

@@ -248,7 +248,12 @@ int runBatch(const CliOptions& o) {
 #endif
     auto context = HeadlessGlContext::create(debug, &error, o.gpu ? *o.gpu : -1);
     if (!context) return fail(error);
-    auto renderer = Renderer::create(defaultShaderDir(), &error);
+    // The integrator's configuration: the device's defaults, and the documented CAUSTIC_*
+    // variables for measuring (renderer/integrator_config.h).
+    std::vector<std::string> configWarnings;
+    const IntegratorConfig config = IntegratorConfig::fromEnvironment(&configWarnings);
+    for (const std::string& w : configWarnings) std::fprintf(stderr, "caustic: %s\n", w.c_str());
+    auto renderer = Renderer::create(defaultShaderDir(), config, &error);
     if (!renderer) return fail(error);
     renderer->setImageReader(readImage);
     // Batch geometry never changes while a variant renders: a scene of a few analytic primitives

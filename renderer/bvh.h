@@ -97,11 +97,11 @@ struct Bvh {
     bool empty() const { return nodes.empty(); }
 };
 
-// A 4-wide BVH for the GPU's traversal (CAUSTIC_WIDE_BVH; the GPU reads it quantised,
-// quantizeWideNode below): collapsed from a binary tree, each node holds its
-// up to four children's boxes by coordinate and their references. Why: llvmpipe executes a
-// traversal step's whole loop body for 8 rays at once, so a step costs the same whatever it does;
-// fewer, wider steps test more boxes per step (docs/performance.md).
+// A 4-wide BVH for the GPU's 4-wide walk (shaders/geometry/walk_wide4.glsl; the GPU reads it
+// quantised, quantizeWideNode below): collapsed from a binary tree, each node holds its up to
+// four children's boxes by coordinate and their references. Why: llvmpipe executes a traversal
+// step's whole loop body for 8 rays at once, so a step costs the same whatever it does; fewer,
+// wider steps test more boxes per step (docs/performance.md).
 struct WideBvhNode {
     float minX[4], maxX[4], minY[4], maxY[4], minZ[4], maxZ[4];
     std::uint32_t child[4];  // kWideEmpty, kWideLeaf | count << kLeafCountShift | first, or a node's index
@@ -111,8 +111,8 @@ struct WideBvhNode {
 inline constexpr std::uint32_t kWideEmpty = WIDE_CHILD_EMPTY;
 inline constexpr std::uint32_t kWideLeaf = WIDE_CHILD_LEAF;
 inline constexpr std::uint32_t kLeafCountShift = LEAF_COUNT_SHIFT;  // a leaf's count << this | first
-// A leaf's word (the wide trees' children and the pair records' links): primitives [first, first +
-// count), count in [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST (the callers check).
+// A leaf's word (a wide node's child): primitives [first, first + count), count in
+// [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST (the callers check).
 inline constexpr std::uint32_t leafWord(std::uint32_t first, std::uint32_t count) {
     return LEAF_BIT | count << LEAF_COUNT_SHIFT | first;
 }
@@ -121,8 +121,8 @@ inline constexpr std::uint32_t kWideLeafMaxFirst = WIDE_LEAF_MAX_FIRST;
 // Subtrees of at most this many primitives become one leaf of the 4-wide tree. The binary tree's
 // SAH (traversal cost 0.125) makes leaves of ~1 triangle, right for a GPU's cheap box tests; on
 // llvmpipe each leaf costs a pass of the traversal's outer loop for all 8 lanes, and leaves of
-// two made the knot scene 1.05x faster per CPU second (3 and 4 about as much, 6 less;
-// docs/performance.md, session 10).
+// two make the knot scene 1.05x faster per CPU second than leaves of one (3 and 4 about as much,
+// 6 less; docs/performance.md).
 inline constexpr std::uint32_t kWideMergeMax = 2u;
 
 // Appends the 4-wide form of `bvh` to `out`, its root first; child node indices are absolute
@@ -152,83 +152,6 @@ gpu::GpuWideBvhNode quantizeWideNode(const WideBvhNode& node);
 float decodeWideBound(const gpu::GpuWideBvhNode& node, int axis, std::uint32_t q);
 // Child k's decoded box.
 void decodeWideBox(const gpu::GpuWideBvhNode& node, int k, glm::vec3& lo, glm::vec3& hi);
-
-// ---- The 8-wide BVH (CAUSTIC_WIDE_BVH=8, on request) ---------------------------------------------
-// The binary tree collapsed as collapseBvh4 does it but to eight children a node, each node six
-// RGBA32UI texels (96 bytes): texel 0 the grid (xyz: the origin's float bits, w: the three biased
-// exponents in bytes 0-2), texels 1-3 the children's bytes on x, y and z (each texel: lo of slots
-// 0-3, lo of slots 4-7, hi of slots 0-3, hi of slots 4-7; byte k % 4 of its word for slot k; the
-// same grid and rounding as quantizeWideNode), texels 4-5 the eight slots' references (as
-// WideBvhNode::child: kWideEmpty, kWideLeaf | count << kLeafCountShift | first, or a node's first texel, 6 x
-// its index: the walk's address with no multiply). After Ylitie, Karras and Laine 2017 ("Efficient
-// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"): a walk step tests eight boxes
-// and queues the children it hits as one stack entry (the node and a mask) instead of sorting and
-// pushing them one by one; the children are placed in the slots so that a ray visits them about
-// near first in the order p ^ its octant (Wide8Collapse::place), with no sort at all. On llvmpipe
-// it walks 19 % fewer iterations than the 4-wide tree and is 0.88-0.97x as fast (each step reads
-// six texels and decodes 48 planes; docs/performance.md, session 21), so it is not the default
-// there; it is kept for the measurement on NVIDIA that the paper's numbers call for (run.sh).
-inline constexpr std::uint32_t kWide8Texels = 6u;
-// A stack entry holds a node's first texel in 24 bits (and its pending children's mask in 8).
-inline constexpr std::uint32_t kWide8MaxNodes = (1u << 24) / kWide8Texels;
-// `bvh`'s 8-wide form at base 0 (node references relative to its root, texel 0). False (out empty)
-// where a leaf's first primitive is beyond kWideLeafMaxFirst or the nodes are more than
-// kWide8MaxNodes.
-bool buildWide8Bvh(const Bvh& bvh, std::vector<glm::uvec4>& out);
-// Appends a buildWide8Bvh result to `out` as if built with its root at texel `base` (node
-// references moved by base). False (nothing appended) beyond kWide8MaxNodes nodes.
-bool appendWide8Bvh(std::span<const glm::uvec4> texels, std::uint32_t base, std::vector<glm::uvec4>& out);
-// Slot k's decoded box from a node's six texels.
-void decodeWide8Box(std::span<const glm::uvec4> node, int k, glm::vec3& lo, glm::vec3& hi);
-// What $CAUSTIC_WIDE_BVH asks for, its one reading: -1 unset or empty (the driver's default,
-// renderer/shader_loader.cpp), 0 ("0": not the wide nodes), 8 ("8": the 8-wide nodes) or 4 (any
-// other value: the 4-wide nodes).
-int wideBvhRequest();
-// Whether $CAUSTIC_WIDE_BVH is 8: the walk reads the 8-wide nodes (renderer/shader_loader.cpp), and
-// only then does a mesh's import build them (248 ms and 23 MB for a million triangles on the
-// development VM, where the 4-wide form takes 157 ms; read once per import, so a process sets it
-// before it loads meshes).
-bool wide8BvhRequested();
-
-// ---- The pair BVH: the binary tree as llvmpipe's walk reads it (CAUSTIC_PAIR_BVH) ----------------
-// One record per interior node of the binary tree, 32 bytes (two RGBA32UI texels), holding both
-// children's boxes and links, so that a step of the walk reads two texels where the binary nodes
-// (renderer/gpu_scene.cpp, bvhNodes) took four, and a popped child needs no fetch to be known as a
-// leaf. Why: on llvmpipe each texel fetch is a call, and every call spills the walk's live
-// vectors; on mesh-knot the walk's loop spent a third of its samples moving registers to and from
-// the stack (docs/performance.md, session 13). The boxes are quantised to 16 bits on one grid over
-// the tree's root box (its header texel: per axis an origin and a power-of-two scale s, bound =
-// origin + q * s; q * s is exact, so the one rounding is the sum's, the same on every device), the
-// lower bound rounded down and the upper up, checked in float as decodePairBound computes them:
-// a ray that hits a child's box hits its decoded box.
-// Layout of one tree at texel `base`: the header (xyz: the origin's float bits, w: the biased
-// exponents of the three scales in bytes 0-2), then the records, the root's first (at base + 1),
-// each two texels: (lo x, hi x, lo y, hi y), (lo z, hi z, link 0, link 1), child 0's 16-bit value
-// in the low half of each word and child 1's in the high half. A link is a leaf's word (kPairLeaf |
-// count << kLeafCountShift | first: the mesh's triangles [first, first + count); a longer
-// binary leaf becomes records of shorter leaves with the same box) or the absolute texel index of
-// the child's record (< 2^31). A tree whose root is a leaf gets one record: the leaf, and an
-// empty child (decoded inverted on every axis: never hit). An empty tree appends nothing.
-inline constexpr std::uint32_t kPairLeaf = PAIR_LINK_LEAF;
-inline constexpr std::uint32_t kPairLeafMaxCount = LEAF_MAX_COUNT;
-inline constexpr std::uint32_t kPairLeafMaxFirst = PAIR_LEAF_MAX_FIRST;
-inline constexpr std::uint32_t kPairEmpty = 0xffffffffu;
-// Appends `bvh`'s pair form to `out`, whose element out.size() has the absolute texel index
-// `base`. False (nothing appended) where a leaf's first primitive is beyond kPairLeafMaxFirst or a
-// record's index beyond 2^31.
-bool buildPairBvh(const Bvh& bvh, std::uint32_t base, std::vector<glm::uvec4>& out);
-// Whether $CAUSTIC_PAIR_BVH asks for the pair records (set and not 0): the walk reads them
-// (renderer/shader_loader.cpp), and only then does a mesh's import build them (165 ms and 31 MB
-// for a million triangles on the development VM; before session 21 every import did).
-bool pairBvhRequested();
-// Appends `tree` (a buildPairBvh result made at base 0) to `out` as if it had been made at `base`
-// (its records' links moved by base): what a mesh's cached tree becomes in a scene's layout.
-void appendPairBvh(std::span<const glm::uvec4> tree, std::uint32_t base, std::vector<glm::uvec4>& out);
-// The bound the GPU decodes from value q on axis a of a tree with this header (origin + q * s).
-float decodePairBound(const glm::uvec4& header, int axis, std::uint32_t q);
-// Child k's (0 or 1) decoded box from the record at texels (r0, r1).
-void decodePairBox(const glm::uvec4& header, const glm::uvec4& r0, const glm::uvec4& r1, int k, glm::vec3& lo,
-                   glm::vec3& hi);
 
 // Builds over primBounds (one box per primitive, indexed by primitive id).
 Bvh buildBvh(std::span<const Aabb> primBounds, const BvhBuildOptions& options = {});

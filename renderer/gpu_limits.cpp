@@ -68,8 +68,6 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
         {"light and environment sampling tables", tableBytes, 4},
         {"BVH nodes", sizeOf(c.bvhNodes), 16},
         {"4-wide BVH nodes", sizeOf(c.wideNodes), 16},
-        {"pair BVH records", sizeOf(c.pairNodes), 16},
-        {"8-wide BVH nodes", sizeOf(c.wide8Nodes), 16},
         {"top-level BVH entries", sizeOf(c.tlasRefs), 4},
         {"mesh instances", sizeOf(c.instances), 16},
         {"mesh triangles", sizeOf(c.triangles), 16},

@@ -72,14 +72,9 @@ struct CompiledScene {
     std::uint32_t tlasNodeCapacity = 0;
     std::vector<std::uint32_t> tlasRefs;          // primitive index or TLAS_REF_INSTANCE | instance
     std::vector<gpu::GpuInstance> instances;
-    // Every mesh's BVH again, 4-wide (renderer/bvh.h, collapseBvh4), for CAUSTIC_WIDE_BVH; an
-    // instance's root is info3.x.
+    // Every mesh's BVH again, 4-wide (renderer/bvh.h, collapseBvh4), for the 4-wide walk
+    // (geometry/walk_wide4.glsl); an instance's root is its wideRoot.
     std::vector<gpu::GpuWideBvhNode> wideNodes;
-    // Every mesh's BVH again as pair records (renderer/bvh.h, buildPairBvh), for CAUSTIC_PAIR_BVH.
-    std::vector<glm::uvec4> pairNodes;
-    // Every mesh's BVH again, 8-wide (renderer/bvh.h, buildWide8Bvh), for CAUSTIC_WIDE_BVH=8; an
-    // instance's root node is info3.z.
-    std::vector<glm::uvec4> wide8Nodes;
     std::vector<gpu::GpuTriangle> triangles;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<float> meshLightCdf;
@@ -97,13 +92,10 @@ struct CompiledScene {
 // edit that does not touch a mesh never re-imports it or rebuilds its BVH.
 struct MeshCacheEntry {
     MeshBlas blas;
-    // The BVH's GPU forms, made once per import at base 0 (appendWideBvh and appendPairBvh place
-    // them in a scene's layout): the 4-wide nodes (CAUSTIC_WIDE_BVH) and the pair records
-    // (CAUSTIC_PAIR_BVH). For a 1M-triangle mesh they took 170 and 240 ms, at every compile
-    // before session 13.
+    // The BVH's 4-wide form, made once per import at base 0 (appendWideBvh places it in a
+    // scene's layout), whatever walk the renderer uses: an import's result never depends on the
+    // configuration. (For a 1M-triangle mesh the collapse takes about 170 ms on the 2-core VM.)
     std::vector<gpu::GpuWideBvhNode> wideNodes;
-    std::vector<glm::uvec4> pairNodes;
-    std::vector<glm::uvec4> wide8Nodes;  // (CAUSTIC_WIDE_BVH=8; buildWide8Bvh)
     std::vector<glm::vec3> positions;
     std::vector<gpu::GpuVertex> vertices;
     std::vector<std::uint32_t> triangleSlot;   // per triangle (original order): its file material

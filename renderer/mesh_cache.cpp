@@ -64,13 +64,8 @@ bool prepareMesh(const std::string& file, MeshCacheEntry* entry, std::string* er
         return false;
     }
     std::vector<WideBvhNode> wide;
-    if (!collapseBvh4(entry->blas.bvh, 0, wide) ||
-        (pairBvhRequested() && !buildPairBvh(entry->blas.bvh, 0, entry->pairNodes))) {
+    if (!collapseBvh4(entry->blas.bvh, 0, wide)) {
         *error = file + ": more triangles than the GPU's BVHs can index (2^27)";
-        return false;
-    }
-    if (wide8BvhRequested() && !buildWide8Bvh(entry->blas.bvh, entry->wide8Nodes)) {
-        *error = file + ": more triangles than the GPU's BVHs can index (2^27, or 2^24 8-wide nodes)";
         return false;
     }
     entry->wideNodes.reserve(wide.size());

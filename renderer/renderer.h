@@ -6,6 +6,7 @@
 #include "renderer/film.h"
 #include "renderer/gpu_limits.h"
 #include "renderer/gpu_scene.h"
+#include "renderer/integrator_config.h"
 #include "renderer/scene.h"
 #include "renderer/shader_loader.h"
 
@@ -34,7 +35,7 @@ inline constexpr std::size_t kMaxReadBackBytes = std::size_t(1) << 30;
 std::vector<RowBand> readBackBands(int width, int height, std::size_t bytesPerPixel,
                                    std::size_t maxBytes = kMaxReadBackBytes);
 
-// What the mesh walks did (CAUSTIC_WALK_STATS; shaders/shared/layout.h, COUNTER_WALK_*): the
+// What the mesh walks did (IntegratorConfig::walkStats; shaders/shared/layout.h, COUNTER_WALK_*): the
 // walk loops' iterations as the SIMD groups ran them and as their lanes took part in them (the
 // lanes were busy laneSteps / (groupSteps * subgroupSize) of the time paid), and the instance
 // trees walked.
@@ -45,9 +46,13 @@ struct WalkStats {
 
 class Renderer {
 public:
-    // Compiles shaders/integrator/path.comp from shaderDir. On failure returns null with the
-    // compiler's messages mapped to file:line.
-    static std::unique_ptr<Renderer> create(const std::string& shaderDir, std::string* error);
+    // Compiles shaders/integrator/path.comp from shaderDir, configured by `config` (its unset
+    // choices take the current device's defaults). On failure returns null with the compiler's
+    // messages mapped to file:line.
+    static std::unique_ptr<Renderer> create(const std::string& shaderDir, const IntegratorConfig& config,
+                                            std::string* error);
+    // The configuration it runs with, every choice made.
+    const ResolvedIntegratorConfig& config() const { return m_config; }
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -117,7 +122,7 @@ public:
     std::uint64_t droppedSamples() const;
     std::uint64_t raysTraced() const;      // since the last restart of accumulation
     // The mesh walks' statistics since the last restart of accumulation: zeros unless the
-    // integrator was built with them ($CAUSTIC_WALK_STATS, integratorDefines).
+    // integrator was built with them (IntegratorConfig::walkStats).
     WalkStats walkStats() const;
 
     // Binds the frame constants (for samples [firstSample, firstSample + samples)) and the scene
@@ -141,7 +146,7 @@ public:
     // bakedPrimitiveTests): 1.8x on llvmpipe for the Cornell box, but every change of geometry
     // then builds a new program (about a second on llvmpipe). For renders whose geometry stays
     // put (batch mode, caustic-bench), not for the editor. Off by default; without
-    // specialisation it does nothing. $CAUSTIC_BAKE_GEOMETRY = 1 or 0 overrides it.
+    // specialisation it does nothing. IntegratorConfig::bakeGeometry, where set, overrides it.
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     // The integrator the last dispatch used (before any: the general one, built if need be).
     unsigned program();
@@ -171,7 +176,8 @@ private:
     PixelRect cropOf(const Scene& scene) const;   // m_crop within the scene's image
 
     // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
-    // top of integratorDefines(), compiling it the first time; false with the compiler's message.
+    // top of the configuration's (m_config.defines()), compiling it the first time; false with the
+    // compiler's message.
     bool useProgram(const ShaderDefines& features, std::string* error);
     // Makes m_program the one for the current scene and settings (compiling it the first time),
     // or the general one if that fails; called where the scene changes, and before each dispatch.
@@ -184,6 +190,7 @@ private:
     unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error);
 
     std::string m_shaderDir;
+    ResolvedIntegratorConfig m_config;
     bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
     bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
@@ -203,13 +210,11 @@ private:
     static constexpr int kGeometryBuffers = 5;
     unsigned m_geometry[kGeometryBuffers] = {};
     unsigned m_texels = 0, m_textures = 0, m_bsdfTables = 0;  // material textures, GGX albedo table
-    // Buffer textures over primitives, BVH nodes (binary, 4-wide, 8-wide and pair records),
-    // triangles, vertices, top-level entries, instances, materials, the primitives' hit records,
-    // lights, the light tree, the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
-    static constexpr int kTexelViews = 15;
-    unsigned m_pairNodes = 0;      // the meshes' pair BVHs (CAUSTIC_PAIR_BVH), RGBA32UI texels
-    unsigned m_wide8Nodes = 0;     // the meshes' 8-wide BVHs (CAUSTIC_WIDE_BVH=8), RGBA32UI texels
-    unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (CAUSTIC_WIDE_BVH)
+    // Buffer textures over primitives, BVH nodes (binary and 4-wide), triangles, vertices,
+    // top-level entries, instances, materials, the primitives' hit records, lights, the light tree,
+    // the CDF tables and the BSDF tables (TEXUNIT_*; bindScene attaches them).
+    static constexpr int kTexelViews = 13;
+    unsigned m_wideNodes = 0;      // GpuWideBvhNode[]: the meshes' 4-wide BVHs (geometry/walk_wide4.glsl)
     unsigned m_primitiveHits = 0;  // GpuPrimitive[]: the ray tests' form (primitiveHitRecords)
     unsigned m_texelViews[kTexelViews] = {};
     bool m_imageLoads = false;     // the views are also bound as images (enough image units; CAUSTIC_IMAGE_LOADS)

@@ -1,6 +1,5 @@
 #include "renderer/shader_loader.h"
 
-#include "renderer/bvh.h"
 #include "renderer/file_util.h"
 #include "shaders/shared/layout.h"
 
@@ -138,12 +137,8 @@ std::string mapShaderLog(const std::string& log, const ShaderSource& source) {
     return out;
 }
 
-unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName, std::string* error) {
-    // $CAUSTIC_COMPILE_TIMES = 1 prints each program's compile and link times to stderr (a
-    // profiling aid: on llvmpipe the link runs the GLSL and NIR passes; LLVM compiles the program
-    // at its first dispatch).
-    const char* timesEnv = std::getenv("CAUSTIC_COMPILE_TIMES");
-    const bool printTimes = timesEnv && std::strcmp(timesEnv, "1") == 0;
+unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName, std::string* error,
+                               bool printTimes) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
@@ -189,61 +184,6 @@ bool onLlvmpipe() {
     return renderer && std::strstr(renderer, "llvmpipe") != nullptr;
 }
 
-ShaderDefines integratorDefines() {
-    bool fetchTexels = false;
-    if (const char* env = std::getenv("CAUSTIC_FETCH_TEXELS"); env && *env) {
-        fetchTexels = std::strcmp(env, "0") != 0;
-    } else {
-        fetchTexels = onLlvmpipe();
-    }
-    ShaderDefines defines;
-    if (fetchTexels) defines.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
-    // Which form of the meshes' trees the walk reads (geometry/bvh.glsl; both extra forms only
-    // through buffer textures). On llvmpipe the 4-wide nodes with the register stack (below):
-    // against the pair records (renderer/bvh.h, buildPairBvh) mesh-knot 1.13x, textured-gltf
-    // 1.09x, textured-mesh 1.11x, gltf-cutouts 1.04x; against the binary nodes about 1.3x on the
-    // knot (docs/performance.md, session 13). $CAUSTIC_WIDE_BVH = 0 or 1 and $CAUSTIC_PAIR_BVH
-    // = 1 choose (the pair records when the 4-wide nodes are off); neither forces the binary
-    // nodes, NVIDIA's (the others are unmeasured there). $CAUSTIC_WIDE_BVH = 8 takes the 8-wide
-    // nodes (renderer/bvh.h, buildWide8Bvh): 0.88-0.97x on llvmpipe (session 21), kept to be
-    // measured on NVIDIA.
-    const int wideAsked = wideBvhRequest();
-    const bool pairAsked = pairBvhRequested();
-    bool wide = onLlvmpipe() && !pairAsked;
-    if (wideAsked >= 0) wide = wideAsked != 0;
-    wide = wide && fetchTexels;
-    if (wide) defines.emplace_back("CAUSTIC_WIDE_BVH", wideAsked == 8 ? "8" : "1");
-    if (pairAsked && fetchTexels && !wide) defines.emplace_back("CAUSTIC_PAIR_BVH", "1");
-    // Path regeneration (integrator/path.comp): on by default where the lanes of a work group
-    // run in lock step on the CPU (llvmpipe, whatever CAUSTIC_FETCH_TEXELS says);
-    // $CAUSTIC_REGENERATE = 1 or 0 forces it. Unmeasured on NVIDIA, so off there.
-    if (regeneratesPaths()) defines.emplace_back("CAUSTIC_REGENERATE", "1");
-    // The mesh walk's newest stack entries in variables (geometry/bvh.glsl,
-    // CAUSTIC_REGISTER_STACK, for every form of the trees): 2 on llvmpipe, where the memory
-    // stack's every push and pop is a per-lane store or load (binary walk, mesh-knot at 128 x 128
-    // x 8 spp: 8: 1.11x, 4: 1.08x, 12: 1.09x, 16: 1.0x; the 4-wide walk 2.2x, session 13). Since
-    // the scene is read with image loads (no helper calls that clobbered every vector register),
-    // 2 beats 8 (knot 1.03-1.06x in three runs, textured-gltf 1.04x, gltf-cutouts 1.02x,
-    // textured-mesh 1.02x; session 18): fewer vectors held live, fewer spills. Off elsewhere,
-    // unmeasured on NVIDIA.
-    // $CAUSTIC_REGISTER_STACK = N (1-32) or 0 sets it.
-    int registerStack = onLlvmpipe() ? 2 : 0;
-    if (const char* env = std::getenv("CAUSTIC_REGISTER_STACK"); env && *env) registerStack = std::clamp(std::atoi(env), 0, 32);
-    if (registerStack > 0) defines.emplace_back("CAUSTIC_REGISTER_STACK", std::to_string(registerStack));
-    // The buffer textures read as image buffers (scene/buffers.glsl, CAUSTIC_IMAGE_LOADS): on
-    // llvmpipe, whose texel fetches are calls (docs/performance.md, session 18); unmeasured on
-    // NVIDIA, so off there. $CAUSTIC_IMAGE_LOADS = 1 or 0 forces it (with the buffer textures only).
-    bool imageLoads = onLlvmpipe();
-    if (const char* env = std::getenv("CAUSTIC_IMAGE_LOADS"); env && *env) imageLoads = std::strcmp(env, "0") != 0;
-    if (imageLoads && fetchTexels && imageUnitsForTexelViews()) defines.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
-    // The mesh walks' statistics (geometry/bvh.glsl, CAUSTIC_WALK_STATS; Renderer::walkStats,
-    // printed by caustic-bench): a benchmark aid, on only where $CAUSTIC_WALK_STATS is set (and not 0). Counts do
-    // not move with the machine's load as timings do (docs/performance.md, session 20).
-    if (const char* env = std::getenv("CAUSTIC_WALK_STATS"); env && *env && std::strcmp(env, "0") != 0)
-        defines.emplace_back("CAUSTIC_WALK_STATS", "1");
-    return defines;
-}
-
 // Units: the views' images reach IMAGE_UNIT_TEXELS + TEXUNIT_LAST; image uniforms of the
 // integrator: the film's IMAGE_UNIT_TEXELS plus one per view (TEXUNIT_1..TEXUNIT_LAST).
 bool imageUnitsForTexelViews() {
@@ -251,11 +191,6 @@ bool imageUnitsForTexelViews() {
     glGetIntegerv(GL_MAX_IMAGE_UNITS, &units);
     glGetIntegerv(GL_MAX_COMPUTE_IMAGE_UNIFORMS, &computeImages);
     return units > IMAGE_UNIT_TEXELS + TEXUNIT_LAST && computeImages >= IMAGE_UNIT_TEXELS + TEXUNIT_LAST;
-}
-
-bool regeneratesPaths() {
-    if (const char* env = std::getenv("CAUSTIC_REGENERATE"); env && *env) return std::strcmp(env, "0") != 0;
-    return onLlvmpipe();
 }
 
 std::string defaultShaderDir() {

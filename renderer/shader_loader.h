@@ -37,30 +37,19 @@ private:
 std::string mapShaderLog(const std::string& log, const ShaderSource& source);
 
 // Compiles and links a compute program; on failure returns 0 and an error whose lines name the
-// files (through mapShaderLog), prefixed with the entry file.
-unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName,
-                               std::string* error);
+// files (through mapShaderLog), prefixed with the entry file. With printTimes, its compile and
+// link times go to stderr (a measuring aid: on llvmpipe the link runs the GLSL and NIR passes;
+// LLVM compiles the program at its first dispatch).
+unsigned compileComputeProgram(const ShaderSource& source, const std::string& entryName, std::string* error,
+                               bool printTimes = false);
 
-// Whether the current context's driver is Mesa's llvmpipe (GL_RENDERER), where the integrator's
-// configuration differs (integratorDefines, the renderer's specialisation).
+// Whether the current context's driver is Mesa's llvmpipe (GL_RENDERER), whose defaults differ
+// (renderer/integrator_config.h).
 bool onLlvmpipe();
-
-// The configuration every program that includes the scene's shaders is built with (the
-// integrator, the test kernels, the benchmark's kernels), for the current context's driver: on
-// Mesa's llvmpipe CAUSTIC_FETCH_TEXELS (scene data read through buffer textures; why:
-// shaders/scene/buffers.glsl). $CAUSTIC_FETCH_TEXELS = 1 or 0 forces it on or off (to test both
-// configurations on one driver). The same GLSL source either way.
-ShaderDefines integratorDefines();
 
 // Whether this context has image units for every buffer texture's image view (IMAGE_UNIT_TEXELS +
 // TEXUNIT_*, shared/layout.h): where CAUSTIC_IMAGE_LOADS may be defined (scene/buffers.glsl).
 bool imageUnitsForTexelViews();
-
-// Whether integratorDefines() turns on path regeneration (CAUSTIC_REGENERATE: a lane whose path
-// ends starts its pixel's next sample within the same dispatch; integrator/path.comp): by default
-// on llvmpipe, $CAUSTIC_REGENERATE = 1 or 0 forces it. It pays only when a dispatch holds several
-// samples per pixel, so the renderer then makes its batch dispatches longer.
-bool regeneratesPaths();
 
 // Where the shaders are: $CAUSTIC_SHADER_DIR, else <executable dir>/../shaders (build/caustic in
 // a checkout), else the source tree's shaders/ recorded at configure time.

@@ -294,12 +294,12 @@ glm::vec4 sampleTextureLevel0(const CompiledScene& c, std::uint32_t index, glm::
 bool alphaMaskKeeps(const CompiledScene& c, std::uint32_t instance, std::uint32_t slot, float u, float v) {
     if (instance >= c.instances.size()) return true;
     const gpu::GpuInstance& inst = c.instances[instance];
-    if ((inst.info2.w & PRIM_FLAG_ALPHA_MASK) == 0u) return true;
-    const std::size_t k = std::size_t(inst.info.y) + slot;
+    if ((inst.flags & PRIM_FLAG_ALPHA_MASK) == 0u) return true;
+    const std::size_t k = std::size_t(inst.firstTriangle) + slot;
     if (k >= c.triangles.size()) return true;
     const gpu::GpuTriangle& tri = c.triangles[k];
     // geometry/surface.glsl triangleMaterial and triangleUv.
-    const std::uint32_t material = inst.info.z + (inst.info2.z != 0u ? std::bit_cast<std::uint32_t>(tri.p0.w) : 0u);
+    const std::uint32_t material = inst.material + (inst.fileMaterials != 0u ? std::bit_cast<std::uint32_t>(tri.p0.w) : 0u);
     if (material >= c.materials.size()) return true;
     const gpu::GpuMaterial& m = c.materials[material];
     if ((m.info.y & MAT_FLAG_ALPHA_MASK) == 0u) return true;

@@ -433,7 +433,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         ImGui_ImplOpenGL3_Init("#version 450 core");
 
         ui->shaderDir = defaultShaderDir();
-        ui->renderer = Renderer::create(ui->shaderDir, &error);
+        ui->integratorConfig = IntegratorConfig::fromEnvironment();
+        ui->renderer = Renderer::create(ui->shaderDir, ui->integratorConfig, &error);
         if (ui->renderer) ui->renderer->setImageReader(readImage);
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         ui->display = Display::create(ui->shaderDir, &error);
@@ -689,7 +690,7 @@ void reloadShaders(EditorUi& ui) {
     // Every program is compiled before any is replaced: a failed compile keeps all of the last
     // working ones (the viewport's tone mapping included), never a mix.
     std::string error;
-    auto fresh = Renderer::create(ui.shaderDir, &error);
+    auto fresh = Renderer::create(ui.shaderDir, ui.integratorConfig, &error);
     if (fresh && !fresh->checkSource(&error)) fresh.reset();   // create() no longer compiles it on llvmpipe
     std::unique_ptr<Display> display = fresh ? Display::create(ui.shaderDir, &error) : nullptr;
     if (!fresh || !display) {

@@ -53,6 +53,7 @@ struct EditorUi {
     std::unique_ptr<Renderer> renderer;
     std::unique_ptr<Display> display;
     std::string shaderDir;
+    IntegratorConfig integratorConfig;  // filled once at start (IntegratorConfig::fromEnvironment)
     RecentFiles recent;
     std::string recentListPath;
     Autosave autosave;

@@ -46,7 +46,7 @@ void MaterialPreview::tick(EditorUi& ui) {
     if (!requested || !m_wanted || m_createFailed) return;
     std::string error;
     if (!m_renderer) {
-        m_renderer = Renderer::create(ui.shaderDir, &error);
+        m_renderer = Renderer::create(ui.shaderDir, ui.integratorConfig, &error);
         if (m_renderer) m_display = Display::create(ui.shaderDir, &error);
         if (!m_renderer || !m_display) {
             m_createFailed = true;

@@ -50,7 +50,7 @@ bool alphaMaskKeepsMaterial(uint material, vec2 uv) {
 
 // Whether a hit on triangle `tri` of instance `inst` at barycentrics b counts (false: cut out).
 bool alphaMaskKeeps(GpuInstance inst, GpuTriangle tri, vec2 b) {
-    if (CAUSTIC_ALPHA_MASK == 0u || (inst.info2.w & PRIM_FLAG_ALPHA_MASK) == 0u) return true;
+    if (CAUSTIC_ALPHA_MASK == 0u || (inst.flags & PRIM_FLAG_ALPHA_MASK) == 0u) return true;
     return alphaMaskKeepsMaterial(triangleMaterial(inst, tri), triangleUv(tri, b));
 }
 

@@ -9,10 +9,9 @@
 //   Boxes: the slab test picking the near/far plane by the direction's sign, with the far
 //   distance scaled by 1 + 2 gamma_3 (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); an
 //   inverted (empty) box is never entered.
-//   A mesh's tree is walked in one of three forms (renderer/shader_loader.cpp chooses): the binary
-//   nodes (NVIDIA), the 4-wide nodes (CAUSTIC_WIDE_BVH, llvmpipe) or the pair records
-//   (CAUSTIC_PAIR_BVH, on request: both children of a binary node in one 32-byte record,
-//   renderer/bvh.h).
+//   A mesh's tree is walked in one of two forms, one file each (renderer/integrator_config.h
+//   chooses): the binary nodes with a memory stack (geometry/walk_binary.glsl, NVIDIA's) or the
+//   4-wide nodes with a register stack (geometry/walk_wide4.glsl, llvmpipe's).
 //   Triangles: Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection", JCGT 2(1),
 //   with float edge functions kept monotone (`precise`: never of the wrong sign) and those that
 //   are exactly 0 redone in double (as the CPU reference does).
@@ -24,12 +23,11 @@
 
 // The most a traversal holds: the top level's pending siblings (fewer than kBvhMaxDepth = 32) and
 // the instance tree's (fewer than 32). A push that would overflow is dropped (the node is not
-// visited) rather than written out of bounds. (76 entries since the one-loop traversal, which also
-// kept instance entries and exit markers there; kept, as what NVIDIA was measured with.)
-// The 4-wide BVH (CAUSTIC_WIDE_BVH) pushes up to three siblings per step: 31 top-level entries and
-// 3 per level of an instance's tree (no deeper than its binary tree, 32) need 127. Only programs
-// that can meet a mesh get the larger stack: on llvmpipe 128 entries made scenes without meshes
-// that walk the top level 10-20 % slower than 76 (docs/performance.md).
+// visited) rather than written out of bounds. (76 entries: what NVIDIA is measured with.)
+// The 4-wide walk pushes up to three siblings per step: 31 top-level entries and 3 per level of
+// an instance's tree (no deeper than its binary tree, 32) need 127. Only programs that can meet a
+// mesh get the larger stack: on llvmpipe 128 entries make scenes without meshes that walk the top
+// level 10-20 % slower than 76 (docs/performance.md).
 #if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
 const int BVH_STACK_SIZE = HAS_MESHES ? 128 : 76;
 #else
@@ -116,7 +114,7 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, float tMax, o
     float w = edgeFunction(bx, ay, by, ax);
     // A float edge function that is 0 may be a rounding artefact (never one of the wrong sign):
     // redone in double (exact products), as in Woop et al. (Not by fma two-products: GLSL's fma
-    // need not round once, and llvmpipe's does not; docs/performance.md, session 19.)
+    // need not round once, and llvmpipe's does not.)
     if (u == 0.0 || v == 0.0 || w == 0.0) {
         double ud = double(cx) * double(by) - double(cy) * double(bx);
         double vd = double(ax) * double(cy) - double(ay) * double(cx);
@@ -174,11 +172,9 @@ uint g_walkGroupSteps = 0u, g_walkLaneSteps = 0u, g_walkTrees = 0u;
 
 // One interior node's step: tests both children against the ray; the nearer one hit becomes
 // `node` and its record `n` (fetched here for its box, so the walk does not fetch it again: a
-// third of the binary walk's fetches; neutral on llvmpipe, session 12), the farther one (when both
-// are hit) goes on the stack. False when neither is hit. (The register stack's walk in
-// traceInstanceTree has the same step inline, pushing to its variables: one step function for both
-// with the far child as an `out` made the memory-stack walk, NVIDIA's, 0.65-0.76x on llvmpipe,
-// as did a stack struct passed `inout`; session 12.)
+// third of the binary walk's fetches; neutral on llvmpipe), the farther one (when both
+// are hit) goes on the stack. False when neither is hit. Used by the top level's walk and the
+// binary mesh walk (geometry/walk_binary.glsl).
 bool bvhDescend(inout GpuBvhNode n, inout uint node, vec3 o, vec3 invD, float tMax, inout int sp) {
     uint l = node + 1u, r = n.rightOrFirst;
     GpuBvhNode nl = loadBvhNode(l), nr = loadBvhNode(r);
@@ -229,304 +225,13 @@ bool traceLeafTriangles(WatertightRay wr, GpuInstance inst, uint instance, uint 
     return found;
 }
 
+// The mesh walk: one file per form of the meshes' trees, chosen by the integrator's
+// configuration (renderer/integrator_config.h). Each defines traceInstanceTree.
 #if defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
-// One step through a 4-wide node (GpuWideBvhNode): its four children's boxes slab-tested at once
-// (the same test as slabTest, by coordinate over vec4s), the nearest child hit becomes `ref`; the
-// others hit, farthest first, are the last `nFar` of (far.x, far.y, far.z), for the caller to push
-// in that order. False when none is hit.
-bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, out int nFar) {
-    // The node's four texels (GpuWideBvhNode), its boxes decoded from bytes: bound = origin +
-    // q * scale, exact product, so the decoded box is the one renderer/bvh.cpp checked contains
-    // the child's.
-    uint t0 = 4u * ref;
-    uvec4 head = FETCH_U4(wideNodeTexels, t0), qXY = FETCH_U4(wideNodeTexels, t0 + 1u);
-    uvec2 qZ = FETCH_U4(wideNodeTexels, t0 + 2u).xy;
-    uvec4 child = FETCH_U4(wideNodeTexels, t0 + 3u);
-    vec3 origin = uintBitsToFloat(head.xyz);
-    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
-#define WIDE_BYTES(w) vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu)
-    vec4 minX = origin.x + WIDE_BYTES(qXY.x) * scale.x, maxX = origin.x + WIDE_BYTES(qXY.y) * scale.x;
-    vec4 minY = origin.y + WIDE_BYTES(qXY.z) * scale.y, maxY = origin.y + WIDE_BYTES(qXY.w) * scale.y;
-    vec4 minZ = origin.z + WIDE_BYTES(qZ.x) * scale.z, maxZ = origin.z + WIDE_BYTES(qZ.y) * scale.z;
-#undef WIDE_BYTES
-    vec4 tn;
-    bvec4 h = slabTests(minX, maxX, minY, maxY, minZ, maxZ, o, invD, tMax, tn);
-    // Entry distances of the children hit (+inf for the others), sorted with their references by
-    // a 5-comparator network: (0 1) (2 3) (0 2) (1 3) (1 2).
-    vec4 key = mix(vec4(uintBitsToFloat(0x7f800000u)), tn, h);
-    uvec4 c = child;
-#define WIDE_SORT2(i, j) \
-    if (key[j] < key[i]) { float tk = key[i]; key[i] = key[j]; key[j] = tk; uint tc = c[i]; c[i] = c[j]; c[j] = tc; }
-    WIDE_SORT2(0, 1) WIDE_SORT2(2, 3) WIDE_SORT2(0, 2) WIDE_SORT2(1, 3) WIDE_SORT2(1, 2)
-#undef WIDE_SORT2
-    far = c.wzy;
-    nFar = (isinf(key.y) ? 0 : 1) + (isinf(key.z) ? 0 : 1) + (isinf(key.w) ? 0 : 1);
-    if (isinf(key.x)) return false;
-    ref = c.x;
-    return true;
-}
-#endif
-
-#if defined(CAUSTIC_WIDE_BVH) && CAUSTIC_WIDE_BVH == 8 && defined(CAUSTIC_FETCH_TEXELS)
-// One step through an 8-wide node (renderer/bvh.h, buildWide8Bvh; its six texels, the children's
-// references (r0, r1) too, so that the walk goes on to the first child without another fetch):
-// its eight children's boxes slab-tested at once, as slabTest does it, the near and far planes'
-// bytes picked by the direction's signs before they are decoded. Returns the children hit as a
-// mask in the walk's order: bit p for slot p ^ oct (oct: the direction's octant).
-uint wide8Hits(uint t0, vec3 o, vec3 invD, float tMax, uint oct, out uvec4 r0, out uvec4 r1) {
-    r0 = FETCH_U4(wide8NodeTexels, t0 + 4u);
-    r1 = FETCH_U4(wide8NodeTexels, t0 + 5u);
-    uvec4 head = FETCH_U4(wide8NodeTexels, t0);
-    uvec4 qx = FETCH_U4(wide8NodeTexels, t0 + 1u), qy = FETCH_U4(wide8NodeTexels, t0 + 2u);
-    uvec4 qz = FETCH_U4(wide8NodeTexels, t0 + 3u);
-    vec3 origin = uintBitsToFloat(head.xyz);
-    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
-    // (near of slots 0-3, near of 4-7, far of 0-3, far of 4-7) on each axis
-    uvec4 px = invD.x < 0.0 ? qx.zwxy : qx, py = invD.y < 0.0 ? qy.zwxy : qy, pz = invD.z < 0.0 ? qz.zwxy : qz;
-#define W8_PLANE(w, axis) ((origin[axis] + vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu) * scale[axis] - o[axis]) * invD[axis])
-    vec4 tn0 = max(max(W8_PLANE(px.x, 0), W8_PLANE(py.x, 1)), max(W8_PLANE(pz.x, 2), vec4(0.0)));
-    vec4 tn1 = max(max(W8_PLANE(px.y, 0), W8_PLANE(py.y, 1)), max(W8_PLANE(pz.y, 2), vec4(0.0)));
-    vec4 tf0 = min(min(W8_PLANE(px.z, 0), W8_PLANE(py.z, 1)), W8_PLANE(pz.z, 2)) * 1.0000004;
-    vec4 tf1 = min(min(W8_PLANE(px.w, 0), W8_PLANE(py.w, 1)), W8_PLANE(pz.w, 2)) * 1.0000004;
-#undef W8_PLANE
-    bvec4 h0 = lessThanEqual(tn0, min(tf0, vec4(tMax))), h1 = lessThanEqual(tn1, min(tf1, vec4(tMax)));
-    uvec4 b0 = mix(uvec4(0u), uvec4(1u, 2u, 4u, 8u), h0), b1 = mix(uvec4(0u), uvec4(16u, 32u, 64u, 128u), h1);
-    uint m = (b0.x | b0.y) | (b0.z | b0.w) | (b1.x | b1.y) | (b1.z | b1.w);
-    // Slot k's bit to bit k ^ oct: XOR by each of oct's bits swaps bits, pairs or nibbles.
-    m = (oct & 1u) != 0u ? ((m & 0x55u) << 1) | ((m >> 1) & 0x55u) : m;
-    m = (oct & 2u) != 0u ? ((m & 0x33u) << 2) | ((m >> 2) & 0x33u) : m;
-    m = (oct & 4u) != 0u ? ((m & 0x0fu) << 4) | (m >> 4) : m;
-    return m;
-}
-#endif
-
-// The register stack of the mesh walks (CAUSTIC_REGISTER_STACK; docs/design.md): the walk's K
-// newest pending entries in its variables s[0..K-1] (s[0] the newest, `held` of them), the older
-// ones on the memory stack above `base`, which holds entries only while s is full. Macros over the
-// walk's own variables: a function taking the stack `inout` made the memory-stack walk 0.65-0.76x
-// on llvmpipe (session 12).
-// The stack's variables, at the walk's start: K of them (CAUSTIC_REGISTER_STACK; the pair and
-// 8-wide walks, which always use the macros, hold 1 without it), none held.
-#ifdef CAUSTIC_REGISTER_STACK
-#define REGISTER_STACK_K CAUSTIC_REGISTER_STACK
+#include "walk_wide4.glsl"
 #else
-#define REGISTER_STACK_K 1
+#include "walk_binary.glsl"
 #endif
-#define REGISTER_STACK_DECLARE()                                                                \
-    const int K = REGISTER_STACK_K;                                                             \
-    uint s[K];                                                                                  \
-    for (int i = 0; i < K; ++i) s[i] = 0u;                                                      \
-    int held = 0;
-#define REGISTER_STACK_PUSH(value)                                                              \
-    {                                                                                           \
-        if (held == K) {                                                                        \
-            if (sp < BVH_STACK_SIZE) g_bvhStack[sp++] = s[K - 1];                               \
-        } else {                                                                                \
-            ++held;                                                                             \
-        }                                                                                       \
-        for (int i = K - 1; i > 0; --i) s[i] = s[i - 1];                                        \
-        s[0] = (value);                                                                         \
-    }
-// The newest entry into `dest`, or out of the walk's loop when there is none.
-#define REGISTER_STACK_POP(dest)                                                                \
-    if (held == 0) break;                                                                       \
-    dest = s[0];                                                                                \
-    for (int i = 0; i < K - 1; ++i) s[i] = s[i + 1];                                            \
-    if (sp > base) {                                                                            \
-        s[K - 1] = g_bvhStack[--sp];                                                            \
-    } else {                                                                                    \
-        --held;                                                                                 \
-    }
-
-// A mesh instance's own BVH, in object space (the ray transformed; t keeps its meaning), on the
-// stack above `base`, which it leaves as it found it. Its loop is nested in the top level's so
-// that an iteration in a mesh runs only the mesh's code: llvmpipe executes every branch of a loop
-// body under a lane mask, so one loop for both levels paid for the top level's primitive tests
-// and the instance entry at every step through a mesh (docs/performance.md).
-// With CAUSTIC_WIDE_BVH (and buffer textures) the mesh's 4-wide BVH is walked instead of the
-// binary one: half as many steps, each testing four boxes (docs/performance.md).
-// The instance's tree below its root, whose box the ray (o, d in object space) is known to hit.
-bool traceInstanceTree(GpuInstance inst, uint instance, vec3 o, vec3 d, vec3 invD, bool anyHit, int base,
-                       inout TraceHit hit) {
-    WALK_STATS_TREE()
-    WatertightRay wr = makeWatertightRay(o, d);
-    uint node = inst.info.x;
-    uint firstTriangle = inst.info.y;
-    int sp = base;
-    bool found = false;
-#if defined(CAUSTIC_WIDE_BVH) && CAUSTIC_WIDE_BVH == 8 && defined(CAUSTIC_FETCH_TEXELS)
-    // The 8-wide nodes (wide8Hits): the node whose children are being visited and their mask in
-    // `group` (the node's first texel | the mask << 24), one stack entry per node whose children are
-    // left when the walk goes down: at most one push a step, no sort. Each iteration is a node's
-    // step, which goes on to its first child hit at once, or a leaf's triangles, after which the
-    // next child's reference is read from its node (or a node's entry popped first).
-    REGISTER_STACK_DECLARE()
-    uint oct = (invD.x < 0.0 ? 1u : 0u) | (invD.y < 0.0 ? 2u : 0u) | (invD.z < 0.0 ? 4u : 0u);
-    uint ref = inst.info3.z;  // the root, a node
-    uint group = 0u;
-    while (true) {
-        WALK_STATS_STEP()
-        if ((ref & WIDE_CHILD_LEAF) == 0u) {
-            uvec4 r0, r1;
-            uint hits = wide8Hits(ref, o, invD, hit.t, oct, r0, r1);
-            if (hits != 0u) {
-                // The first child at once (its reference is in the texels just read).
-                uint p = uint(findLSB(hits));
-                uint slot = p ^ oct;
-                uint next = (slot < 4u ? r0 : r1)[slot & 3u];
-                hits &= hits - 1u;
-                if (hits != 0u) {
-                    if (group >= (1u << 24)) REGISTER_STACK_PUSH(group)
-                    group = ref | (hits << 24);
-                }
-                ref = next;
-                continue;
-            }
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref),
-                                      anyHit, hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        if (group < (1u << 24)) {
-            REGISTER_STACK_POP(group)
-        }
-        uint p = uint(findLSB(group >> 24));
-        group &= ~(1u << (24u + p));
-        uint slot = p ^ oct;
-        uvec4 refs = FETCH_U4(wide8NodeTexels, (group & 0xffffffu) + 4u + (slot >> 2));
-        ref = refs[slot & 3u];
-    }
-#elif defined(CAUSTIC_WIDE_BVH) && defined(CAUSTIC_FETCH_TEXELS)
-    uint ref = inst.info3.x;
-    uvec3 far;
-    int nFar;
-#ifdef CAUSTIC_REGISTER_STACK
-    // With the register stack (REGISTER_STACK_PUSH and _POP above), one loop: a step or a leaf
-    // per iteration (llvmpipe's default; knot 1.05-1.14x over the pair walk, 2.2x over the memory
-    // stack's nested loops below; docs/performance.md, session 13).
-    REGISTER_STACK_DECLARE()
-    while (true) {
-        WALK_STATS_STEP()
-        if ((ref & WIDE_CHILD_LEAF) == 0u) {
-            bool descends = wideDescend(ref, o, invD, hit.t, far, nFar);
-            if (nFar >= 3) REGISTER_STACK_PUSH(far.x)
-            if (nFar >= 2) REGISTER_STACK_PUSH(far.y)
-            if (nFar >= 1) REGISTER_STACK_PUSH(far.z)
-            if (descends) continue;
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref),
-                                      anyHit, hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        REGISTER_STACK_POP(ref)
-    }
-#else
-    while (true) {
-        WALK_STATS_STEP()
-        // Down to a leaf (or out of the tree) first, then the leaf: the lanes test their leaves'
-        // triangles together instead of each step paying for both.
-        bool done = false;
-        while ((ref & WIDE_CHILD_LEAF) == 0u) {
-            WALK_STATS_STEP()
-            bool descends = wideDescend(ref, o, invD, hit.t, far, nFar);
-            if (nFar >= 3 && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = far.x;
-            if (nFar >= 2 && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = far.y;
-            if (nFar >= 1 && sp < BVH_STACK_SIZE) g_bvhStack[sp++] = far.z;
-            if (descends) continue;
-            if (sp == base) { done = true; break; }
-            ref = g_bvhStack[--sp];
-        }
-        if (done) break;
-        if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(ref), LEAF_COUNT(ref), anyHit,
-                               hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        if (sp == base) break;
-        ref = g_bvhStack[--sp];
-    }
-#endif
-#elif defined(CAUSTIC_PAIR_BVH) && defined(CAUSTIC_FETCH_TEXELS)
-    // The pair records (renderer/bvh.h, buildPairBvh): a step reads one record, both children's
-    // boxes (16-bit values on the tree's grid: bound = origin + q * scale, exact product, so the
-    // decoded box is the one renderer/bvh.cpp checked contains the child's) and links; a link is a
-    // record's texel index or a leaf's triangles, so a popped link needs no fetch. The far child
-    // hit goes on the register stack (K = CAUSTIC_REGISTER_STACK, or 1 without it).
-    uvec4 head = FETCH_U4(pairNodeTexels, inst.info3.y);
-    vec3 origin = uintBitsToFloat(head.xyz);
-    vec3 scale = uintBitsToFloat(((uvec3(head.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
-    REGISTER_STACK_DECLARE()
-    uint link = inst.info3.y + 1u;  // the root's record
-    while (true) {
-        WALK_STATS_STEP()
-        if ((link & PAIR_LINK_LEAF) == 0u) {
-            uvec4 a = FETCH_U4(pairNodeTexels, link), b = FETCH_U4(pairNodeTexels, link + 1u);
-#define PAIR_BOUNDS(w, axis) (origin[axis] + vec2(uvec2(w & 0xffffu, w >> 16)) * scale[axis])
-            vec2 minX = PAIR_BOUNDS(a.x, 0), maxX = PAIR_BOUNDS(a.y, 0);
-            vec2 minY = PAIR_BOUNDS(a.z, 1), maxY = PAIR_BOUNDS(a.w, 1);
-            vec2 minZ = PAIR_BOUNDS(b.x, 2), maxZ = PAIR_BOUNDS(b.y, 2);
-#undef PAIR_BOUNDS
-            vec2 tn;
-            bvec2 h = slabTests(minX, maxX, minY, maxY, minZ, maxZ, o, invD, hit.t, tn);
-            bool firstFirst = h.x && (!h.y || tn.x <= tn.y);
-            if (h.x && h.y) REGISTER_STACK_PUSH(firstFirst ? b.w : b.z)
-            if (h.x || h.y) {
-                link = firstFirst ? b.z : b.w;
-                continue;
-            }
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, LEAF_FIRST(link), LEAF_COUNT(link),
-                                      anyHit, hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        REGISTER_STACK_POP(link)
-    }
-#elif defined(CAUSTIC_REGISTER_STACK)
-    // The newest CAUSTIC_REGISTER_STACK entries held in variables (s[0] the newest), the older ones
-    // on the memory stack above `base`, which holds entries only while s is full.
-    REGISTER_STACK_DECLARE()
-    GpuBvhNode n = loadBvhNode(node);
-    while (true) {
-        WALK_STATS_STEP()
-        uint count = n.countAndAxis >> 2;
-        if (count == 0u) {
-            uint l = node + 1u, r = n.rightOrFirst;
-            GpuBvhNode nl = loadBvhNode(l), nr = loadBvhNode(r);
-            float tl, tr;
-            bool hl = slabTest(nl, o, invD, hit.t, tl);
-            bool hr = slabTest(nr, o, invD, hit.t, tr);
-            bool leftFirst = hl && (!hr || tl <= tr);
-            if (hl && hr) REGISTER_STACK_PUSH(leftFirst ? r : l)
-            if (hl || hr) {
-                node = leftFirst ? l : r;
-                n = leftFirst ? nl : nr;
-                continue;
-            }
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, n.rightOrFirst, count, anyHit, hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        REGISTER_STACK_POP(node)
-        n = loadBvhNode(node);
-    }
-#else
-    GpuBvhNode n = loadBvhNode(node);
-    while (true) {
-        WALK_STATS_STEP()
-        uint count = n.countAndAxis >> 2;
-        if (count == 0u) {
-            if (bvhDescend(n, node, o, invD, hit.t, sp)) continue;
-        } else if (traceLeafTriangles(wr, inst, instance, firstTriangle, n.rightOrFirst, count, anyHit, hit)) {
-            found = true;
-            if (anyHit) return true;
-        }
-        if (sp == base) break;
-        node = g_bvhStack[--sp];
-        n = loadBvhNode(node);
-    }
-#endif
-    return found;
-}
 
 // The ray in the instance's object space (t keeps its meaning: d is not renormalised).
 void rayToObject(GpuInstance inst, vec3 rayO, vec3 rayD, out vec3 o, out vec3 d) {
@@ -541,7 +246,7 @@ bool traceInstanceRecord(GpuInstance inst, uint instance, vec3 rayO, vec3 rayD, 
     rayToObject(inst, rayO, rayD, o, d);
     vec3 invD = safeInverse(d);
     float tEnter;
-    if (!slabTest(loadBvhNode(inst.info.x), o, invD, hit.t, tEnter)) return false;
+    if (!slabTest(loadBvhNode(inst.rootNode), o, invD, hit.t, tEnter)) return false;
     return traceInstanceTree(inst, instance, o, d, invD, anyHit, base, hit);
 }
 
@@ -595,9 +300,18 @@ bool traceInstance(uint instance, vec3 rayO, vec3 rayD, bool anyHit, int base, i
             inst.objectToWorld0 = uintBitsToFloat(o0);                                        \
             inst.objectToWorld1 = uintBitsToFloat(o1);                                        \
             inst.objectToWorld2 = uintBitsToFloat(o2);                                        \
-            inst.info = i1;                                                                   \
-            inst.info2 = i2;                                                                  \
-            inst.info3 = i3;                                                                  \
+            inst.rootNode = i1.x;                                                             \
+            inst.firstTriangle = i1.y;                                                        \
+            inst.material = i1.z;                                                             \
+            inst.light = i1.w;                                                                \
+            inst.firstVertex = i2.x;                                                          \
+            inst.triangleCount = i2.y;                                                        \
+            inst.fileMaterials = i2.z;                                                        \
+            inst.flags = i2.w;                                                                \
+            inst.wideRoot = i3.x;                                                             \
+            inst.unused0 = i3.y;                                                              \
+            inst.unused1 = i3.z;                                                              \
+            inst.unused2 = i3.w;                                                              \
         }
 #endif
 

@@ -123,8 +123,8 @@ Hit hitAttributes(Ray r, TraceHit th) {
         GpuTriangle tri = loadTriangle(th.triangle);
         hit.ng = normalize(instanceNormalToWorld(inst, cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz)));
         hit.material = triangleMaterial(inst, tri);
-        hit.light = inst.info.w;
-        hit.flags = inst.info2.w;
+        hit.light = inst.light;
+        hit.flags = inst.flags;
         hit.ns = triangleShadingNormal(inst, tri, th.bary, hit.ng);
     }
     hit.ref = th.ref;

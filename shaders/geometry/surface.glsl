@@ -46,7 +46,7 @@ SurfacePoint primitiveSurface(GpuPrimitive prim, vec3 p) {
 // The material of a mesh triangle: the object's, or (info2.z != 0) the model file's own, whose
 // slot the triangle carries in p0.w.
 uint triangleMaterial(GpuInstance inst, GpuTriangle tri) {
-    return inst.info.z + (inst.info2.z != 0u ? floatBitsToUint(tri.p0.w) : 0u);
+    return inst.material + (inst.fileMaterials != 0u ? floatBitsToUint(tri.p0.w) : 0u);
 }
 
 vec3 instanceDirectionToWorld(GpuInstance inst, vec3 v) {

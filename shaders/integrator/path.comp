@@ -22,7 +22,7 @@ void main() {
     // DISPATCH_STRIDES): consecutive groups take tiles M apart. llvmpipe hands each of its threads
     // one contiguous run of the grid's work groups, so with tiles in image order the thread with
     // the image's busy half (mesh-knot's knots) worked on while the other slept: 1.5 of 2 cores
-    // busy. Now each run holds tiles from every band of the image (docs/performance.md, session 13).
+    // busy. Now each run holds tiles from every band of the image (docs/performance.md).
     uint count = frame.dispatch.w - frame.dispatch.z;
     uint bandTiles = (count + DISPATCH_STRIDES - 1u) / DISPATCH_STRIDES;
     uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;

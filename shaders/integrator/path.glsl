@@ -351,8 +351,8 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
 // A path step after the walk of its two rays (CAUSTIC_PAIRED_TRACE): found and th are the
 // continuation ray's closest hit, occluded whether the last vertex's shadow ray met anything. The
 // shadow ray's radiance is added first, as it was at its vertex; a path that had ended with only
-// its shadow ray left ends here. (The seam where a wavefront would cut the step: session 11's
-// shade kernel called this with what its walk kernel found; docs/performance.md.)
+// its shadow ray left ends here. (The seam where a wavefront would cut the step: a shade kernel
+// would call this with what a walk kernel found; docs/performance.md, "Ideas tried and not kept".)
 bool pathResolve(inout PathState st, inout Sampler smp, bool found, TraceHit th, bool occluded) {
     if (st.shadowPending && !occluded) st.L += st.shadowL;
     st.shadowPending = false;

@@ -25,18 +25,9 @@
 
 layout(std430, binding = BINDING_LIGHT_TREE) readonly buffer LightTreeBuffer { GpuLightNode lightTree[]; };
 
-GpuLightNode loadLightNode(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuLightNode n;
-    n.boundsMin = FETCH_F4(lightNodeTexels, 4u * i);
-    n.boundsMax = FETCH_F4(lightNodeTexels, 4u * i + 1u);
-    n.axis = FETCH_F4(lightNodeTexels, 4u * i + 2u);
-    n.info = FETCH_U4(lightNodeTexels, 4u * i + 3u);
-    return n;
-#else
-    return lightTree[i];
-#endif
-}
+#define GPU_TEXELS lightNodeTexels
+GPU_TEXEL_LOADER(GpuLightNode, GPU_LIGHT_NODE_ROWS, loadLightNode, lightTree)
+#undef GPU_TEXELS
 
 const float ONE_MINUS_EPSILON = 0.99999994;  // the largest float below 1
 

@@ -153,7 +153,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         // A triangle by area (binary search of the instance's CDF), then a uniform point in it
         // (PBRT 4th ed. eq. A.12, the square-root parametrisation), reusing u.x's remainder.
         GpuInstance inst = loadInstance(l.info.z);
-        uint offset = l.info.w, count = inst.info2.y;
+        uint offset = l.info.w, count = inst.triangleCount;
         uint lo = 0u, hi = count - 1u;
         while (lo < hi) {
             uint mid = (lo + hi) >> 1;
@@ -161,7 +161,7 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
         }
         float c0 = lo > 0u ? meshLightCdf(offset + lo - 1u) : 0.0, c1 = meshLightCdf(offset + lo);
         float ux = c1 > c0 ? clamp((u.x - c0) / (c1 - c0), 0.0, 1.0) : 0.5;
-        GpuTriangle tri = loadTriangle(inst.info.y + lo);
+        GpuTriangle tri = loadTriangle(inst.firstTriangle + lo);
         float su = sqrt(ux);
         vec2 b = vec2(su * (1.0 - u.y), su * u.y);  // weights of p1 and p2
         vec3 qo = (1.0 - b.x - b.y) * tri.p0.xyz + b.x * tri.p1.xyz + b.y * tri.p2.xyz;

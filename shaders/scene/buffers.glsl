@@ -46,7 +46,7 @@ layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[
 // Reading the hot scene data: loadPrimitive, loadBvhNode, loadTriangle, loadVertex, loadTlasRef,
 // loadInstance, loadMaterial, loadLight, sceneTable, bsdfTable (and loadLightNode in
 // lights/light_select.glsl). With CAUSTIC_FETCH_TEXELS (the renderer defines it on llvmpipe;
-// renderer/shader_loader.h, integratorDefines) they read buffer textures over the same buffers
+// renderer/integrator_config.h) they read buffer textures over the same buffers
 // (TEXUNIT_*, RGBA32UI: one texel per 16 bytes) instead of indexing the storage buffers. Why:
 // llvmpipe runs 8 invocations as the lanes of one SIMD register, and turns every storage-buffer
 // load into a loop over the 8 lanes, each lane's load of each 32-bit component behind its own
@@ -57,7 +57,7 @@ layout(std430, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[
 // llvmpipe calls a helper function for every texel fetch of a format other than 8-bit unorm, and
 // the call makes LLVM spill and reload the caller's live vectors around it; an image load is
 // generated in line (the same loads, a bounds check instead of the call). Bit-identical results;
-// docs/performance.md (session 18) has the figures.
+// docs/performance.md has the figures.
 // `format` is the unit's TEXUNIT_*_FORMAT (shared/layout.h, where the views' formats are kept).
 // (Not pasted from the unit's name: Mesa's GLSL preprocessor expands an argument before pasting.)
 #ifdef CAUSTIC_IMAGE_LOADS
@@ -76,21 +76,14 @@ SCENE_TEXELS(TEXUNIT_TLAS_REFS, TEXUNIT_TLAS_REFS_FORMAT, tlasRefTexels);
 SCENE_TEXELS(TEXUNIT_INSTANCES, TEXUNIT_INSTANCES_FORMAT, instanceTexels);
 SCENE_TEXELS(TEXUNIT_MATERIALS, TEXUNIT_MATERIALS_FORMAT, materialTexels);
 SCENE_TEXELS(TEXUNIT_PRIMITIVE_HITS, TEXUNIT_PRIMITIVE_HITS_FORMAT, primitiveHitTexels);
-// The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only through these views: the
-// 4-wide traversal (CAUSTIC_WIDE_BVH, geometry/bvh.glsl) is a configuration for llvmpipe, where
-// the views are used anyway.
+// The meshes' 4-wide BVHs (GpuWideBvhNode, 4 texels each), read only through this view: the
+// 4-wide walk (geometry/walk_wide4.glsl) is llvmpipe's, where the views are used anyway.
 SCENE_TEXELS(TEXUNIT_WIDE_NODES, TEXUNIT_WIDE_NODES_FORMAT, wideNodeTexels);
 SCENE_TEXELS(TEXUNIT_VERTICES, TEXUNIT_VERTICES_FORMAT, vertexTexels);
 SCENE_TEXELS(TEXUNIT_TABLES, TEXUNIT_TABLES_FORMAT, tableTexels);
 SCENE_TEXELS(TEXUNIT_LIGHTS, TEXUNIT_LIGHTS_FORMAT, lightTexels);
 SCENE_TEXELS(TEXUNIT_LIGHT_TREE, TEXUNIT_LIGHT_TREE_FORMAT, lightNodeTexels);
 SCENE_TEXELS(TEXUNIT_BSDF_TABLES, TEXUNIT_BSDF_TABLES_FORMAT, bsdfTableTexels);
-// The meshes' pair BVHs (renderer/bvh.h, buildPairBvh), read only by texel fetches: the pair walk
-// (CAUSTIC_PAIR_BVH, geometry/bvh.glsl) is llvmpipe's configuration.
-SCENE_TEXELS(TEXUNIT_PAIR_NODES, TEXUNIT_PAIR_NODES_FORMAT, pairNodeTexels);
-// The meshes' 8-wide BVHs (renderer/bvh.h, buildWide8Bvh; six texels a node), read only by texel
-// fetches: the 8-wide walk (CAUSTIC_WIDE_BVH=8, geometry/bvh.glsl) is on request only.
-SCENE_TEXELS(TEXUNIT_WIDE8_NODES, TEXUNIT_WIDE8_NODES_FORMAT, wide8NodeTexels);
 #undef SCENE_TEXELS
 
 #ifdef CAUSTIC_FETCH_TEXELS
@@ -101,123 +94,54 @@ SCENE_TEXELS(TEXUNIT_WIDE8_NODES, TEXUNIT_WIDE8_NODES_FORMAT, wide8NodeTexels);
 #define bsdfTable(i) bsdfTables[i]
 #endif
 
+// The loaders, generated from each struct's row list (shared/layout.h): with buffer textures, a
+// struct's rows are its texels, read one after the other from the view named by GPU_TEXELS.
+#define GPU_LOAD_V4(n) s.n = FETCH_F4(GPU_TEXELS, t); ++t;
+#define GPU_LOAD_U4(n) s.n = FETCH_U4(GPU_TEXELS, t); ++t;
+#define GPU_LOAD_V3U(v, u) { uvec4 w = FETCH_U4(GPU_TEXELS, t); ++t; s.v = uintBitsToFloat(w.xyz); s.u = w.w; }
+#define GPU_LOAD_UUUU(a, b, c, d) \
+    { uvec4 w = FETCH_U4(GPU_TEXELS, t); ++t; s.a = w.x; s.b = w.y; s.c = w.z; s.d = w.w; }
 #ifdef CAUSTIC_FETCH_TEXELS
-// A GpuPrimitive's four texels (a macro: an image cannot be a function's parameter without
-// repeating its qualifiers).
-#define FETCH_PRIMITIVE(tex, i) \
-    GpuPrimitive(FETCH_F4(tex, 4u * (i)), FETCH_F4(tex, 4u * (i) + 1u), FETCH_F4(tex, 4u * (i) + 2u), \
-                 FETCH_U4(tex, 4u * (i) + 3u))
-#endif
-
-GpuPrimitive loadPrimitive(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    return FETCH_PRIMITIVE(primitiveTexels, i);
+#define GPU_TEXEL_LOADER(Type, ROWS, name, buffer)                                                 \
+    Type name(uint i) {                                                                            \
+        Type s;                                                                                    \
+        uint t = GPU_ROW_COUNT(ROWS) * i;                                                          \
+        ROWS(GPU_LOAD_V4, GPU_LOAD_U4, GPU_LOAD_V3U, GPU_LOAD_UUUU)                                \
+        return s;                                                                                  \
+    }
 #else
-    return primitives[i];
+#define GPU_TEXEL_LOADER(Type, ROWS, name, buffer) Type name(uint i) { return buffer[i]; }
 #endif
-}
-
-GpuPrimitive loadPrimitiveHit(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    return FETCH_PRIMITIVE(primitiveHitTexels, i);
-#else
-    return primitiveHits[i];
-#endif
-}
-
-GpuBvhNode loadBvhNode(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    uvec4 lo = FETCH_U4(bvhNodeTexels, 2u * i), hi = FETCH_U4(bvhNodeTexels, 2u * i + 1u);
-    GpuBvhNode n;
-    n.boundsMin = uintBitsToFloat(lo.xyz);
-    n.rightOrFirst = lo.w;
-    n.boundsMax = uintBitsToFloat(hi.xyz);
-    n.countAndAxis = hi.w;
-    return n;
-#else
-    return bvhNodes[i];
-#endif
-}
-
-GpuTriangle loadTriangle(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuTriangle t;
-    t.p0 = FETCH_F4(triangleTexels, 4u * i);
-    t.p1 = FETCH_F4(triangleTexels, 4u * i + 1u);
-    t.p2 = FETCH_F4(triangleTexels, 4u * i + 2u);
-    t.v = FETCH_U4(triangleTexels, 4u * i + 3u);
-    return t;
-#else
-    return triangles[i];
-#endif
-}
-
-GpuVertex loadVertex(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuVertex v;
-    v.normalU = FETCH_F4(vertexTexels, 2u * i);
-    v.tangentV = FETCH_F4(vertexTexels, 2u * i + 1u);
-    return v;
-#else
-    return vertices[i];
-#endif
-}
+#define GPU_TEXELS primitiveTexels
+GPU_TEXEL_LOADER(GpuPrimitive, GPU_PRIMITIVE_ROWS, loadPrimitive, primitives)
+#undef GPU_TEXELS
+#define GPU_TEXELS primitiveHitTexels
+GPU_TEXEL_LOADER(GpuPrimitive, GPU_PRIMITIVE_ROWS, loadPrimitiveHit, primitiveHits)
+#undef GPU_TEXELS
+#define GPU_TEXELS bvhNodeTexels
+GPU_TEXEL_LOADER(GpuBvhNode, GPU_BVH_NODE_ROWS, loadBvhNode, bvhNodes)
+#undef GPU_TEXELS
+#define GPU_TEXELS triangleTexels
+GPU_TEXEL_LOADER(GpuTriangle, GPU_TRIANGLE_ROWS, loadTriangle, triangles)
+#undef GPU_TEXELS
+#define GPU_TEXELS vertexTexels
+GPU_TEXEL_LOADER(GpuVertex, GPU_VERTEX_ROWS, loadVertex, vertices)
+#undef GPU_TEXELS
+#define GPU_TEXELS instanceTexels
+GPU_TEXEL_LOADER(GpuInstance, GPU_INSTANCE_ROWS, loadInstance, instances)
+#undef GPU_TEXELS
+#define GPU_TEXELS lightTexels
+GPU_TEXEL_LOADER(GpuLight, GPU_LIGHT_ROWS, loadLight, lights)
+#undef GPU_TEXELS
+#define GPU_TEXELS materialTexels
+GPU_TEXEL_LOADER(GpuMaterial, GPU_MATERIAL_ROWS, loadMaterial, materials)
+#undef GPU_TEXELS
 
 uint loadTlasRef(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
     return FETCH_U4(tlasRefTexels, i).x;
 #else
     return tlasRefs[i];
-#endif
-}
-
-GpuInstance loadInstance(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuInstance s;
-    s.worldToObject0 = FETCH_F4(instanceTexels, 9u * i);
-    s.worldToObject1 = FETCH_F4(instanceTexels, 9u * i + 1u);
-    s.worldToObject2 = FETCH_F4(instanceTexels, 9u * i + 2u);
-    s.objectToWorld0 = FETCH_F4(instanceTexels, 9u * i + 3u);
-    s.objectToWorld1 = FETCH_F4(instanceTexels, 9u * i + 4u);
-    s.objectToWorld2 = FETCH_F4(instanceTexels, 9u * i + 5u);
-    s.info = FETCH_U4(instanceTexels, 9u * i + 6u);
-    s.info2 = FETCH_U4(instanceTexels, 9u * i + 7u);
-    s.info3 = FETCH_U4(instanceTexels, 9u * i + 8u);
-    return s;
-#else
-    return instances[i];
-#endif
-}
-
-GpuLight loadLight(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuLight l;
-    l.p0 = FETCH_F4(lightTexels, 6u * i);
-    l.p1 = FETCH_F4(lightTexels, 6u * i + 1u);
-    l.p2 = FETCH_F4(lightTexels, 6u * i + 2u);
-    l.color = FETCH_F4(lightTexels, 6u * i + 3u);
-    l.info = FETCH_U4(lightTexels, 6u * i + 4u);
-    l.tree = FETCH_U4(lightTexels, 6u * i + 5u);
-    return l;
-#else
-    return lights[i];
-#endif
-}
-
-GpuMaterial loadMaterial(uint i) {
-#ifdef CAUSTIC_FETCH_TEXELS
-    GpuMaterial m;
-    m.albedo = FETCH_F4(materialTexels, 8u * i);
-    m.emission = FETCH_F4(materialTexels, 8u * i + 1u);
-    m.params = FETCH_F4(materialTexels, 8u * i + 2u);
-    m.info = FETCH_U4(materialTexels, 8u * i + 3u);
-    m.eta = FETCH_F4(materialTexels, 8u * i + 4u);
-    m.k = FETCH_F4(materialTexels, 8u * i + 5u);
-    m.textures = FETCH_U4(materialTexels, 8u * i + 6u);
-    m.sheen = FETCH_F4(materialTexels, 8u * i + 7u);
-    return m;
-#else
-    return materials[i];
 #endif
 }
 

@@ -9,7 +9,7 @@
 //   Why: llvmpipe runs 8 invocations as the lanes of a SIMD register, and Mesa 22.3's executes
 //   *both* sides of every branch (under a lane mask), every loop at least once, whatever the data;
 //   a branch no invocation takes costs as much as one they all take (Mesa 25's skips code no lane
-//   needs; specialisation still pays there, docs/performance.md session 12). So the general integrator paid, at every
+//   needs; specialisation still pays there, docs/performance.md). So the general integrator paid, at every
 //   vertex, for every BSDF model, every light type, the sphere test beside each quad test, the
 //   texture lookups, the environment and both samplers. docs/performance.md has the figures.
 // Where a kind is present its code is the general code: a specialised program computes the same

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 #include <cstdint>
 namespace caustic::gpu {
+using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
 using uint = std::uint32_t;
@@ -17,6 +18,22 @@ using uint = std::uint32_t;
 #else
 #define CAUSTIC_STRUCT(name) struct name
 #endif
+
+// Each struct is one list of 16-byte rows, GPU_<NAME>_ROWS(V4, U4, V3U, UUUU), from which its
+// declaration (here), its texel loader (scene/buffers.glsl, GPU_TEXEL_LOADER), its size check
+// (renderer/gpu_scene.cpp) and its layout test (tests/gpu/test_layout.cpp) are generated. A row
+// is one of V4(name): a vec4; U4(name): a uvec4; V3U(v, u): a vec3 and a uint; UUUU(a, b, c, d):
+// four uints. A new member goes into the list and nowhere else.
+#define GPU_DECLARE_V4(n) vec4 n;
+#define GPU_DECLARE_U4(n) uvec4 n;
+#define GPU_DECLARE_V3U(v, u) vec3 v; uint u;
+#define GPU_DECLARE_UUUU(a, b, c, d) uint a; uint b; uint c; uint d;
+#define GPU_DECLARE(ROWS) ROWS(GPU_DECLARE_V4, GPU_DECLARE_U4, GPU_DECLARE_V3U, GPU_DECLARE_UUUU)
+// The number of rows (texels) of a struct, as a uint expression.
+#define GPU_COUNT_1(a) + 1u
+#define GPU_COUNT_2(a, b) + 1u
+#define GPU_COUNT_4(a, b, c, d) + 1u
+#define GPU_ROW_COUNT(ROWS) (0u ROWS(GPU_COUNT_1, GPU_COUNT_1, GPU_COUNT_2, GPU_COUNT_4))
 
 // Binding points (shared constants, never magic numbers).
 #define BINDING_ACCUM_IMAGE 0      // image2D rgba32f: rgb = sum of samples, a = sample count
@@ -51,7 +68,7 @@ using uint = std::uint32_t;
 #define TEXUNIT_MATERIALS_FORMAT rgba32ui
 #define TEXUNIT_PRIMITIVE_HITS 7
 #define TEXUNIT_PRIMITIVE_HITS_FORMAT rgba32ui
-#define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] (CAUSTIC_WIDE_BVH; no storage-buffer form)
+#define TEXUNIT_WIDE_NODES 8       // GpuWideBvhNode[] (geometry/walk_wide4.glsl; no storage-buffer form)
 #define TEXUNIT_WIDE_NODES_FORMAT rgba32ui
 #define TEXUNIT_VERTICES 9         // GpuVertex[]
 #define TEXUNIT_VERTICES_FORMAT rgba32ui
@@ -63,24 +80,18 @@ using uint = std::uint32_t;
 #define TEXUNIT_LIGHT_TREE_FORMAT rgba32ui
 #define TEXUNIT_BSDF_TABLES 13     // the BSDF tables (bsdfTables), one float a texel
 #define TEXUNIT_BSDF_TABLES_FORMAT r32ui
-#define TEXUNIT_PAIR_NODES 14      // the meshes' pair BVHs (renderer/bvh.h, buildPairBvh; CAUSTIC_PAIR_BVH)
-#define TEXUNIT_PAIR_NODES_FORMAT rgba32ui
-#define TEXUNIT_WIDE8_NODES 15     // the meshes' 8-wide BVHs (renderer/bvh.h, buildWide8Bvh; CAUSTIC_WIDE_BVH=8)
-#define TEXUNIT_WIDE8_NODES_FORMAT rgba32ui
 // With CAUSTIC_IMAGE_LOADS the same views are bound as read-only image buffers (uimageBuffer) at image
 // unit IMAGE_UNIT_TEXELS + their texture unit (scene/buffers.glsl), after the film's images.
 #define IMAGE_UNIT_TEXELS 4
-// The highest TEXUNIT_*: 16 units, as many as GL guarantees a compute shader
-// (GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS >= 16): a further view needs that limit checked.
-#define TEXUNIT_LAST TEXUNIT_WIDE8_NODES
-// A leaf's word in the wide nodes and the pair records: LEAF_BIT | count << LEAF_COUNT_SHIFT |
-// first (count in [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST).
+// The highest TEXUNIT_*: at most 15, so that the units fit the 16 GL guarantees a compute shader
+// (GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS >= 16); a view beyond that needs the limit checked.
+#define TEXUNIT_LAST TEXUNIT_BSDF_TABLES
+// A leaf's word in the 4-wide nodes: LEAF_BIT | count << LEAF_COUNT_SHIFT | first (count in
+// [1, LEAF_MAX_COUNT], first <= LEAF_MAX_FIRST).
 #define LEAF_BIT 0x80000000u
 #define LEAF_COUNT_SHIFT 27u
 #define LEAF_MAX_COUNT 15u
 #define LEAF_MAX_FIRST ((1u << LEAF_COUNT_SHIFT) - 1u)
-#define PAIR_LINK_LEAF LEAF_BIT
-#define PAIR_LEAF_MAX_FIRST LEAF_MAX_FIRST
 #define BINDING_PRIMITIVE_HITS 8   // GpuPrimitive[]: what the ray tests read (quads in plane form; renderer/renderer.cpp)
 #define BINDING_TEXELS 9           // uvec2[]: every material texture's texels (mip chains), RGBA as 4 halves
 #define BINDING_TEXTURES 10        // GpuTexture[]: where each texture's texels are
@@ -208,99 +219,75 @@ using uint = std::uint32_t;
 // A sphere or a parallelogram.
 // sphere: a, b, c = rows of the affine world-to-object matrix (the object is the unit sphere);
 // quad:   a.xyz = corner, b.xyz = first edge, c.xyz = second edge; front normal = cross(b, c).
-CAUSTIC_STRUCT(GpuPrimitive) {
-    vec4 a;
-    vec4 b;
-    vec4 c;
-    uvec4 info;  // x: PRIM_*, y: material index, z: light index + 1 (0: not a light), w: PRIM_FLAG_*
-};
+// info: x: PRIM_*, y: material index, z: light index + 1 (0: not a light), w: PRIM_FLAG_*
+#define GPU_PRIMITIVE_ROWS(V4, U4, V3U, UUUU) V4(a) V4(b) V4(c) U4(info)
+CAUSTIC_STRUCT(GpuPrimitive) { GPU_DECLARE(GPU_PRIMITIVE_ROWS) };
 
 // Which member means what for each model: the header of its file in shaders/bsdf/.
 // A node of a BVH (renderer/bvh.h): count = countAndAxis >> 2 (0: interior, left child = next
 // node, right child = rightOrFirst), axis = countAndAxis & 3; a leaf's primitives are
 // [rightOrFirst, rightOrFirst + count) of its list.
-CAUSTIC_STRUCT(GpuBvhNode) {
-#ifdef __cplusplus
-    glm::vec3 boundsMin;
-    uint rightOrFirst;
-    glm::vec3 boundsMax;
-    uint countAndAxis;
-#else
-    vec3 boundsMin;
-    uint rightOrFirst;
-    vec3 boundsMax;
-    uint countAndAxis;
-#endif
-};
+#define GPU_BVH_NODE_ROWS(V4, U4, V3U, UUUU) V3U(boundsMin, rightOrFirst) V3U(boundsMax, countAndAxis)
+CAUSTIC_STRUCT(GpuBvhNode) { GPU_DECLARE(GPU_BVH_NODE_ROWS) };
 
 // A node of a mesh's 4-wide BVH (renderer/bvh.h, collapseBvh4 and quantizeWideNode;
-// CAUSTIC_WIDE_BVH), 64 bytes, 4 texels: the four children's boxes quantised to bytes on a grid
+// geometry/walk_wide4.glsl reads its texels), 64 bytes, 4 texels: the four children's boxes quantised to bytes on a grid
 // per axis (bound = origin + q * 2^(e - 127)): the origin's float bits in head.xyz and the biased
 // exponents e in bytes 0-2 of head.w; qXY = (lo x, hi x, lo y, hi y), qZ.xy = (lo z, hi z), child
 // k's byte k of each word. The decoded boxes contain the children's (an empty child's is
 // inverted: never hit). Children: WIDE_CHILD_EMPTY, a leaf's word (WIDE_CHILD_LEAF | count <<
 // LEAF_COUNT_SHIFT | first: triangles [first, first + count) of the mesh's; a longer binary leaf
 // becomes a node of leaves), or the index of a child node in wideNodes.
-CAUSTIC_STRUCT(GpuWideBvhNode) {
-    uvec4 head;    // xyz: origin (float bits), w: exponents
-    uvec4 qXY;
-    uvec4 qZ;      // zw: unused
-    uvec4 child;
-};
+// head: xyz: origin (float bits), w: exponents; qZ.zw: unused.
+#define GPU_WIDE_BVH_NODE_ROWS(V4, U4, V3U, UUUU) U4(head) U4(qXY) U4(qZ) U4(child)
+CAUSTIC_STRUCT(GpuWideBvhNode) { GPU_DECLARE(GPU_WIDE_BVH_NODE_ROWS) };
 #define WIDE_CHILD_EMPTY 0xffffffffu
 #define WIDE_CHILD_LEAF LEAF_BIT
 #define WIDE_LEAF_MAX_COUNT LEAF_MAX_COUNT
 #define WIDE_LEAF_MAX_FIRST LEAF_MAX_FIRST
 
-// A placed mesh: its BVH and triangles, and the affine transforms both ways (rows).
-CAUSTIC_STRUCT(GpuInstance) {
-    vec4 worldToObject0;
-    vec4 worldToObject1;
-    vec4 worldToObject2;
-    vec4 objectToWorld0;
-    vec4 objectToWorld1;
-    vec4 objectToWorld2;
-    uvec4 info;   // x: root node in bvhNodes, y: first triangle, z: material, w: light index + 1
-    uvec4 info2;  // x: first vertex, y: triangle count, z: 1 when the file's materials are used,
-                  // w: PRIM_FLAG_* (PRIM_FLAG_ONE_SIDED_EMITTER)
-    uvec4 info3;  // x: root node of the mesh's 4-wide BVH in wideNodes (CAUSTIC_WIDE_BVH), y: its pair BVH's
-                  // header texel in pairNodes (CAUSTIC_PAIR_BVH); zw: 0
-};
+// A placed mesh: the affine transforms both ways (rows), its trees and triangles.
+//   rootNode: its binary BVH's root in bvhNodes; wideRoot: its 4-wide BVH's root in wideNodes;
+//   firstTriangle, triangleCount: its triangles in triangles[]; firstVertex: its vertices';
+//   material: its material (with fileMaterials = 1: the first of the file's, each triangle's own
+//   offset in p0.w); light: its light index + 1 (0: not emissive); flags: PRIM_FLAG_*.
+#define GPU_INSTANCE_ROWS(V4, U4, V3U, UUUU)                                                      \
+    V4(worldToObject0) V4(worldToObject1) V4(worldToObject2)                                    \
+    V4(objectToWorld0) V4(objectToWorld1) V4(objectToWorld2)                                    \
+    UUUU(rootNode, firstTriangle, material, light)                                              \
+    UUUU(firstVertex, triangleCount, fileMaterials, flags)                                      \
+    UUUU(wideRoot, unused0, unused1, unused2)
+CAUSTIC_STRUCT(GpuInstance) { GPU_DECLARE(GPU_INSTANCE_ROWS) };
 
 // One triangle in object space; v: its vertices' indices into the vertex buffer (already offset),
 // w: the triangle's index in the mesh as imported.
-CAUSTIC_STRUCT(GpuTriangle) {
-    vec4 p0;
-    vec4 p1;
-    vec4 p2;
-    uvec4 v;
-};
+#define GPU_TRIANGLE_ROWS(V4, U4, V3U, UUUU) V4(p0) V4(p1) V4(p2) U4(v)
+CAUSTIC_STRUCT(GpuTriangle) { GPU_DECLARE(GPU_TRIANGLE_ROWS) };
 
-// Shading attributes of a mesh vertex (object space).
-CAUSTIC_STRUCT(GpuVertex) {
-    vec4 normalU;   // xyz: unit normal, w: texture u
-    vec4 tangentV;  // xyz: unit tangent (0 when the mesh has none), w: texture v
-};
+// Shading attributes of a mesh vertex (object space). normalU: xyz unit normal, w texture u;
+// tangentV: xyz unit tangent (0 when the mesh has none), w texture v.
+#define GPU_VERTEX_ROWS(V4, U4, V3U, UUUU) V4(normalU) V4(tangentV)
+CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 
-CAUSTIC_STRUCT(GpuMaterial) {
-    vec4 albedo;    // rgb: diffuse albedo (diffuse models) or specular tint (the others)
-    vec4 emission;  // rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER),
-                    // w: the normal map's scale (x and y of its tangent-space normal)
-    vec4 params;    // x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
-    uvec4 info;     // x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
-    vec4 eta;       // conductors: rgb real part of the complex IOR
-    vec4 k;         // conductors: rgb imaginary part (extinction)
-    uvec4 textures; // texture index + 1 (0: none): x albedo (linear RGB; A: the alpha of the cut-outs),
-                    // y normal map, z roughness (R), w emission (linear RGB, times emission.rgb)
-    vec4 sheen;     // surface: rgb sheen colour (times its weight), w sheen roughness
-};
+//   albedo:   rgb: diffuse albedo (diffuse models) or specular tint (the others)
+//   emission: rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER),
+//             w: the normal map's scale (x and y of its tangent-space normal)
+//   params:   x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
+//   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
+//   eta, k:   conductors: rgb real and imaginary (extinction) parts of the complex IOR
+//   textures: texture index + 1 (0: none): x albedo (linear RGB; A: the alpha of the cut-outs),
+//             y normal map, z roughness (R), w emission (linear RGB, times emission.rgb)
+//   sheen:    surface: rgb sheen colour (times its weight), w sheen roughness
+#define GPU_MATERIAL_ROWS(V4, U4, V3U, UUUU) \
+    V4(albedo) V4(emission) V4(params) U4(info) V4(eta) V4(k) U4(textures) V4(sheen)
+CAUSTIC_STRUCT(GpuMaterial) { GPU_DECLARE(GPU_MATERIAL_ROWS) };
 
 // A texture in the texel buffer: its mip levels follow each other from `offset`, level l being
 // max(1, width >> l) x max(1, height >> l) texels, rows top to bottom.
-CAUSTIC_STRUCT(GpuTexture) {
-    uvec4 info;     // x: offset of level 0 (in texels), y: width, z: height, w: number of levels
-                    // (bits 0-7), TEXTURE_WRAP_* of u (bits 8-9) and of v (bits 10-11)
-};
+// info: x: offset of level 0 (in texels), y: width, z: height, w: number of levels (bits 0-7),
+// TEXTURE_WRAP_* of u (bits 8-9) and of v (bits 10-11).
+#define GPU_TEXTURE_ROWS(V4, U4, V3U, UUUU) U4(info)
+CAUSTIC_STRUCT(GpuTexture) { GPU_DECLARE(GPU_TEXTURE_ROWS) };
 #define TEXTURE_WRAP_REPEAT 0u      // glTF's REPEAT (and every scene texture)
 #define TEXTURE_WRAP_CLAMP 1u       // CLAMP_TO_EDGE
 #define TEXTURE_WRAP_MIRROR 2u      // MIRRORED_REPEAT
@@ -313,64 +300,61 @@ CAUSTIC_STRUCT(GpuTexture) {
 // spot:   p0.xyz = position, p1.xyz = unit direction, p1.w = cos(outer), p2.w = cos(inner),
 //         p2.x = outer, p2.y = inner (radians)
 // env:    nothing (the environment is described by GpuFrame)
-CAUSTIC_STRUCT(GpuLight) {
-    vec4 p0;
-    vec4 p1;
-    vec4 p2;
-    vec4 color;  // rgb: radiance (area, env) or intensity (point, spot); w: selection probability
-                 //   of the global CDF (power or uniform selection)
-    uvec4 info;  // x: LIGHT_*, y: flags, z: primitive index (area lights), w: see above (mesh)
-    uvec4 tree;  // x: the light's path in the light tree (bit d set: the right child at depth d;
-                 //   renderer/light_tree.h), y, z, w: unused
-};
+// color: rgb: radiance (area, env) or intensity (point, spot); w: selection probability of the
+//        global CDF (power or uniform selection)
+// info:  x: LIGHT_*, y: flags, z: primitive index (area lights), w: see above (mesh)
+// tree:  x: the light's path in the light tree (bit d set: the right child at depth d;
+//        renderer/light_tree.h), y, z, w: unused
+#define GPU_LIGHT_ROWS(V4, U4, V3U, UUUU) V4(p0) V4(p1) V4(p2) V4(color) U4(info) U4(tree)
+CAUSTIC_STRUCT(GpuLight) { GPU_DECLARE(GPU_LIGHT_ROWS) };
 
 // A node of the light tree (Conty Estevez and Kulla 2018, "Importance Sampling of Many Lights
 // with Adaptive Tree Splitting"): the bounds of the lights below it, in space (a box) and in
 // emitted directions (a cone: every light's normal within theta_o of `axis`, and it emits up to
 // theta_e beyond its normal), and their summed intensity (luminance, W sr^-1, the most each light
 // sends towards one point; renderer/light_tree.h).
-CAUSTIC_STRUCT(GpuLightNode) {
-    vec4 boundsMin;  // xyz: box, w: intensity
-    vec4 boundsMax;  // xyz: box, w: cos theta_o
-    vec4 axis;       // xyz: unit cone axis, w: cos theta_e
-    uvec4 info;      // x: right child (interior: the left child is the next node), or
-                     //    LIGHT_TREE_LEAF | light index; y, z, w: unused
-};
+// boundsMin: xyz box, w intensity; boundsMax: xyz box, w cos theta_o; axis: xyz unit cone axis,
+// w cos theta_e; info: x: right child (interior: the left child is the next node), or
+// LIGHT_TREE_LEAF | light index; y, z, w: unused.
+#define GPU_LIGHT_NODE_ROWS(V4, U4, V3U, UUUU) V4(boundsMin) V4(boundsMax) V4(axis) U4(info)
+CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 
 // Per-dispatch constants (std140; only vec4/uvec4 so std140 == std430 == C++).
-CAUSTIC_STRUCT(GpuFrame) {
-    vec4 camPosition;
-    vec4 camRight;     // unit right * tan(half horizontal fov)
-    vec4 camUp;        // unit up * tan(half vertical fov)
-    vec4 camForward;   // unit view direction
-    uvec4 image;       // x: width, y: height, z: index of the first sample of this dispatch, w: seed
-    uvec4 counts;      // x: primitives, y: lights, z: max depth, w: STRATEGY_*
-    uvec4 dispatch;    // x: samples per dispatch, y: environment light index + 1 (0: none), z, w: the
-                       // integrator's 8x8 tiles [z, w) this dispatch renders (numbered row by row)
-    uvec4 envInfo;     // x: ENV_*, y: map width, z: map height, w: sampling cells per texel and axis
-    vec4 envRadiance;  // constant radiance (already times intensity)
-    vec4 envHorizon;   // sky: radiance at the horizon (times intensity)
-    vec4 envZenith;    // sky: radiance at the zenith (times intensity)
-    vec4 envMap;       // map: x = cos(rotation), y = sin(rotation), z = intensity
-    vec4 camLens;      // x: aperture radius, y: focal distance, z: squeeze, w: blade rotation (rad)
-    uvec4 camInfo;     // x: blades (0: round), y: FILTER_*
-    uvec4 geometry;    // x: top-level BVH nodes (0: empty scene), y: instances
-    // Offsets into the tables buffer (one storage block for all of them: Mesa allows 16 per
-    // shader): x: light selection CDF, y: environment map row CDF (H + 1), z: environment map
-    // per-row column CDFs (H (W + 1)), w: emissive meshes' triangle-area CDFs.
-    uvec4 tables;
-    uvec4 sampling;    // x: SAMPLER_*, y: LIGHT_SELECT_*, z: RR_*, w: light tree nodes (0: none)
-    vec4 envSelect;    // x: the environment's importance for light selection (its irradiance,
-                       //    pi * mean luminance), y: 1 when every light is an environment
-    vec4 rayOffset;    // x: the scale below which ray offsets stop shrinking with the hit's
-                       //    magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
-    uvec4 options;     // x: OPTION_* bits (integrator options); y, z: the origin of the crop the
-                       // accumulation images hold (path.comp); w: unused
-    uvec4 envGuide;    // the environment map's guide tables in the tables buffer (environment.glsl,
-                       // envFindInterval): x: offset of the row CDF's (2^z + 1 entries), y: offset
-                       // of the column CDFs' (one of 2^w + 1 entries per row), z, w: log2 of their
-                       // bucket counts
-};
+//   camPosition: the camera's position
+//   camRight: unit right * tan(half horizontal fov)
+//   camUp: unit up * tan(half vertical fov)
+//   camForward: unit view direction
+//   image: x: width, y: height, z: index of the first sample of this dispatch, w: seed
+//   counts: x: primitives, y: lights, z: max depth, w: STRATEGY_*
+//   dispatch: x: samples per dispatch, y: environment light index + 1 (0: none), z, w: the
+//     integrator's 8x8 tiles [z, w) this dispatch renders (numbered row by row)
+//   envInfo: x: ENV_*, y: map width, z: map height, w: sampling cells per texel and axis
+//   envRadiance: constant radiance (already times intensity)
+//   envHorizon: sky: radiance at the horizon (times intensity)
+//   envZenith: sky: radiance at the zenith (times intensity)
+//   envMap: map: x = cos(rotation), y = sin(rotation), z = intensity
+//   camLens: x: aperture radius, y: focal distance, z: squeeze, w: blade rotation (rad)
+//   camInfo: x: blades (0: round), y: FILTER_*
+//   geometry: x: top-level BVH nodes (0: empty scene), y: instances
+//   tables: offsets into the tables buffer (one storage block for all of them: Mesa allows 16
+//     per shader): x: light selection CDF, y: environment map row CDF (H + 1), z: environment
+//     map per-row column CDFs (H (W + 1)), w: emissive meshes' triangle-area CDFs.
+//   sampling: x: SAMPLER_*, y: LIGHT_SELECT_*, z: RR_*, w: light tree nodes (0: none)
+//   envSelect: x: the environment's importance for light selection (its irradiance,
+//     pi * mean luminance), y: 1 when every light is an environment
+//   rayOffset: x: the scale below which ray offsets stop shrinking with the hit's
+//     magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
+//   options: x: OPTION_* bits (integrator options); y, z: the origin of the crop the
+//     accumulation images hold (path.comp); w: unused
+//   envGuide: the environment map's guide tables in the tables buffer (environment.glsl,
+//     envFindInterval): x: offset of the row CDF's (2^z + 1 entries), y: offset
+//     of the column CDFs' (one of 2^w + 1 entries per row), z, w: log2 of their
+//     bucket counts
+#define GPU_FRAME_ROWS(V4, U4, V3U, UUUU) \
+    V4(camPosition) V4(camRight) V4(camUp) V4(camForward) U4(image) U4(counts) U4(dispatch) \
+    U4(envInfo) V4(envRadiance) V4(envHorizon) V4(envZenith) V4(envMap) V4(camLens) U4(camInfo) \
+    U4(geometry) U4(tables) U4(sampling) V4(envSelect) V4(rayOffset) U4(options) U4(envGuide)
+CAUSTIC_STRUCT(GpuFrame) { GPU_DECLARE(GPU_FRAME_ROWS) };
 
 #ifdef __cplusplus
 }  // namespace caustic::gpu

@@ -601,7 +601,7 @@ std::vector<WideSetting> wideSettings() {
     return settings;
 }
 
-// Both wide forms are checked on random soups of 1, 3, 40 and 3000 triangles, each built with
+// The 4-wide form is checked on random soups of 1, 3, 40 and 3000 triangles, each built with
 // every setting above: check(n, setting, the triangles' boxes, the binary build).
 template <typename Check>
 void forEachWideCase(std::uint32_t seedScale, std::uint32_t seedOffset, Check&& check) {
@@ -616,7 +616,7 @@ void forEachWideCase(std::uint32_t seedScale, std::uint32_t seedOffset, Check&& 
     }
 }
 
-// A wide node's leaf reference (either form): counts its triangles in seen and checks that each
+// A wide node's leaf reference: counts its triangles in seen and checks that each
 // lies inside the box the walk meets it in (lo, hi). Returns the leaf's triangle count.
 std::uint32_t checkWideLeaf(std::uint32_t ref, glm::vec3 lo, glm::vec3 hi, const MeshBlas& blas,
                             const std::vector<Aabb>& boxes, std::vector<int>& seen) {
@@ -634,7 +634,7 @@ std::uint32_t checkWideLeaf(std::uint32_t ref, glm::vec3 lo, glm::vec3 hi, const
 }  // namespace
 
 TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside its ancestors' boxes", "[bvh]") {
-    // The GPU walks this form (CAUSTIC_WIDE_BVH); its traversal is checked against the CPU BVH
+    // The GPU walks this form (geometry/walk_wide4.glsl); its traversal is checked against the CPU BVH
     // in tests/gpu/test_geometry.cpp. Leaves longer than kWideLeafMaxCount (leaf 16 here) become
     // nodes of shorter leaves.
     forEachWideCase(3u, 5u, [](std::size_t n, const WideSetting& s, const std::vector<Aabb>& boxes, const MeshBlas& blas) {
@@ -684,72 +684,6 @@ TEST_CASE("collapseBvh4: the 4-wide form holds every leaf exactly once, inside i
         const std::size_t interior = (blas.bvh.nodes.size() - 1) / 2;
         if (n > 100 && s.opt.maxLeafSize <= kWideLeafMaxCount) CHECK(wide.size() - 5 <= interior / 2 + 1);
     });
-}
-
-TEST_CASE("buildWide8Bvh: every leaf once, each decoded box containing what lies below it, references moved by appendWide8Bvh", "[bvh]") {
-    // The 8-wide form (CAUSTIC_WIDE_BVH=8): six texels a node, boxes as bytes on a per-node grid,
-    // node references as texel indices. What a ray needs: every triangle inside every decoded box
-    // above it (else the walk could miss a triangle the ray hits). Its traversal is checked
-    // against the CPU BVH in tests/gpu/test_geometry.cpp.
-    forEachWideCase(5u, 3u, [](std::size_t n, const WideSetting& s, const std::vector<Aabb>& boxes, const MeshBlas& blas) {
-        std::vector<glm::uvec4> tree;
-        REQUIRE(buildWide8Bvh(blas.bvh, tree));
-        REQUIRE(!tree.empty());
-        REQUIRE(tree.size() % kWide8Texels == 0);
-        // Placed after 5 other nodes: every node reference moves by their 30 texels.
-        const std::uint32_t base = 5 * kWide8Texels;
-        std::vector<glm::uvec4> texels(base, glm::uvec4(0u));
-        REQUIRE(appendWide8Bvh(tree, base, texels));
-        REQUIRE(texels.size() == base + tree.size());
-        std::vector<int> seen(blas.triangles.size(), 0), reached(tree.size() / kWide8Texels, 0);
-        // Each item: a node and the intersection of the decoded boxes above it.
-        struct Item { std::uint32_t texel; glm::vec3 lo, hi; };
-        std::vector<Item> todo{{base, glm::vec3(-INFINITY), glm::vec3(INFINITY)}};
-        while (!todo.empty()) {
-            const Item it = todo.back();
-            todo.pop_back();
-            REQUIRE(it.texel >= base);
-            REQUIRE((it.texel - base) % kWide8Texels == 0);
-            REQUIRE(it.texel - base < tree.size());
-            ++reached[(it.texel - base) / kWide8Texels];
-            const std::span<const glm::uvec4> node(&texels[it.texel], kWide8Texels);
-            int children = 0;
-            for (int k = 0; k < 8; ++k) {
-                const std::uint32_t ref = node[4 + k / 4][k % 4];
-                glm::vec3 lo, hi;
-                decodeWide8Box(node, k, lo, hi);
-                if (ref == kWideEmpty) {
-                    CHECK(lo.x > hi.x);  // inverted on every axis: never entered
-                    CHECK(lo.y > hi.y);
-                    CHECK(lo.z > hi.z);
-                    continue;
-                }
-                ++children;
-                const glm::vec3 clo = glm::max(lo, it.lo), chi = glm::min(hi, it.hi);
-                if ((ref & kWideLeaf) != 0u) {
-                    checkWideLeaf(ref, clo, chi, blas, boxes, seen);
-                } else {
-                    todo.push_back({ref, clo, chi});
-                }
-            }
-            CHECK(children >= 1);
-        }
-        for (int r : reached) REQUIRE(r == 1);  // a tree: every node reached once
-        for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
-        // Wider: an SAH tree of 3000 triangles collapses into fewer nodes than its 4-wide form
-        // (566 against 924 when this was written; a median-split tree's lowest nodes are
-        // short, and it is not checked).
-        if (n > 100 && s.opt.sah && s.opt.maxLeafSize <= kWideLeafMaxCount) {
-            std::vector<WideBvhNode> four;
-            REQUIRE(collapseBvh4(blas.bvh, 0, four));
-            INFO(tree.size() / kWide8Texels << " 8-wide nodes, " << four.size() << " 4-wide");
-            CHECK(tree.size() / kWide8Texels * 4 <= four.size() * 3);
-        }
-    });
-    // Beyond the 24 bits a stack entry has for a node's texel, appending refuses.
-    std::vector<glm::uvec4> tree(kWide8Texels, glm::uvec4(0u)), out;
-    CHECK_FALSE(appendWide8Bvh(tree, kWide8MaxNodes * kWide8Texels, out));
-    CHECK(out.empty());
 }
 
 TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, within a grid step, and empty children are inverted", "[bvh]") {
@@ -822,117 +756,9 @@ TEST_CASE("quantizeWideNode: each decoded child box contains the child's box, wi
     }
 }
 
-TEST_CASE("buildPairBvh: every leaf once, each decoded box containing what lies below it, within a grid step", "[bvh]") {
-    // What llvmpipe's walk reads (CAUSTIC_PAIR_BVH): per interior node one record with both
-    // children's boxes on 16-bit grids over the root box. A decoded box must contain everything
-    // below it (else a ray could miss a triangle it hits); its traversal is checked against the
-    // CPU BVH in tests/gpu/test_geometry.cpp.
-    struct Setting { const char* name; BvhBuildOptions opt; };
-    std::vector<Setting> settings;
-    settings.push_back({"default", {}});
-    BvhBuildOptions o;
-    o.bins = 64;
-    o.maxLeafSize = 64;
-    o.traversalCost = 40.0f;  // leaves longer than a link's 15: split into records of shorter ones
-    settings.push_back({"long leaves", o});
-    o = {};
-    o.sah = false;
-    o.maxLeafSize = 4;
-    settings.push_back({"median split", o});
-    // Meshes near and far from the origin, flat on an axis, and a single triangle (a leaf root).
-    struct Placement { const char* name; glm::vec3 offset, scale; };
-    const Placement placements[] = {{"unit", glm::vec3(0.0f), glm::vec3(1.0f)},
-                                    {"far away", glm::vec3(3.0e6f, -7.5e5f, 1.0e3f), glm::vec3(1e-2f)},
-                                    {"flat in z", glm::vec3(0.5f, 0.25f, -2.0f), glm::vec3(4.0f, 4.0f, 0.0f)},
-                                    {"large", glm::vec3(-1e20f), glm::vec3(1e19f)}};
-    for (std::size_t n : {std::size_t(1), std::size_t(2), std::size_t(40), std::size_t(3000)}) {
-        for (const Placement& p : placements) {
-            TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) * 11u + 3u);
-            for (glm::vec3& v : m.positions) v = p.offset + p.scale * v;
-            const std::vector<Aabb> boxes = triangleBoxes(m);
-            for (const Setting& s : settings) {
-                INFO(n << " triangles, " << p.name << ", " << s.name);
-                const MeshBlas blas = buildBlas(m.positions, m.triangles, s.opt);
-                std::vector<glm::uvec4> out(7, glm::uvec4(0u));  // appended after 7 others: indices are absolute
-                const std::uint32_t base = 1000;                  // out[7] is texel 1000
-                REQUIRE(buildPairBvh(blas.bvh, base, out));
-                REQUIRE(out.size() >= 7 + 3);
-                REQUIRE((out.size() - 8) % 2 == 0);
-                const glm::uvec4 header = out[7];
-                auto at = [&](std::uint32_t texel) -> const glm::uvec4& {
-                    REQUIRE(texel >= base + 1);
-                    REQUIRE(texel - base + 7 < out.size());
-                    return out[texel - base + 7];
-                };
-                std::vector<int> seen(blas.triangles.size(), 0);
-                std::size_t records = 0;
-                // From the root's record down, with each link's decoded box: every box contains
-                // everything below it, and is at most a grid step (and the sum's rounding) larger.
-                struct Item { std::uint32_t texel; glm::vec3 lo, hi; };
-                std::vector<Item> todo{{base + 1, glm::vec3(-INFINITY), glm::vec3(INFINITY)}};
-                int empties = 0;
-                while (!todo.empty()) {
-                    const Item it = todo.back();
-                    todo.pop_back();
-                    REQUIRE((it.texel - base - 1) % 2 == 0);
-                    const glm::uvec4 r0 = at(it.texel), r1 = at(it.texel + 1);
-                    ++records;
-                    for (int k = 0; k < 2; ++k) {
-                        glm::vec3 lo, hi;
-                        decodePairBox(header, r0, r1, k, lo, hi);
-                        const std::uint32_t link = k == 0 ? r1.z : r1.w;
-                        if (link == kPairEmpty) {
-                            CHECK(lo.x > hi.x);  // inverted on every axis: never entered
-                            CHECK(lo.y > hi.y);
-                            CHECK(lo.z > hi.z);
-                            ++empties;
-                            continue;
-                        }
-                        CHECK(glm::all(glm::lessThanEqual(it.lo, lo)));
-                        CHECK(glm::all(glm::greaterThanEqual(it.hi, hi)));
-                        if ((link & kPairLeaf) != 0) {
-                            const std::uint32_t first = link & kPairLeafMaxFirst, count = (link >> kLeafCountShift) & kPairLeafMaxCount;
-                            REQUIRE(count >= 1);
-                            REQUIRE(first + count <= seen.size());
-                            Aabb leaf;
-                            for (std::uint32_t t = first; t < first + count; ++t) {
-                                ++seen[t];
-                                const Aabb tb = boxes[blas.triangleIds[t]];
-                                leaf.grow(tb);
-                                CHECK(glm::all(glm::lessThanEqual(lo, tb.min)));
-                                CHECK(glm::all(glm::greaterThanEqual(hi, tb.max)));
-                            }
-                            for (int a = 0; a < 3; ++a) {
-                                const float step = decodePairBound(header, a, 1) - decodePairBound(header, a, 0);
-                                const float slack =
-                                    step + 2.0f * std::nextafter(std::abs(leaf.min[a]) + std::abs(leaf.max[a]), INFINITY) * 0x1p-24f;
-                                // (A split long leaf's halves keep the whole leaf's box.)
-                                if (s.opt.maxLeafSize <= kPairLeafMaxCount) {
-                                    CHECK(leaf.min[a] - lo[a] <= slack);
-                                    CHECK(hi[a] - leaf.max[a] <= slack);
-                                }
-                            }
-                        } else {
-                            todo.push_back({link, lo, hi});
-                        }
-                    }
-                }
-                CHECK(records == (out.size() - 8) / 2);  // no record unreached
-                CHECK(empties == (blas.bvh.nodes.size() == 1 ? 1 : 0));
-                for (std::size_t t = 0; t < seen.size(); ++t) REQUIRE(seen[t] == 1);
-            }
-        }
-    }
-    // An empty tree appends nothing.
-    std::vector<glm::uvec4> none;
-    CHECK(buildPairBvh(Bvh{}, 0, none));
-    CHECK(none.empty());
-}
-
-TEST_CASE("a mesh's GPU trees made at 0 and placed at a base equal those made at the base", "[bvh]") {
-    // The mesh cache makes the 4-wide and pair forms once per import, at base 0; a scene's layout
-    // places them with appendWideBvh and appendPairBvh. Long leaves (pair records of split leaves)
-    // and a leaf root included.
+TEST_CASE("a mesh's 4-wide tree made at 0 and placed at a base equal those made at the base", "[bvh]") {
+    // The mesh cache makes the 4-wide form once per import, at base 0; a scene's layout places it
+    // with appendWideBvh. Long leaves (split into nodes of shorter leaves) and a leaf root included.
     BvhBuildOptions longLeaves;
     longLeaves.maxLeafSize = 64;
     longLeaves.traversalCost = 40.0f;
@@ -941,11 +767,6 @@ TEST_CASE("a mesh's GPU trees made at 0 and placed at a base equal those made at
             const TestMesh m = randomSoup(n, static_cast<std::uint32_t>(n) + 91u);
             const MeshBlas blas = buildBlas(m.positions, m.triangles, opt);
             const std::uint32_t base = 12345;
-            std::vector<glm::uvec4> atZero, atBase(3, glm::uvec4(7u)), placed(3, glm::uvec4(7u));
-            REQUIRE(buildPairBvh(blas.bvh, 0, atZero));
-            REQUIRE(buildPairBvh(blas.bvh, base, atBase));
-            appendPairBvh(atZero, base, placed);
-            CHECK(placed == atBase);
             std::vector<WideBvhNode> w0, wb;
             REQUIRE(collapseBvh4(blas.bvh, 0, w0));
             REQUIRE(collapseBvh4(blas.bvh, base, wb));

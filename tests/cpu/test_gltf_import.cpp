@@ -221,7 +221,7 @@ TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the 
         CHECK(std::bit_cast<float>(c.materials[0].info.z) == 0.5f);
         CHECK(c.materials[0].textures.x != 0u);
         REQUIRE(c.instances.size() == 1);
-        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) != 0u);
+        CHECK((c.instances[0].flags & PRIM_FLAG_ALPHA_MASK) != 0u);
     }
     for (const char* name : {"glow.gltf", "glow.glb"}) {
         INFO(name);
@@ -255,7 +255,7 @@ TEST_CASE("glTF alpha MASK and emissive textures import, map and compile as the 
         REQUIRE(c.lights.size() == 1);
         CHECK(c.lights[0].info.x == LIGHT_MESH);
         CHECK((c.lights[0].info.y & LIGHT_FLAG_EMISSION_TEXTURE) != 0u);
-        CHECK((c.instances[0].info2.w & PRIM_FLAG_ALPHA_MASK) == 0u);
+        CHECK((c.instances[0].flags & PRIM_FLAG_ALPHA_MASK) == 0u);
         // Light selection weighs the light by the texture's mean: the two texels' linear RGB
         // averaged, times the factor, over the quad's area 4, both faces (a file's materials).
         auto lin = [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };

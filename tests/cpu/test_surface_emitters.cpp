@@ -143,9 +143,9 @@ TEST_CASE("an object's own emission on spheres, boxes and meshes", "[emitters]")
         const CompiledScene c = compile(s);
         REQUIRE(c.instances.size() == 3);
         REQUIRE(c.lights.size() == 3);
-        CHECK(c.instances[0].info2.w == PRIM_FLAG_ONE_SIDED_EMITTER);
-        CHECK(c.instances[1].info2.w == PRIM_FLAG_ONE_SIDED_EMITTER);
-        CHECK(c.instances[2].info2.w == 0u);
+        CHECK(c.instances[0].flags == PRIM_FLAG_ONE_SIDED_EMITTER);
+        CHECK(c.instances[1].flags == PRIM_FLAG_ONE_SIDED_EMITTER);
+        CHECK(c.instances[2].flags == 0u);
         CHECK((c.lights[0].info.y & LIGHT_FLAG_TWO_SIDED) == 0u);
         CHECK((c.lights[1].info.y & LIGHT_FLAG_TWO_SIDED) == 0u);
         CHECK((c.lights[2].info.y & LIGHT_FLAG_TWO_SIDED) != 0u);

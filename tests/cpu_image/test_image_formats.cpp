@@ -166,8 +166,7 @@ TEST_CASE("images: a TIFF declaring a strip far larger than its image is refused
 
 // The lean binaries (caustic-bench, the GPU machine's build) read textures and environment maps
 // without OpenImageIO (renderer/textures.cpp, readImageWithoutOpenImageIo): what they read must be
-// what caustic itself reads, or a benchmark measures another scene. (Until session 12 caustic-bench
-// read every file as Radiance HDR and refused the textured scenes' PNGs.)
+// what caustic itself reads, or a benchmark measures another scene.
 TEST_CASE("images: the lean reader reads PNG, JPEG and HDR files as OpenImageIO does", "[image]") {
     test::TempDir dir;
     // A JPEG written here (no JPEG in the repository): a horizontal ramp, quality 100.

@@ -19,10 +19,12 @@ HeadlessGlContext& glContext() {
     return *context;
 }
 
-std::unique_ptr<Renderer> makeRenderer() {
+IntegratorConfig testConfig() { return IntegratorConfig::fromEnvironment(); }
+
+std::unique_ptr<Renderer> makeRenderer(const IntegratorConfig& config) {
     glContext();
     std::string error;
-    auto renderer = Renderer::create(defaultShaderDir(), &error);
+    auto renderer = Renderer::create(defaultShaderDir(), config, &error);
     INFO(error);
     REQUIRE(renderer != nullptr);
     return renderer;
@@ -35,7 +37,8 @@ unsigned kernel(const std::string& name) {
     ShaderLoader loader(defaultShaderDir());
     ShaderSource src;
     std::string err;
-    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/" + name, integratorDefines(), &src, &err);
+    const bool loaded = loader.load(std::string(CAUSTIC_SOURCE_DIR) + "/tests/gpu/kernels/" + name,
+                                   resolveIntegratorConfig(testConfig()).defines(), &src, &err);
     INFO(err);
     REQUIRE(loaded);
     const unsigned program = compileComputeProgram(src, name, &err);

@@ -12,9 +12,14 @@
 namespace caustic::test {
 
 HeadlessGlContext& glContext();                  // REQUIREs a context
-std::unique_ptr<Renderer> makeRenderer();        // REQUIREs the integrator to compile
+// The configuration the tests run with: the device's defaults (and the CAUSTIC_* variables, so
+// that a run of the suite can be pointed at another configuration).
+IntegratorConfig testConfig();
+// REQUIREs the integrator to compile.
+std::unique_ptr<Renderer> makeRenderer(const IntegratorConfig& config = testConfig());
 // A test kernel from tests/gpu/kernels/ (compiled once per process; REQUIREs it to compile).
-// Kernels include the integrator's own shader files, so they test the real code.
+// Kernels include the integrator's own shader files, so they test the real code, compiled with
+// testConfig()'s defines.
 unsigned kernel(const std::string& name);
 // Renders `samples` spp of `scene` (REQUIREs setScene to succeed) and returns the film.
 Film renderFilm(Renderer& renderer, const Scene& scene, int samples);

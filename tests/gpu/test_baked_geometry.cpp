@@ -7,7 +7,6 @@
 // edit that moves a primitive or a mesh must build a new program, never render the old geometry.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
-#include "tests/support/env.h"
 
 #include <catch2/catch.hpp>
 
@@ -65,11 +64,9 @@ Scene withKnots(Scene s) {
 // A renderer that specialises (the default on llvmpipe; forced elsewhere, e.g. NVIDIA), with
 // baking on or off.
 std::unique_ptr<Renderer> specialisingRenderer(bool bake) {
-    std::unique_ptr<Renderer> r;
-    {
-        const test::ScopedEnv specialise("CAUSTIC_SPECIALIZE", "1");
-        r = test::makeRenderer();
-    }
+    IntegratorConfig config = test::testConfig();
+    config.specialize = true;
+    std::unique_ptr<Renderer> r = test::makeRenderer(config);
     r->setBakeGeometry(bake);
     return r;
 }

@@ -3,7 +3,6 @@
 // the shared vertices and edges of a closed mesh never escape it; and moving instances through
 // Renderer::update (top level only) gives the same hits as a fresh build.
 #include "tests/gpu/gl_fixture.h"
-#include "tests/support/env.h"
 #include "tests/support/meshes.h"
 
 #include <glad/gl.h>
@@ -336,9 +335,9 @@ TEST_CASE("the top-level BVH over analytic primitives finds what testing them al
     }
 }
 
-// Every traversal configuration the renderer can build (scene data read from the storage
-// buffers or through buffer textures, the general program or the one specialised for the scene)
-// against the CPU BVH, on random rays and on adversarial ones: rays in a triangle's own plane and
+// Every traversal configuration the renderer can build (the binary walk over storage buffers or
+// buffer textures, the 4-wide walk with image loads or texel fetches and registers for 1 or 2
+// entries, each in the general program and the one specialised for the scene) against the CPU BVH, on random rays and on adversarial ones: rays in a triangle's own plane and
 // nearly so (grazing), rays aimed exactly at vertices and edge midpoints, and rays starting
 // inside meshes (inside their instances' boxes and every box above them).
 TEST_CASE("every traversal configuration agrees with the CPU BVH on random and adversarial rays", "[gpu][geometry]") {
@@ -346,15 +345,8 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     test::TempDir dir;
     Scene s = meshScene(dir, 3);
     std::string error;
-    // The meshes' 8-wide form and pair records are built only where they are asked for
-    // (wide8BvhRequested, pairBvhRequested): asked while the scene is loaded, then the defaults
-    // back for the configurations below.
-    {
-        const test::ScopedEnv wide8("CAUSTIC_WIDE_BVH", "8"), pairs("CAUSTIC_PAIR_BVH", "1");
-        REQUIRE(renderer->setScene(s, &error));
-    }
-    REQUIRE(!renderer->compiled().wide8Nodes.empty());
-    REQUIRE(!renderer->compiled().pairNodes.empty());
+    REQUIRE(renderer->setScene(s, &error));
+    REQUIRE(!renderer->compiled().wideNodes.empty());
     const CompiledScene& c = renderer->compiled();
     REQUIRE(c.instances.size() == 12);
     std::mt19937 rng(5);
@@ -370,8 +362,8 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     std::vector<Ray> grazing, aimed, inside;
     for (int i = 0; i < 2048; ++i) {
         const gpu::GpuInstance& inst = c.instances[i % c.instances.size()];
-        const std::uint32_t count = inst.info2.y;
-        const gpu::GpuTriangle& t = c.triangles[inst.info.y + std::min(count - 1, std::uint32_t(u(rng) * float(count)))];
+        const std::uint32_t count = inst.triangleCount;
+        const gpu::GpuTriangle& t = c.triangles[inst.firstTriangle + std::min(count - 1, std::uint32_t(u(rng) * float(count)))];
         const glm::vec3 v0 = world(inst, t.p0), v1 = world(inst, t.p1), v2 = world(inst, t.p2);
         const glm::vec3 n = glm::normalize(glm::cross(v1 - v0, v2 - v0)), centroid = (v0 + v1 + v2) / 3.0f;
         // Grazing: from a point of the triangle's plane beyond an edge, along the plane through
@@ -399,52 +391,31 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
     families.push_back({"vertices and edges", aimed, 8, 0, 2048, 16});
     families.push_back({"origins inside meshes", inside, 2, 0, 2});
     ShaderDefines specialised = renderer->featureDefines();
-    ShaderDefines specialisedFetch = specialised;
-    specialisedFetch.emplace_back("CAUSTIC_FETCH_TEXELS", "1");
-    ShaderDefines specialisedWide = specialisedFetch;
-    specialisedWide.emplace_back("CAUSTIC_WIDE_BVH", "1");
-    ShaderDefines specialisedRegisters = specialisedFetch;
-    specialisedRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
-    ShaderDefines specialisedWideRegisters = specialisedWide;
-    specialisedWideRegisters.emplace_back("CAUSTIC_REGISTER_STACK", "8");
-    ShaderDefines specialisedWideImages = specialisedWide;
-    specialisedWideImages.emplace_back("CAUSTIC_REGISTER_STACK", "2");
-    specialisedWideImages.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
-    // What the renderer itself compiles on this driver (integratorDefines: the tree's form, the
-    // register stack, image loads), derived rather than spelled out, so the test follows the
+    auto with = [](ShaderDefines d, const ShaderDefines& more) {
+        d.insert(d.end(), more.begin(), more.end());
+        return d;
+    };
+    const ShaderDefines texels = {{"CAUSTIC_FETCH_TEXELS", "1"}};
+    const ShaderDefines wide2 = {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}};
+    // One entry held: every push beyond it spills to the memory stack and every pop refills.
+    const ShaderDefines wide1 = {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "1"}};
+    const ShaderDefines images = {{"CAUSTIC_IMAGE_LOADS", "1"}};
+    // Each back-end's defaults, resolved as the renderer resolves them, so the test follows the
     // defaults when they change.
-    ShaderDefines specialisedDefaults = specialised;
-    for (const auto& d : integratorDefines()) specialisedDefaults.push_back(d);
-    // The 8-wide nodes (CAUSTIC_WIDE_BVH=8, on request): one stack entry per node whose children
-    // are left; without CAUSTIC_REGISTER_STACK the walk holds one entry and spills the rest.
-    ShaderDefines specialisedWide8Images = specialisedFetch;
-    specialisedWide8Images.emplace_back("CAUSTIC_WIDE_BVH", "8");
-    specialisedWide8Images.emplace_back("CAUSTIC_REGISTER_STACK", "2");
-    specialisedWide8Images.emplace_back("CAUSTIC_IMAGE_LOADS", "1");
-    ShaderDefines specialisedPairs = specialisedRegisters;
-    specialisedPairs.emplace_back("CAUSTIC_PAIR_BVH", "1");
-    // The register stack's spills and refills (two entries held, the rest in memory) on every ray
-    // that nests more than two pending siblings.
+    IntegratorConfig nvidia, llvmpipe;
+    nvidia.defaults = IntegratorDefaults::Nvidia;
+    llvmpipe.defaults = IntegratorDefaults::Llvmpipe;
     const std::pair<const char*, ShaderDefines> configs[] = {
-        {"storage buffers, general", {}},
-        {"buffer textures, general", {{"CAUSTIC_FETCH_TEXELS", "1"}}},
-        {"storage buffers, specialised", specialised},
-        {"buffer textures, specialised", specialisedFetch},
-        {"pair BVH, register stack of 8, specialised", specialisedPairs},
-        {"pair BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
-        {"pair BVH, memory stack, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}}},
-        {"register stack of 8, specialised", specialisedRegisters},
-        {"register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
-        {"register stack of 1, storage buffers", {{"CAUSTIC_REGISTER_STACK", "1"}}},
-        {"4-wide BVH, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}}},
-        {"4-wide BVH, specialised", specialisedWide},
-        {"4-wide BVH, register stack of 8, specialised", specialisedWideRegisters},
-        {"4-wide BVH, register stack of 2, specialised, image loads", specialisedWideImages},
-        {"the renderer's defaults on this driver, specialised", specialisedDefaults},
-        {"pair BVH, image loads, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_PAIR_BVH", "1"}, {"CAUSTIC_IMAGE_LOADS", "1"}}},
-        {"4-wide BVH, register stack of 2, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "1"}, {"CAUSTIC_REGISTER_STACK", "2"}}},
-        {"8-wide BVH, one entry held, general", {{"CAUSTIC_FETCH_TEXELS", "1"}, {"CAUSTIC_WIDE_BVH", "8"}}},
-        {"8-wide BVH, register stack of 2, specialised, image loads", specialisedWide8Images}};
+        {"binary walk, storage buffers, general", {}},
+        {"binary walk, buffer textures, general", texels},
+        {"binary walk, storage buffers, specialised", specialised},
+        {"binary walk, buffer textures, specialised", with(specialised, texels)},
+        {"4-wide walk, 2 held, general", wide2},
+        {"4-wide walk, 1 held, specialised", with(specialised, wide1)},
+        {"4-wide walk, 2 held, image loads, general", with(wide2, images)},
+        {"4-wide walk, 2 held, image loads, specialised", with(with(specialised, wide2), images)},
+        {"NVIDIA's defaults, specialised", with(specialised, resolveIntegratorConfig(nvidia).defines())},
+        {"llvmpipe's defaults, specialised", with(specialised, resolveIntegratorConfig(llvmpipe).defines())}};
     // The image-load configurations need more image units than GL guarantees (8); llvmpipe, where
     // the suite runs, has them, so there they always run.
     if (onLlvmpipe()) REQUIRE(imageUnitsForTexelViews());
@@ -469,10 +440,9 @@ TEST_CASE("every traversal configuration agrees with the CPU BVH on random and a
             // visits the same leaves in another order: where a ray meets several triangles at
             // about the same t (through a vertex or an edge) it may report another of them, whose
             // t differs in the last bits (measured: 1 ulp on one ray in 2048, 4 other triangles).
-            // The pair BVH's quantised boxes may order two children differently too.
             if (first.empty()) first = gpu;
             const bool wide = std::any_of(defines.begin(), defines.end(), [](const auto& d) {
-                return d.first == "CAUSTIC_WIDE_BVH" || d.first == "CAUSTIC_PAIR_BVH";
+                return d.first == "CAUSTIC_WIDE_BVH";
             });
             int differ = 0, otherTriangle = 0;
             for (size_t i = 0; i < gpu.size(); ++i) {
@@ -569,8 +539,9 @@ TEST_CASE("the walk statistics count what the walks did and change nothing else"
         none = renderer->walkStats();
     }
     {
-        const test::ScopedEnv counting("CAUSTIC_WALK_STATS", "1");
-        auto renderer = test::makeRenderer();
+        IntegratorConfig counting = test::testConfig();
+        counting.walkStats = true;
+        auto renderer = test::makeRenderer(counting);
         counted = test::renderFilm(*renderer, s, 4);
         stats = renderer->walkStats();
     }

@@ -14,7 +14,6 @@
 //     BSDF sampling alone and MIS (next event estimation sees the texture a hit sees); likewise a
 //     scene material's emission_texture on a quad and a sphere (rect and sphere lights).
 #include "tests/gpu/gl_fixture.h"
-#include "tests/support/env.h"
 
 #include "renderer/dirty.h"
 #include "renderer/gpu_scene.h"
@@ -131,11 +130,9 @@ TEST_CASE("alpha cut-outs: camera rays pass where a glTF MASK leaf's alpha is be
 
     // Unspecialised (as on NVIDIA by default), the program for a scene with masks has them too,
     // and gives the same image.
-    std::unique_ptr<Renderer> general;
-    {
-        const test::ScopedEnv unspecialised("CAUSTIC_SPECIALIZE", "0");
-        general = test::makeRenderer();
-    }
+    IntegratorConfig unspecialisedConfig = test::testConfig();
+    unspecialisedConfig.specialize = false;
+    std::unique_ptr<Renderer> general = test::makeRenderer(unspecialisedConfig);
     const Film unspecialised = test::renderFilm(*general, facingScene(kData / "leaf.glb"), 4);
     double generalSum = 0.0;
     for (size_t i = 0; i < glb.mean.size(); ++i) generalSum += std::abs(double(unspecialised.mean[i].g - glb.mean[i].g));

@@ -1,8 +1,9 @@
 // The struct layouts in shaders/shared/layout.h must mean the same to the GLSL compiler as to
 // C++: compare the offsets the driver reports for the integrator program with offsetof, for
-// every member of every shared struct (GpuPrimitive, GpuMaterial, GpuTexture, GpuLight,
-// GpuLightNode, GpuBvhNode, GpuInstance, GpuTriangle, GpuVertex, GpuFrame), and each array's
-// stride with sizeof. The integrator uses every buffer, so its program reports them all.
+// every member of every shared struct that a buffer holds (generated from the structs' row
+// lists, so a new member is checked without a line here), and each array's stride with sizeof.
+// The integrator uses every buffer, so its program reports them all. (GpuWideBvhNode is read
+// only through a buffer texture: its rows are its texels, which the row count checks.)
 #include "shaders/shared/layout.h"
 #include "tests/gpu/gl_fixture.h"
 
@@ -11,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstddef>
+#include <string>
 
 using namespace caustic;
 
@@ -41,82 +43,75 @@ TEST_CASE("shared structs have the same layout in GLSL and C++", "[gpu][layout]"
     auto renderer = test::makeRenderer();
     const GLuint p = renderer->program();
     using namespace caustic::gpu;
-#define CHECK_MEMBER(array, Type, member) \
-    CHECK(resourceOffset(p, GL_BUFFER_VARIABLE, array "[0]." #member) == GLint(offsetof(Type, member)))
-    CHECK_MEMBER("primitives", GpuPrimitive, a);
-    CHECK_MEMBER("primitives", GpuPrimitive, b);
-    CHECK_MEMBER("primitives", GpuPrimitive, c);
-    CHECK_MEMBER("primitives", GpuPrimitive, info);
-    CHECK(arrayStride(p, "primitives[0].a") == GLint(sizeof(GpuPrimitive)));
-    CHECK_MEMBER("materials", GpuMaterial, albedo);
-    CHECK_MEMBER("materials", GpuMaterial, emission);
-    CHECK_MEMBER("materials", GpuMaterial, params);
-    CHECK_MEMBER("materials", GpuMaterial, info);
-    CHECK_MEMBER("materials", GpuMaterial, eta);
-    CHECK_MEMBER("materials", GpuMaterial, k);
-    CHECK_MEMBER("materials", GpuMaterial, textures);
-    CHECK_MEMBER("materials", GpuMaterial, sheen);
-    CHECK_MEMBER("textures", GpuTexture, info);
-    CHECK(arrayStride(p, "textures[0].info") == GLint(sizeof(GpuTexture)));
-    CHECK(arrayStride(p, "materials[0].albedo") == GLint(sizeof(GpuMaterial)));
-    CHECK_MEMBER("lights", GpuLight, p0);
-    CHECK_MEMBER("lights", GpuLight, p1);
-    CHECK_MEMBER("lights", GpuLight, p2);
-    CHECK_MEMBER("lights", GpuLight, color);
-    CHECK_MEMBER("lights", GpuLight, info);
-    CHECK_MEMBER("lights", GpuLight, tree);
-    CHECK(arrayStride(p, "lights[0].p0") == GLint(sizeof(GpuLight)));
-    CHECK_MEMBER("lightTree", GpuLightNode, boundsMin);
-    CHECK_MEMBER("lightTree", GpuLightNode, boundsMax);
-    CHECK_MEMBER("lightTree", GpuLightNode, axis);
-    CHECK_MEMBER("lightTree", GpuLightNode, info);
-    CHECK(arrayStride(p, "lightTree[0].boundsMin") == GLint(sizeof(GpuLightNode)));
-    // The geometry: a BVH node's vec3 is followed by a scalar (std430 packs it into the vec3's
-    // fourth word, as the C++ struct does).
-    CHECK_MEMBER("bvhNodes", GpuBvhNode, boundsMin);
-    CHECK_MEMBER("bvhNodes", GpuBvhNode, rightOrFirst);
-    CHECK_MEMBER("bvhNodes", GpuBvhNode, boundsMax);
-    CHECK_MEMBER("bvhNodes", GpuBvhNode, countAndAxis);
-    CHECK(arrayStride(p, "bvhNodes[0].boundsMin") == GLint(sizeof(GpuBvhNode)));
-    CHECK_MEMBER("instances", GpuInstance, worldToObject0);
-    CHECK_MEMBER("instances", GpuInstance, worldToObject1);
-    CHECK_MEMBER("instances", GpuInstance, worldToObject2);
-    CHECK_MEMBER("instances", GpuInstance, objectToWorld0);
-    CHECK_MEMBER("instances", GpuInstance, objectToWorld1);
-    CHECK_MEMBER("instances", GpuInstance, objectToWorld2);
-    CHECK_MEMBER("instances", GpuInstance, info);
-    CHECK_MEMBER("instances", GpuInstance, info2);
-    CHECK_MEMBER("instances", GpuInstance, info3);
-    CHECK(arrayStride(p, "instances[0].worldToObject0") == GLint(sizeof(GpuInstance)));
-    CHECK_MEMBER("triangles", GpuTriangle, p0);
-    CHECK_MEMBER("triangles", GpuTriangle, p1);
-    CHECK_MEMBER("triangles", GpuTriangle, p2);
-    CHECK_MEMBER("triangles", GpuTriangle, v);
-    CHECK(arrayStride(p, "triangles[0].p0") == GLint(sizeof(GpuTriangle)));
-    CHECK_MEMBER("vertices", GpuVertex, normalU);
-    CHECK_MEMBER("vertices", GpuVertex, tangentV);
-    CHECK(arrayStride(p, "vertices[0].normalU") == GLint(sizeof(GpuVertex)));
-#undef CHECK_MEMBER
-#define CHECK_FRAME(member) CHECK(resourceOffset(p, GL_UNIFORM, "frame." #member) == GLint(offsetof(GpuFrame, member)))
-    CHECK_FRAME(camPosition);
-    CHECK_FRAME(camRight);
-    CHECK_FRAME(camUp);
-    CHECK_FRAME(camForward);
-    CHECK_FRAME(image);
-    CHECK_FRAME(counts);
-    CHECK_FRAME(dispatch);
-    CHECK_FRAME(envInfo);
-    CHECK_FRAME(envRadiance);
-    CHECK_FRAME(envHorizon);
-    CHECK_FRAME(envZenith);
-    CHECK_FRAME(envMap);
-    CHECK_FRAME(camLens);
-    CHECK_FRAME(camInfo);
-    CHECK_FRAME(geometry);
-    CHECK_FRAME(sampling);
-    CHECK_FRAME(envSelect);
-    CHECK_FRAME(rayOffset);
-    CHECK_FRAME(options);
-    CHECK_FRAME(tables);
-#undef CHECK_FRAME
+    // Every member of every row list (shared/layout.h): its offset as the driver reports it for the
+    // storage buffer LAYOUT_ARRAY (or the frame's uniform block) against offsetof, and the array's
+    // stride against sizeof. LAYOUT_ARRAY and LAYOUT_TYPE are defined around each expansion.
+#define LAYOUT_MEMBER(n)                                                                             \
+    {                                                                                                \
+        const std::string name = std::string(LAYOUT_ARRAY) + "[0]." #n;                              \
+        CHECK(resourceOffset(p, GL_BUFFER_VARIABLE, name.c_str()) == GLint(offsetof(LAYOUT_TYPE, n))); \
+        CHECK(arrayStride(p, name.c_str()) == GLint(sizeof(LAYOUT_TYPE)));                           \
+    }
+#define LAYOUT_MEMBER2(a, b) LAYOUT_MEMBER(a) LAYOUT_MEMBER(b)
+#define LAYOUT_MEMBER4(a, b, c, d) LAYOUT_MEMBER(a) LAYOUT_MEMBER(b) LAYOUT_MEMBER(c) LAYOUT_MEMBER(d)
+#define LAYOUT_CHECK(ROWS) ROWS(LAYOUT_MEMBER, LAYOUT_MEMBER, LAYOUT_MEMBER2, LAYOUT_MEMBER4)
+#define LAYOUT_ARRAY "primitives"
+#define LAYOUT_TYPE GpuPrimitive
+    LAYOUT_CHECK(GPU_PRIMITIVE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "materials"
+#define LAYOUT_TYPE GpuMaterial
+    LAYOUT_CHECK(GPU_MATERIAL_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "textures"
+#define LAYOUT_TYPE GpuTexture
+    LAYOUT_CHECK(GPU_TEXTURE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "lights"
+#define LAYOUT_TYPE GpuLight
+    LAYOUT_CHECK(GPU_LIGHT_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "lightTree"
+#define LAYOUT_TYPE GpuLightNode
+    LAYOUT_CHECK(GPU_LIGHT_NODE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+    // A BVH node's vec3 is followed by a scalar (std430 packs it into the vec3's fourth word, as
+    // the C++ struct does).
+#define LAYOUT_ARRAY "bvhNodes"
+#define LAYOUT_TYPE GpuBvhNode
+    LAYOUT_CHECK(GPU_BVH_NODE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "instances"
+#define LAYOUT_TYPE GpuInstance
+    LAYOUT_CHECK(GPU_INSTANCE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "triangles"
+#define LAYOUT_TYPE GpuTriangle
+    LAYOUT_CHECK(GPU_TRIANGLE_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#define LAYOUT_ARRAY "vertices"
+#define LAYOUT_TYPE GpuVertex
+    LAYOUT_CHECK(GPU_VERTEX_ROWS)
+#undef LAYOUT_ARRAY
+#undef LAYOUT_TYPE
+#undef LAYOUT_CHECK
+#undef LAYOUT_MEMBER4
+#undef LAYOUT_MEMBER2
+#undef LAYOUT_MEMBER
+    // The frame's uniform block (std140; its rows are vec4s, so std140 is std430 is C++).
+#define FRAME_MEMBER(n) CHECK(resourceOffset(p, GL_UNIFORM, "frame." #n) == GLint(offsetof(GpuFrame, n)));
+#define FRAME_MEMBER2(a, b) FRAME_MEMBER(a) FRAME_MEMBER(b)
+#define FRAME_MEMBER4(a, b, c, d) FRAME_MEMBER(a) FRAME_MEMBER(b) FRAME_MEMBER(c) FRAME_MEMBER(d)
+    GPU_FRAME_ROWS(FRAME_MEMBER, FRAME_MEMBER, FRAME_MEMBER2, FRAME_MEMBER4)
+#undef FRAME_MEMBER4
+#undef FRAME_MEMBER2
+#undef FRAME_MEMBER
 }

@@ -6,7 +6,6 @@
 // escape to an environment at different depths, end by Russian roulette, or probe glass.
 #include "renderer/scene_io.h"
 #include "tests/gpu/gl_fixture.h"
-#include "tests/support/env.h"
 
 #include <catch2/catch.hpp>
 
@@ -16,14 +15,15 @@ using namespace caustic;
 
 namespace {
 
-// Renders `scene` with regeneration forced on or off. CAUSTIC_DISPATCH_SECONDS makes each
-// dispatch after the first hold as many samples as the renderer allows (64), so that lanes do
-// start later samples within a dispatch.
+// Renders `scene` with regeneration forced on or off. A dispatch of 60 s makes each dispatch
+// after the first hold as many samples as the renderer allows (64), so that lanes do start later
+// samples within a dispatch.
 Film renderWith(bool regenerate, const Scene& scene, int samples) {
-    const test::ScopedEnv regeneration("CAUSTIC_REGENERATE", regenerate ? "1" : "0");
-    const test::ScopedEnv dispatch("CAUSTIC_DISPATCH_SECONDS", "60");
-    auto r = test::makeRenderer();
-    CHECK(test::hasDefine(integratorDefines(), "CAUSTIC_REGENERATE") == regenerate);
+    IntegratorConfig config = test::testConfig();
+    config.regenerate = regenerate;
+    config.dispatchSeconds = 60.0;
+    auto r = test::makeRenderer(config);
+    CHECK(test::hasDefine(r->config().defines(), "CAUSTIC_REGENERATE") == regenerate);
     return test::renderFilm(*r, scene, samples);
 }
 

@@ -4,9 +4,9 @@
 // is float round-off, and above all the ray offset that keeps secondary rays off their own surface:
 // with the former fixed floor (1e-4 world units) the box at 1e-4 rendered 22% darker and at 1e-6
 // 36%, because shadow rays started beyond the light, which sits 1e-6 below the ceiling there.
-// Below 1e-9 two more things failed (session 6): the quads' plane form held N = e1 x e2, whose
+// Below 1e-9 two more things can fail: the quads' plane form held N = e1 x e2, whose
 // square flushed to zero in float (every ray missed), and the hit's normal normalize(e1 x e2) came
-// out NaN (the box at 1e-11 rendered black with exit 0); both are now scaled first.
+// out NaN (the box at 1e-11 rendered black with exit 0); both are scaled first.
 //
 // Each scale is rendered with its own seed (independent noise) and compared with the unscaled box
 // by the image mean (within 4 combined standard errors per channel) and by each 4 x 4 block of

@@ -2,12 +2,11 @@
 // developer editing shaders/): the editor builds a fresh renderer from the new sources and keeps
 // the old one unless Renderer::checkSource says the whole integrator compiles
 // (editor/ui/editor_app.cpp, reloadShaders). On llvmpipe create() builds no integrator (each scene
-// gets its own, session 15), so create() alone proves nothing there: this checks that
+// gets its own), so create() alone proves nothing there: this checks that
 // checkSource and setScene both fail with the broken file's name, and that the renderer made
 // from the good sources still renders.
 #include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
-#include "tests/support/env.h"
 #include "tests/support/meshes.h"  // TempDir
 
 #include <catch2/catch.hpp>
@@ -40,7 +39,7 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
     }
 
     std::string error;
-    auto fresh = Renderer::create(dir.string(), &error);
+    auto fresh = Renderer::create(dir.string(), testConfig(), &error);
     if (!fresh) {
         // Where create() builds the general integrator (specialisation off: NVIDIA), it fails here.
         CHECK(error.find("lights/environment.glsl") != std::string::npos);
@@ -69,13 +68,14 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
 // A scene's own program that fails to build leaves the general one rendering (selectProgram): the
 // image is the scene's, only slower, so the renderer says so (programFellBack) and caustic-bench
 // marks the row FALLBACK; compare.py and ab.py refuse such rows. Without it an A/B of a shader
-// change that broke only the specialised build measured the general program (session 22).
+// change that broke only the specialised build would measure the general program.
 TEST_CASE("a scene program that fails to build falls back to the general one, which renders the same image and is reported",
           "[gpu][bench]") {
     glContext();
-    const ScopedEnv specialise("CAUSTIC_SPECIALIZE", "1");  // every driver builds the scene's program
+    IntegratorConfig specialising = testConfig();
+    specialising.specialize = true;  // every driver builds the scene's program
     const Scene scene = cornellBox(16);
-    auto good = makeRenderer();
+    auto good = makeRenderer(specialising);
     const Film reference = renderFilm(*good, scene, 2);
     CHECK_FALSE(good->programFellBack());
 
@@ -91,7 +91,7 @@ TEST_CASE("a scene program that fails to build falls back to the general one, wh
         out << "#ifdef CAUSTIC_MATERIALS\n#error a specialised build broken on purpose\n#endif\n" << text;
     }
     std::string error;
-    auto fallback = Renderer::create(dir.string(), &error);
+    auto fallback = Renderer::create(dir.string(), specialising, &error);
     INFO(error);
     REQUIRE(fallback);
     REQUIRE(fallback->setScene(scene, &error));

@@ -65,7 +65,7 @@ def caustic_run(bench, scenes, size, spp, max_depth, extra, env):
 
 def machine_summary():
     """The CPU the ratio was measured on: its model, CPU count and widest vector ISA. The knot's
-    ratio moves with it by about 1.25x (docs/performance.md, session 21: Mitsuba's LLVM back end
+    ratio moves with it by about 1.25x (docs/performance.md: Mitsuba's LLVM back end
     and Embree use AVX-512 where llvmpipe gains nothing from it), so every run prints it."""
     model, flags = "unknown CPU", set()
     try:

@@ -45,7 +45,6 @@ compare() {
     --config general --config specialised:CAUSTIC_SPECIALIZE=1 \
     --config specialised-texels:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1 \
     --config specialised-texels-4wide:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1:CAUSTIC_WIDE_BVH=1 \
-    --config specialised-texels-8wide:CAUSTIC_SPECIALIZE=1:CAUSTIC_FETCH_TEXELS=1:CAUSTIC_WIDE_BVH=8 \
     --json "$OUT/compare.json" cornell mesh-knot 2>&1 | tee "$OUT/compare.txt"
 }
 if [ "${1:-}" = compare ]; then
@@ -75,9 +74,8 @@ fi
   python3 tests/gpu_machine/make_mesh_scene.py /tmp/caustic-gpu/big-mesh > /dev/null
   echo "## 1M-triangle mesh: caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays"
   timeout 120 $B/caustic-bench --size 1024 --samples 64 --max-depth 7 --repeat 3 --rays /tmp/caustic-gpu/big-mesh/mesh-big.json 2>&1
-  # The same through buffer textures with the 8-wide nodes (Ylitie et al. 2017's layout, unmeasured
-  # on NVIDIA; 0.88-0.97x on llvmpipe) and, for the same reads, with the 4-wide ones.
-  for wide in 8 1; do
+  # The same through buffer textures, with the binary and the 4-wide nodes (the two walks).
+  for wide in 0 1; do
     echo "## 1M-triangle mesh, CAUSTIC_FETCH_TEXELS=1 CAUSTIC_WIDE_BVH=$wide"
     CAUSTIC_FETCH_TEXELS=1 CAUSTIC_WIDE_BVH=$wide timeout 90 $B/caustic-bench --size 1024 --samples 64 --max-depth 7 \
       --repeat 2 --rays /tmp/caustic-gpu/big-mesh/mesh-big.json 2>&1 | tail -2

@@ -16,7 +16,7 @@
   with the emitter's eval), so the Mitsuba map gets to_world = rotate(+y, 180). Mitsuba looks a
   map up with its texels at the grid's vertices (u = i / W, v = j / (H - 1)), caustic at their
   centres (u = (i + 1/2) / W, v = (j + 1/2) / H): under assets/sky.hdr image means differ by
-  about 0.4 % for that alone (docs/performance.md, session 16).
+  about 0.4 % for that alone (docs/performance.md).
 """
 import math
 import os

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # caustic-bench on a newer llvmpipe than Debian 12's (a benchmarking aid, never a test;
-# docs/performance.md, session 23). Makes (once) a minimal Debian sid root with sid's Mesa (at the
+# docs/performance.md). Makes (once) a minimal Debian sid root with sid's Mesa (at the
 # time of writing 26.2.6 with LLVM 22; Debian 12's backports stop at 25.0.7 with LLVM 15), binds
 # this checkout and the machine's /tmp into it at the same paths, copies the three Debian 12
 # libraries that sid no longer has (libassimp.so.5, libdraco.so.7, libminizip.so.1), and writes
 # ROOT/bench: a wrapper that runs a caustic-bench built here (Debian 12's glibc is older than sid's,
 # so the binary runs there unchanged) on sid's Mesa. Prints the wrapper's path.
-#   tests/llvmpipe/mesa_next.sh [ROOT]        (default /tmp/caustic-mesa-next; needs root, debootstrap)
+#   tools/llvmpipe/mesa_next.sh [ROOT]        (default /tmp/caustic-mesa-next; needs root, debootstrap)
 # The wrapper runs $CAUSTIC_NEXT_BENCH if set (a copy of an older build, as ab.py's configurations
 # use), else this checkout's build/caustic-bench; paths under the checkout and /tmp mean the same
 # inside. With the benchmarks:
@@ -49,7 +49,7 @@ for lib in libassimp.so.5 libdraco.so.7 libminizip.so.1; do
 done
 cat > "$root/bench" << EOF
 #!/usr/bin/env bash
-# caustic-bench on sid's Mesa (written by tests/llvmpipe/mesa_next.sh)
+# caustic-bench on sid's Mesa (written by tools/llvmpipe/mesa_next.sh)
 bench=\${CAUSTIC_NEXT_BENCH:-$checkout/build/caustic-bench}
 exec chroot "$root" /usr/bin/env LD_LIBRARY_PATH=/opt/debian12-libs /bin/bash -c 'cd "\$0" && exec "\$@"' "\$PWD" "\$bench" "\$@"
 EOF

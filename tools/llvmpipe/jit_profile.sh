@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Where llvmpipe spends a render's time, down to the JIT code's loops (a profiling aid, never a
-# test; docs/performance.md, sessions 9 and 10). Runs caustic-bench with the given arguments,
+# test; docs/performance.md, "How to measure"). Runs caustic-bench with the given arguments,
 # records it with perf after a warm-up, dumps the JIT code's executable mappings from
 # /proc/PID/mem, disassembles them and prints the functions (the kernel and the texture-fetch
 # helpers) and the hottest loops (backward branches) with their share of the samples.
-#   tests/llvmpipe/jit_profile.sh OUT_DIR [caustic-bench arguments...]
+#   tools/llvmpipe/jit_profile.sh OUT_DIR [caustic-bench arguments...]
 # WARM (s, default 5) and SECS (s, default 8) set the warm-up and the recording time; the render
 # must outlast both (e.g. --size 256 --samples 64). Needs perf (linux-perf) and objdump (binutils).
 set -euo pipefail

@@ -3,17 +3,16 @@
 
 Runs caustic-bench once per configuration per round, interleaved (A B A B ...), and prints per
 scene the median of M samples per CPU second and its ratio to the first configuration. On a shared
-or virtual machine a single run can be 10-25 % off; interleaved medians of 3-4 rounds agreed to
-within ~2 % in session 10 (docs/performance.md), but in session 20 runs of 3-12 rounds of the same
-pair of configurations gave 0.90x to 1.08x. So it also prints, per configuration, the median of
+or virtual machine a single run can be 10-25 % off, and even interleaved medians of 3-12 rounds
+of the same pair of configurations have ranged from 0.90x to 1.08x (docs/performance.md). So it also prints, per configuration, the median of
 the per-round ratios with a bootstrap 90 % interval: decide on that interval, not on one median.
 
-    tests/llvmpipe/ab.py [--rounds 3] [--size 128] [--spp 8] [--max-depth 7]
+    tools/llvmpipe/ab.py [--rounds 3] [--size 128] [--spp 8] [--max-depth 7]
                          --config NAME=BENCH[:SHADER_DIR[:VAR=VALUE...]] ... scene.json ...
 
 BENCH is a caustic-bench binary (keep a copy of the old one before rebuilding); SHADER_DIR, when
 given, is the shader tree it reads (CAUSTIC_SHADER_DIR, e.g. `git archive REV shaders | tar -x`);
-VAR=VALUE are further environment variables (CAUSTIC_WIDE_MERGE=0, CAUSTIC_FETCH_TEXELS=0, ...).
+VAR=VALUE are further environment variables (CAUSTIC_REGISTER_STACK=4, CAUSTIC_FETCH_TEXELS=0, ...).
 """
 import argparse
 import collections

@@ -1,0 +1,214 @@
+// The integrator's programs: the scene-specialised configuration (featureDefines), baked
+// geometry, and building, caching and choosing the program a dispatch uses.
+#include "renderer/renderer.h"
+#include "renderer/renderer_internal.h"
+
+#include "renderer/bsdf_tables.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string_view>
+
+namespace caustic {
+namespace {
+
+// The scene-specialised configuration of the integrator (shaders/scene/features.glsl) for the
+// scene and settings of `frame`: the kinds of material, light, shape, environment, sampler and
+// light selection present, the traversal the scene gets, whether it has one light only.
+bool hasAlphaMask(const CompiledScene& c) {
+    return std::any_of(c.instances.begin(), c.instances.end(),
+                       [](const gpu::GpuInstance& i) { return (i.flags & PRIM_FLAG_ALPHA_MASK) != 0u; });
+}
+
+// The unspecialised program's one feature define: alpha masks are compiled in only for a scene
+// that has one. Their test sits in traversal's innermost loop, where code size costs every ray on
+// a GPU (docs/performance.md, "integrator profile"), so a scene without masks must not pay for it
+// where specialisation is off either (NVIDIA, by default). With 0 the code is still compiled (a
+// constant-false branch), so the general program still checks the whole source.
+ShaderDefines generalDefines(bool alphaMask) { return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}}; }
+
+
+// Baked geometry (bake = true; geometry/bvh.glsl): records as constants of the program, each
+// 32-bit word a literal (floats as uintBitsToFloat of their bits: no decimal round trip).
+std::string glslWord(std::uint32_t u) {
+    char b[16];
+    std::snprintf(b, sizeof b, "0x%08xu", unsigned(u));
+    return b;
+}
+std::string glslRow(const glm::uvec4& v) {
+    return "uvec4(" + glslWord(v.x) + "," + glslWord(v.y) + "," + glslWord(v.z) + "," + glslWord(v.w) + ")";
+}
+std::string glslRow(const glm::vec4& v) {
+    glm::uvec4 u;
+    std::memcpy(&u, &v, sizeof u);
+    return glslRow(u);
+}
+
+// A brute-force program's primitives: one BAKED_PRIMITIVE(kind, a, b, c, index) each. On
+// llvmpipe the loop over primitives then unrolls into tests on immediates: the Cornell box's 18
+// quad tests per ray read three texel fetches each otherwise (each a gather of 8 lanes), and with
+// them baked the box renders 1.6-2.2x faster, the same image bit for bit (docs/performance.md).
+// Neither a uniform block nor a constant array indexed in the loop did this (both slower than the
+// fetches).
+std::string bakedPrimitiveTests(const CompiledScene& c) {
+    std::string out;
+    const std::vector<gpu::GpuPrimitive> hits = primitiveHitRecords(c.primitives);
+    for (std::size_t i = 0; i < hits.size(); ++i)
+        out += "BAKED_PRIMITIVE(" + std::to_string(hits[i].info.x) + "u," + glslRow(hits[i].a) + "," + glslRow(hits[i].b) +
+               "," + glslRow(hits[i].c) + "," + std::to_string(i) + "u) ";
+    return out;
+}
+
+// The same for mesh instances (a few meshes and primitives: CAUSTIC_BAKED_TOP_LEVEL), one
+// BAKED_INSTANCE(index, the record's nine rows, its tree's root box min and max) each.
+std::string bakedInstanceTests(const CompiledScene& c) {
+    std::string out;
+    for (std::size_t i = 0; i < c.instances.size(); ++i) {
+        const gpu::GpuInstance& in = c.instances[i];
+        out += "BAKED_INSTANCE(" + std::to_string(i) + "u,";
+        for (const glm::vec4& r : {in.worldToObject0, in.worldToObject1, in.worldToObject2, in.objectToWorld0,
+                                   in.objectToWorld1, in.objectToWorld2})
+            out += glslRow(r) + ",";
+        out += glslRow(glm::uvec4(in.rootNode, in.firstTriangle, in.material, in.light)) + "," +
+               glslRow(glm::uvec4(in.firstVertex, in.triangleCount, in.fileMaterials, in.flags)) + "," +
+               glslRow(glm::uvec4(in.wideRoot, in.unused0, in.unused1, in.unused2)) + ",";
+        const gpu::GpuBvhNode& root = c.bvhNodes[in.rootNode];
+        out += glslRow(glm::vec4(root.boundsMin, 0.0f)) + "," + glslRow(glm::vec4(root.boundsMax, 0.0f)) + ") ";
+    }
+    return out;
+}
+
+ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c, bool bake) {
+    std::uint32_t materials = 0, lights = 0, shapes = 0;
+    bool textures = false, emissionTextures = false;
+    for (const gpu::GpuMaterial& m : c.materials) {
+        materials |= 1u << (m.info.x & 31u);
+        textures = textures || m.textures != glm::uvec4(0u);
+        emissionTextures = emissionTextures || m.textures.w != 0u;
+    }
+    const bool alphaMask = hasAlphaMask(c);
+    for (const gpu::GpuLight& l : c.lights) lights |= 1u << (l.info.x & 31u);
+    for (const gpu::GpuPrimitive& p : c.primitives) shapes |= 1u << (p.info.x & 31u);
+    if (!c.instances.empty()) shapes |= 1u << 16;  // SHAPE_BIT_MESH
+    const bool bruteForce = frame.geometry.y == 0 && frame.counts.x <= BVH_BRUTE_FORCE_MAX;
+    // One light, the environment included: every selection rule picks it with probability 1
+    // (power and uniform selection give 1 exactly; the tree gives the environment 1 when it holds
+    // no other light), and the program need not carry the selection code, which llvmpipe would
+    // run under a lane mask at every vertex (docs/performance.md).
+    const bool singleLight = c.lights.size() == 1;
+    auto hex = [](std::uint32_t v) {
+        char b[16];
+        std::snprintf(b, sizeof b, "0x%xu", unsigned(v));
+        return std::string(b);
+    };
+    ShaderDefines defines = {{"CAUSTIC_MATERIALS", hex(materials)},
+            {"CAUSTIC_LIGHTS", hex(lights)},
+            {"CAUSTIC_SHAPES", hex(shapes)},
+            {"CAUSTIC_ENVIRONMENTS", hex(1u << (frame.envInfo.x & 31u))},
+            {"CAUSTIC_SAMPLERS", hex(1u << (frame.sampling.x & 31u))},
+            {"CAUSTIC_LIGHT_SELECTIONS", hex(1u << (frame.sampling.y & 31u))},
+            {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
+            {"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"},
+            {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
+            {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
+            {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
+    if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
+    // A baked top level: at most 32 entries, of them at most 16 instances (traceScenePair keeps
+    // both of a step's rays' instance candidates in one 32-bit mask), and a path step's
+    // continuation and shadow rays walked together (integrator/path.glsl, CAUSTIC_PAIRED_TRACE).
+    if (bake && !bruteForce && !c.instances.empty() && c.instances.size() <= 16 &&
+        c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX) {
+        defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
+        defines.push_back({"CAUSTIC_PAIRED_TRACE", "1"});
+    }
+    return defines;
+}
+
+}  // namespace
+
+ShaderDefines Renderer::featureDefines() const {
+    return caustic::featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled, m_config.bakeGeometry.value_or(m_bakeGeometry));
+}
+
+unsigned Renderer::generalProgram(std::string* error) {
+    if (!m_general) {
+        ShaderDefines defines = m_config.defines();
+        for (const auto& d : generalDefines(false)) defines.push_back(d);
+        m_general = buildProgram("integrator/path.comp", defines, error);
+    }
+    return m_general;
+}
+
+unsigned Renderer::program() {
+    if (m_program) return m_program;
+    std::string error;
+    return generalProgram(&error);
+}
+
+bool Renderer::selectProgram(std::string* error) {
+    // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
+    // falls back to the general program; when that fails too (the source does not compile), there
+    // is no program (m_program 0) and dispatches render nothing until one builds.
+    std::string why;
+    const bool built = m_specialize ? useProgram(featureDefines(), &why)
+                                    : useProgram(generalDefines(hasAlphaMask(m_compiled)), &why);
+    if (built) {
+        m_programFellBack = false;
+        return true;
+    }
+    std::string generalWhy;
+    if (const unsigned general = generalProgram(&generalWhy)) {
+        // Said once per failure, not before every dispatch (each selects its program).
+        if (!m_programFellBack || why != m_fallbackReason)
+            std::fprintf(stderr, "caustic: the %s integrator failed to build, using the general one: %s\n",
+                         m_specialize ? "specialised" : "alpha-masked", why.c_str());
+        m_fallbackReason = why;
+        m_program = general;
+        m_programFellBack = true;
+        return true;
+    }
+    m_programFellBack = false;
+    m_program = 0;
+    *error = why;
+    return false;
+}
+
+unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error) {
+    std::string key = file + ":";
+    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    if (auto it = m_programs.find(key); it != m_programs.end()) return it->second;
+    // A failure is kept too: every dispatch selects its program, and retrying a source that does
+    // not compile cost seconds each time on llvmpipe.
+    if (auto it = m_programFailures.find(key); it != m_programFailures.end()) {
+        *error = it->second;
+        return 0;
+    }
+    ShaderLoader loader(m_shaderDir);
+    ShaderSource source;
+    if (!loader.load(file, defines, &source, error)) return 0;
+    const unsigned program = compileComputeProgram(source, file, error, m_config.compileTimes);
+    if (program) m_programs.emplace(key, program);
+    else m_programFailures.emplace(key, *error);
+    return program;
+}
+
+bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
+    ShaderDefines defines = m_config.defines();
+    defines.insert(defines.end(), features.begin(), features.end());
+    const unsigned program = buildProgram("integrator/path.comp", defines, error);
+    if (!program) return false;
+    m_program = program;
+    return true;
+}
+
+}  // namespace caustic
