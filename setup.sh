@@ -22,6 +22,7 @@ packages=(
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev xvfb xauth
   libassimp-dev assimp-testmodels libpng-dev libjpeg-dev
+  fonts-dejavu-core
   chromium
 )
 missing=()
