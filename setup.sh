@@ -166,16 +166,20 @@ PY
 fi
 
 # 2d. The render farm (app/farm, docs/farm.md): its own venv, .deps/farm-venv, with Ray, tqdm,
-# numpy and flip-evaluator from PyPI, and Playwright for the test that opens the report in
-# Debian's chromium (installed above; Playwright's own browser download is never used). Versions
-# are pinned; the stamp makes a repeat run skip the install. The package itself is installed
-# editable (no dependencies) whenever the venv does not point at this checkout.
+# numpy, flip-evaluator and the OpenEXR bindings from PyPI, and Playwright for the test that opens
+# the report in Debian's chromium (installed above; Playwright's own browser download is never
+# used). Versions are pinned; the stamp makes a repeat run skip the install, and a changed pin is
+# installed into the existing venv (pip keeps what already matches). The package itself is
+# installed editable (no dependencies) whenever the venv does not point at this checkout.
 farm_venv=.deps/farm-venv
-farm_pins="ray==2.60.0 tqdm==4.70.1 numpy==2.4.6 flip-evaluator==1.7 playwright==1.65.2"
+farm_pins="ray==2.60.0 tqdm==4.70.1 numpy==2.4.6 flip-evaluator==1.7 playwright==1.65.2 OpenEXR==3.5.3"
 if [ "$(cat "$farm_venv/.stamp" 2>/dev/null)" != "$farm_pins" ]; then
-  log "creating $farm_venv ($farm_pins; about 700 MB)"
-  rm -rf "$farm_venv"
-  python3 -m venv "$farm_venv"
+  if [ ! -x "$farm_venv/bin/python" ]; then
+    log "creating $farm_venv"
+    rm -rf "$farm_venv"
+    python3 -m venv "$farm_venv"
+  fi
+  log "installing into $farm_venv: $farm_pins (about 700 MB the first time)"
   "$farm_venv/bin/pip" install -q --disable-pip-version-check $farm_pins
   echo "$farm_pins" > "$farm_venv/.stamp"
 fi

@@ -20,7 +20,9 @@ import sys
 import time
 
 from caustic_farm import plan as planning
-from caustic_farm.exr import check_complete
+from caustic_farm import report
+from caustic_farm.exr import check_complete, read_header
+from caustic_farm.files import write_atomically
 
 PART_FORMAT = "caustic-part-1"   # app/part_file.h, kPartFormat
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -31,27 +33,6 @@ class FarmError(Exception):
 
 
 # --- files -----------------------------------------------------------------------------------
-
-def write_atomically(path, data):
-    """data -> path through a temporary file beside it, flushed to disk, then renamed over it."""
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    tmp = os.path.join(folder, ".%s.tmp-%d" % (os.path.basename(path), os.getpid()))
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-    fd = os.open(folder, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
 
 def part_problem(path, part):
     """"" when path is a complete part file of exactly this part, else what is wrong with it (the
@@ -548,18 +529,16 @@ def reference_for(reference, name):
 def report_item(name, exr, written, variant, seconds, reference=None):
     samples = None
     try:
-        attrs = check_complete(exr)[0]
+        attrs = read_header(exr)
         samples = int(attrs.get("caustic:samples", "0")) or None
         if seconds is None and "caustic:render_seconds" in attrs:
             seconds = float(attrs["caustic:render_seconds"])
-    except (OSError, ValueError):
+    except (OSError, RuntimeError, ValueError):
         pass
     return {"name": name, "image": exr, "reference": reference, "seconds": seconds, "samples": samples}
 
 
 def make_report(args, caustic, items, reference, stem):
-    from caustic_farm import report
-
     for it in items:
         if it["reference"] is None:
             it["reference"] = reference_for(reference, it["name"]) if reference else None
