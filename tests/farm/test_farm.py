@@ -10,6 +10,8 @@ are tiny (40x24, 16 samples). Proven here:
   - a sweep of 4 variants gives the same images and contact sheet as `caustic --sweep`;
   - a worker killed in the middle of a task is retried, and after the driver is killed --resume
     renders only the missing part, the image still right;
+  - an output folder that holds files is refused (--force writes among them), and a local cluster
+    starts in token-authentication mode without Ray's warning about it;
   - a batch's comparison report: relMSE and RMSE equal values computed here from the EXR files,
     HDR-FLIP equals flip-evaluator's on the same files, and the HTML opens in Debian's chromium
     (Playwright, headless) with no console errors, its table sortable and every image loaded.
@@ -232,6 +234,15 @@ class Farm(unittest.TestCase):
         self.assertIn("task cornell-box.part-s", p.stderr)
         self.assertIn("--gpu 5: no such GPU", p.stderr)
         self.assertFalse((self.tmp / "refused" / "cornell-box.exr").exists())
+        # A folder holding files (here an older render's AOV) is not written into.
+        used = self.tmp / "used"
+        used.mkdir()
+        (used / "cornell-box-albedo.exr").write_bytes(b"older")
+        p = self.farm(*self.render_args(used), check=False)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("--output %s already holds cornell-box-albedo.exr: each run writes into a folder of its own" % used,
+                      p.stderr)
+        self.assertEqual(sorted(os.listdir(used)), ["cornell-box-albedo.exr"])
         farm = os.path.join(VENV_BIN, "caustic-farm")
         for args, needle in [
             (["render", CORNELL, "--address", "127.0.0.1:1"], "--address 127.0.0.1:1: no Ray cluster answers there"),
@@ -244,6 +255,25 @@ class Farm(unittest.TestCase):
             self.assertNotEqual(p.returncode, 0, args)
             self.assertIn(needle, p.stderr, args)
             self.assertNotIn("Traceback", p.stderr, args)
+
+    def test_a_local_cluster_starts_with_token_authentication_and_no_warning_and_force_writes_among_files(self):
+        # No --address: the farm starts its own Ray cluster, in token mode, which Ray stores in
+        # ~/.ray/auth_token (HOME is a folder of the test's here).
+        home, out = self.tmp / "home", self.tmp / "local"
+        home.mkdir()
+        out.mkdir()
+        (out / "cornell-box-albedo.exr").write_bytes(b"older")
+        env = {k: v for k, v in ENV.items() if k != "RAY_AUTH_MODE"}
+        p = subprocess.run([os.path.join(VENV_BIN, "caustic-farm"), "render", CORNELL, "--samples", "4", *SIZE, "--exr",
+                            "--local-cpus", "1", "--no-progress", "--force", "--output", str(out)],
+                           capture_output=True, text=True, env=dict(env, HOME=str(home)), timeout=1800)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertNotIn("Token authentication", p.stderr)
+        self.assertNotIn("RAY_AUTH_MODE", p.stderr)
+        self.assertTrue((home / ".ray" / "auth_token").is_file())
+        self.assertEqual(self.summary(out)["parts"], 1)
+        self.assertEqual(read_exr(str(out / "cornell-box.exr"))[0]["caustic:samples"], "4")
+        self.assertEqual((out / "cornell-box-albedo.exr").read_bytes(), b"older")   # --force: left as it was
 
     def test_batch_report_metrics_and_browser(self):
         out = self.tmp / "batch"

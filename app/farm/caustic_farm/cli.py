@@ -51,6 +51,34 @@ def part_problem(path, part):
     return ""
 
 
+def output_folder(args):
+    """--output, or the run's own folder under renders/farm/ (a run's files never mix with
+    caustic's own renders in renders/, nor with another run's)."""
+    if args.output:
+        return args.output
+    stem = lambda path: os.path.splitext(os.path.basename(path))[0]
+    if args.command == "compare":
+        return os.path.join("renders", "farm")
+    name = {"render": lambda: stem(args.scene), "sweep": lambda: stem(args.scene) + "-sweep",
+            "batch": lambda: stem(args.jobs)}[args.command]()
+    return os.path.join("renders", "farm", name)
+
+
+def refuse_used_folder(args):
+    """A render, sweep or batch writes into a folder that holds nothing but the farm's own hidden
+    bookkeeping (.farm/ and temporaries), so that nothing is replaced or mixed with older files by
+    surprise; --resume (continuing the run whose files are there) and --force write there anyway."""
+    if args.command == "compare" or args.resume or args.force or not os.path.isdir(args.output):
+        return
+    held = sorted(name for name in os.listdir(args.output) if not name.startswith("."))
+    if held:
+        more = " and %d more" % (len(held) - 5) if len(held) > 5 else ""
+        raise FarmError("--output %s already holds %s%s: each run writes into a folder of its own. Give another "
+                        "--output, --resume the run those files are from, or --force to write among them (files "
+                        "of the same names are replaced, the others are left as they are)"
+                        % (args.output, ", ".join(held[:5]), more))
+
+
 def remove_if_empty(folder):
     try:
         os.rmdir(folder)
@@ -112,6 +140,14 @@ class Cluster:
     """The Ray connection and the one remote function every task runs."""
 
     def __init__(self, args):
+        if not args.address:
+            # Ray 2.60 turns token authentication on for a cluster that ray.init() starts while
+            # RAY_AUTH_MODE is unset, and warns on every run that it did. The farm sets that mode
+            # itself (Ray's documented setting): the same cluster, authenticated, without the
+            # warning. A RAY_AUTH_MODE in the user's environment is kept. Set before Ray is
+            # imported: Ray reads its configuration once, and a driver still configured without
+            # authentication could not talk to the cluster it started.
+            os.environ.setdefault("RAY_AUTH_MODE", "token")
         import ray
 
         self.ray = ray
@@ -565,7 +601,10 @@ def parser():
     # one of the farm's own.
     common = argparse.ArgumentParser(add_help=False, allow_abbrev=False)
     g = common.add_argument_group("farm")
-    g.add_argument("--output", default="renders", help="output folder (default: renders)")
+    g.add_argument("--output", help="output folder, which must hold no files yet (default: renders/farm/<scene>, "
+                                    "<scene>-sweep or <jobs file>; compare: renders/farm)")
+    g.add_argument("--force", action="store_true",
+                   help="write into an output folder that already holds files (same names are replaced)")
     g.add_argument("--address", help="join this Ray cluster (host:port, or 'auto'); default: start a local one")
     g.add_argument("--resume", action="store_true", help="keep the parts or images a killed run left, render the rest")
     g.add_argument("--max-retries", type=int, default=3, help="retries of a task whose worker died (default 3)")
@@ -616,6 +655,8 @@ def main(argv=None):
         # Which program the tasks run: with several checkouts, a farm installed from another one
         # finds that checkout's build/caustic (docs/farm.md).
         print("caustic-farm: caustic is %s" % caustic, file=sys.stderr)
+        args.output = output_folder(args)
+        refuse_used_folder(args)
         os.makedirs(args.output, exist_ok=True)
         return {"render": cmd_render, "sweep": cmd_sweep, "batch": cmd_batch, "compare": cmd_compare}[args.command](
             args, flags, caustic)
