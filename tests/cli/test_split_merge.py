@@ -28,7 +28,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "app", "farm"))
 from caustic_farm.exr import read_exr  # noqa: E402
-from test_cli import decode_png  # noqa: E402
+from test_cli import HANG_GUARD, decode_png  # noqa: E402
 
 BIN = os.environ.get("CAUSTIC_BIN", "")
 SOURCE_DIR = os.environ.get("CAUSTIC_SOURCE_DIR", "")
@@ -39,7 +39,7 @@ U = 2.0 ** -24
 
 
 def run(*args, check=True):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=600)
+    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=HANG_GUARD)
     if check and p.returncode != 0:
         raise AssertionError("caustic %s failed (%d):\n%s" % (" ".join(args), p.returncode, p.stderr))
     return p
