@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # caustic's one set-up script. On a fresh Debian 12 machine it installs what is missing (a second
-# run skips what is there), builds build/caustic in Release, and then:
-#   ./setup.sh          renders scenes/cornell-box.json headless and prints the image's path
-#   ./setup.sh test     runs every test (ctest), as CI does
-#   ./setup.sh build    only installs and builds
+# run skips what is there), builds in Release what the mode runs, and then:
+#   ./setup.sh          builds only build/caustic, renders scenes/cornell-box.json headless and
+#                       prints the image's path
+#   ./setup.sh test     builds everything and runs every test (ctest), as CI does
+#   ./setup.sh build    only installs and builds everything
 # Downloaded and generated third-party files go to .deps/ (git-ignored).
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -192,8 +193,15 @@ fi
 # Always configure (quick when nothing changed; recovers from an interrupted first configure).
 log "configuring build/"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
-log "building"
-cmake --build build -j "$(nproc)" >&2
+# The render needs only the program (its shaders are read from the source tree); the tests need
+# every target.
+if [ "$mode" = render ]; then
+  log "building build/caustic"
+  cmake --build build -j "$(nproc)" --target caustic >&2
+else
+  log "building"
+  cmake --build build -j "$(nproc)" >&2
+fi
 
 # 4. Render, or test.
 case "$mode" in
