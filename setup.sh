@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # caustic's one set-up script. On a fresh Debian 12 machine it installs what is missing (a second
-# run skips what is there), builds build/caustic in Release, and then:
-#   ./setup.sh          renders scenes/cornell-box.json headless and prints the image's path
-#   ./setup.sh test     runs every test (ctest), as CI does
-#   ./setup.sh build    only installs and builds
+# run skips what is there), builds in Release what the mode runs, and then:
+#   ./setup.sh          builds only build/caustic, renders scenes/cornell-box.json headless and
+#                       prints the image's path
+#   ./setup.sh test     builds everything and runs every test (ctest), as CI does
+#   ./setup.sh build    only installs and builds everything
 # Downloaded and generated third-party files go to .deps/ (git-ignored).
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -22,6 +23,7 @@ packages=(
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev xvfb xauth
   libassimp-dev assimp-testmodels libpng-dev libjpeg-dev
+  fonts-dejavu-core
   chromium
 )
 missing=()
@@ -165,16 +167,20 @@ PY
 fi
 
 # 2d. The render farm (app/farm, docs/farm.md): its own venv, .deps/farm-venv, with Ray, tqdm,
-# numpy and flip-evaluator from PyPI, and Playwright for the test that opens the report in
-# Debian's chromium (installed above; Playwright's own browser download is never used). Versions
-# are pinned; the stamp makes a repeat run skip the install. The package itself is installed
-# editable (no dependencies) whenever the venv does not point at this checkout.
+# numpy, flip-evaluator and the OpenEXR bindings from PyPI, and Playwright for the test that opens
+# the report in Debian's chromium (installed above; Playwright's own browser download is never
+# used). Versions are pinned; the stamp makes a repeat run skip the install, and a changed pin is
+# installed into the existing venv (pip keeps what already matches). The package itself is
+# installed editable (no dependencies) whenever the venv does not point at this checkout.
 farm_venv=.deps/farm-venv
-farm_pins="ray==2.60.0 tqdm==4.70.1 numpy==2.4.6 flip-evaluator==1.7 playwright==1.65.2"
+farm_pins="ray==2.60.0 tqdm==4.70.1 numpy==2.4.6 flip-evaluator==1.7 playwright==1.65.2 OpenEXR==3.5.3"
 if [ "$(cat "$farm_venv/.stamp" 2>/dev/null)" != "$farm_pins" ]; then
-  log "creating $farm_venv ($farm_pins; about 700 MB)"
-  rm -rf "$farm_venv"
-  python3 -m venv "$farm_venv"
+  if [ ! -x "$farm_venv/bin/python" ]; then
+    log "creating $farm_venv"
+    rm -rf "$farm_venv"
+    python3 -m venv "$farm_venv"
+  fi
+  log "installing into $farm_venv: $farm_pins (about 700 MB the first time)"
   "$farm_venv/bin/pip" install -q --disable-pip-version-check $farm_pins
   echo "$farm_pins" > "$farm_venv/.stamp"
 fi
@@ -187,8 +193,15 @@ fi
 # Always configure (quick when nothing changed; recovers from an interrupted first configure).
 log "configuring build/"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
-log "building"
-cmake --build build -j "$(nproc)" >&2
+# The render needs only the program (its shaders are read from the source tree); the tests need
+# every target.
+if [ "$mode" = render ]; then
+  log "building build/caustic"
+  cmake --build build -j "$(nproc)" --target caustic >&2
+else
+  log "building"
+  cmake --build build -j "$(nproc)" >&2
+fi
 
 # 4. Render, or test.
 case "$mode" in

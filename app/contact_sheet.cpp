@@ -1,121 +1,50 @@
 #include "app/contact_sheet.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
 #include <algorithm>
-#include <array>
-#include <cctype>
-#include <map>
+#include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace caustic {
 namespace {
 
-constexpr int kGlyphW = 5, kGlyphH = 7;
-
-// 5x7 glyphs, one string of 7 rows of 5 columns each ('#' = ink). Upper case letters serve for
-// lower case too.
-const std::map<char, std::array<const char*, 7>>& font() {
-    static const std::map<char, std::array<const char*, 7>> kFont = {
-        {'0', {" ### ", "#   #", "#  ##", "# # #", "##  #", "#   #", " ### "}},
-        {'1', {"  #  ", " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### "}},
-        {'2', {" ### ", "#   #", "    #", "   # ", "  #  ", " #   ", "#####"}},
-        {'3', {"#####", "   # ", "  #  ", "   # ", "    #", "#   #", " ### "}},
-        {'4', {"   # ", "  ## ", " # # ", "#  # ", "#####", "   # ", "   # "}},
-        {'5', {"#####", "#    ", "#### ", "    #", "    #", "#   #", " ### "}},
-        {'6', {"  ## ", " #   ", "#    ", "#### ", "#   #", "#   #", " ### "}},
-        {'7', {"#####", "    #", "   # ", "  #  ", " #   ", " #   ", " #   "}},
-        {'8', {" ### ", "#   #", "#   #", " ### ", "#   #", "#   #", " ### "}},
-        {'9', {" ### ", "#   #", "#   #", " ####", "    #", "   # ", " ##  "}},
-        {'A', {" ### ", "#   #", "#   #", "#####", "#   #", "#   #", "#   #"}},
-        {'B', {"#### ", "#   #", "#   #", "#### ", "#   #", "#   #", "#### "}},
-        {'C', {" ### ", "#   #", "#    ", "#    ", "#    ", "#   #", " ### "}},
-        {'D', {"###  ", "#  # ", "#   #", "#   #", "#   #", "#  # ", "###  "}},
-        {'E', {"#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#####"}},
-        {'F', {"#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#    "}},
-        {'G', {" ### ", "#   #", "#    ", "# ###", "#   #", "#   #", " ####"}},
-        {'H', {"#   #", "#   #", "#   #", "#####", "#   #", "#   #", "#   #"}},
-        {'I', {" ### ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### "}},
-        {'J', {"  ###", "   # ", "   # ", "   # ", "   # ", "#  # ", " ##  "}},
-        {'K', {"#   #", "#  # ", "# #  ", "##   ", "# #  ", "#  # ", "#   #"}},
-        {'L', {"#    ", "#    ", "#    ", "#    ", "#    ", "#    ", "#####"}},
-        {'M', {"#   #", "## ##", "# # #", "# # #", "#   #", "#   #", "#   #"}},
-        {'N', {"#   #", "#   #", "##  #", "# # #", "#  ##", "#   #", "#   #"}},
-        {'O', {" ### ", "#   #", "#   #", "#   #", "#   #", "#   #", " ### "}},
-        {'P', {"#### ", "#   #", "#   #", "#### ", "#    ", "#    ", "#    "}},
-        {'Q', {" ### ", "#   #", "#   #", "#   #", "# # #", "#  # ", " ## #"}},
-        {'R', {"#### ", "#   #", "#   #", "#### ", "# #  ", "#  # ", "#   #"}},
-        {'S', {" ####", "#    ", "#    ", " ### ", "    #", "    #", "#### "}},
-        {'T', {"#####", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  "}},
-        {'U', {"#   #", "#   #", "#   #", "#   #", "#   #", "#   #", " ### "}},
-        {'V', {"#   #", "#   #", "#   #", "#   #", "#   #", " # # ", "  #  "}},
-        {'W', {"#   #", "#   #", "#   #", "# # #", "# # #", "# # #", " # # "}},
-        {'X', {"#   #", "#   #", " # # ", "  #  ", " # # ", "#   #", "#   #"}},
-        {'Y', {"#   #", "#   #", " # # ", "  #  ", "  #  ", "  #  ", "  #  "}},
-        {'Z', {"#####", "    #", "   # ", "  #  ", " #   ", "#    ", "#####"}},
-        {'.', {"     ", "     ", "     ", "     ", "     ", " ##  ", " ##  "}},
-        {',', {"     ", "     ", "     ", "     ", " ##  ", "  #  ", " #   "}},
-        {':', {"     ", " ##  ", " ##  ", "     ", " ##  ", " ##  ", "     "}},
-        {'=', {"     ", "     ", "#####", "     ", "#####", "     ", "     "}},
-        {'-', {"     ", "     ", "     ", "#####", "     ", "     ", "     "}},
-        {'+', {"     ", "  #  ", "  #  ", "#####", "  #  ", "  #  ", "     "}},
-        {'_', {"     ", "     ", "     ", "     ", "     ", "     ", "#####"}},
-        {'/', {"    #", "    #", "   # ", "  #  ", " #   ", "#    ", "#    "}},
-        {'[', {" ### ", " #   ", " #   ", " #   ", " #   ", " #   ", " ### "}},
-        {']', {" ### ", "   # ", "   # ", "   # ", "   # ", "   # ", " ### "}},
-        {'(', {"   # ", "  #  ", " #   ", " #   ", " #   ", "  #  ", "   # "}},
-        {')', {" #   ", "  #  ", "   # ", "   # ", "   # ", "  #  ", " #   "}},
-        {'"', {" # # ", " # # ", "     ", "     ", "     ", "     ", "     "}},
-        {' ', {"     ", "     ", "     ", "     ", "     ", "     ", "     "}},
-    };
-    return kFont;
-}
-
-}  // namespace
-
-void drawText(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y, const std::string& text,
-              int scale, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-    static const std::array<const char*, 7> kMissing = {"#####", "#   #", "#   #", "#   #", "#   #", "#   #", "#####"};
-    int penX = x;
-    for (char ch : text) {
-        const auto it = font().find(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
-        const auto& glyph = it != font().end() ? it->second : kMissing;
-        for (int gy = 0; gy < kGlyphH; ++gy)
-            for (int gx = 0; gx < kGlyphW; ++gx) {
-                if (glyph[gy][gx] != '#') continue;
-                for (int sy = 0; sy < scale; ++sy)
-                    for (int sx = 0; sx < scale; ++sx) {
-                        const int px = penX + gx * scale + sx, py = y + gy * scale + sy;
-                        if (px < 0 || py < 0 || px >= width || py >= height) continue;
-                        std::uint8_t* p = &rgb[(static_cast<size_t>(py) * width + px) * 3];
-                        p[0] = r;
-                        p[1] = g;
-                        p[2] = b;
-                    }
-            }
-        penX += (kGlyphW + 1) * scale;
-    }
-}
-
-namespace {
-
-// The label's lines, each wrapped to at most `maxChars` characters.
-std::vector<std::string> wrapLabel(const std::string& label, int maxChars) {
+// The label's lines: split at '\n' (a trailing one adds no line), each cut into pieces of at
+// most `maxChars` characters. Cuts fall between UTF-8 code points, never inside one.
+std::vector<std::string> wrapLabel(const std::string& label, std::size_t maxChars) {
     std::vector<std::string> out;
     std::istringstream lines(label);
     std::string line;
     while (std::getline(lines, line)) {
-        do {
-            out.push_back(line.substr(0, static_cast<size_t>(maxChars)));
-            line = line.size() > static_cast<size_t>(maxChars) ? line.substr(static_cast<size_t>(maxChars)) : "";
-        } while (!line.empty());
+        std::size_t pieceStart = 0, chars = 0;
+        for (std::size_t i = 0; i < line.size(); ++i) {
+            if ((static_cast<unsigned char>(line[i]) & 0xC0) == 0x80) continue;  // a continuation byte
+            if (chars == maxChars) {
+                out.push_back(line.substr(pieceStart, i - pieceStart));
+                pieceStart = i;
+                chars = 0;
+            }
+            ++chars;
+        }
+        out.push_back(line.substr(pieceStart));
     }
     return out;
 }
 
 }  // namespace
 
-Sheet makeContactSheet(const std::vector<SheetCell>& cells, int columns) {
-    Sheet sheet;
-    if (cells.empty()) return sheet;
+bool makeContactSheet(const std::vector<SheetCell>& cells, int columns, Sheet* sheet, std::string* error,
+                      const std::string& fontPath) {
+    *sheet = Sheet{};
+    if (cells.empty()) return true;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(fontPath, ec)) {
+        *error = "contact sheet: the label font " + fontPath +
+                 " is missing (Debian's package fonts-dejavu-core holds it; ./setup.sh installs it)";
+        return false;
+    }
     columns = std::max(1, std::min(columns, static_cast<int>(cells.size())));
     const int rows = (static_cast<int>(cells.size()) + columns - 1) / columns;
     int cellW = 0, cellH = 0;
@@ -124,28 +53,53 @@ Sheet makeContactSheet(const std::vector<SheetCell>& cells, int columns) {
         cellH = std::max(cellH, c.height);
     }
     const int scale = std::clamp(cellW / 160, 1, 4);
-    const int maxChars = std::max(1, cellW / ((kGlyphW + 1) * scale));
-    int maxLines = 1;
-    for (const SheetCell& c : cells) maxLines = std::max(maxLines, static_cast<int>(wrapLabel(c.label, maxChars).size()));
-    const int lineH = (kGlyphH + 3) * scale, pad = 4 * scale;
-    const int labelH = maxLines * lineH + pad;
-    sheet.width = columns * cellW + (columns + 1) * pad;
-    sheet.height = rows * (cellH + labelH) + (rows + 1) * pad;
-    sheet.rgb.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 24);  // dark grey
+    const int fontSize = 12 * scale;  // pixels per em; DejaVu Sans Mono advances 0.6 em a character
+    // The font's extent: above the baseline (ybegin < 0) to below it, from capitals, descenders
+    // and a bar; and its advance, from a line of wide glyphs.
+    const OIIO::ROI extent = OIIO::ImageBufAlgo::text_size("Hgj|", fontSize, fontPath);
+    const OIIO::ROI wide = OIIO::ImageBufAlgo::text_size(std::string(16, 'W'), fontSize, fontPath);
+    if (!extent.defined() || !wide.defined() || wide.width() <= 0) {
+        *error = "contact sheet: " + fontPath + ": OpenImageIO cannot draw text with it: " + OIIO::geterror();
+        return false;
+    }
+    const int advance = std::max(1, (wide.width() + 15) / 16);
+    const int maxChars = std::max(1, cellW / advance);
+    std::vector<std::vector<std::string>> labels;
+    std::size_t maxLines = 1;
+    for (const SheetCell& c : cells) {
+        labels.push_back(wrapLabel(c.label, static_cast<std::size_t>(maxChars)));
+        maxLines = std::max(maxLines, labels.back().size());
+    }
+    const int pad = 4 * scale;
+    const int lineH = extent.height() + 2 * scale;
+    const int labelH = static_cast<int>(maxLines) * lineH + pad;
+    sheet->width = columns * cellW + (columns + 1) * pad;
+    sheet->height = rows * (cellH + labelH) + (rows + 1) * pad;
+    sheet->rgb.assign(static_cast<size_t>(sheet->width) * sheet->height * 3, 24);  // dark grey
+    // The sheet's pixels as an OpenImageIO image (no copy): render_text draws straight into them.
+    OIIO::ImageBuf canvas(OIIO::ImageSpec(sheet->width, sheet->height, 3, OIIO::TypeDesc::UINT8), sheet->rgb.data());
+    const float ink[3] = {235.0f / 255.0f, 235.0f / 255.0f, 235.0f / 255.0f};
     for (size_t i = 0; i < cells.size(); ++i) {
         const SheetCell& c = cells[i];
         const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
         const int x0 = pad + col * (cellW + pad), y0 = pad + row * (cellH + labelH + pad);
         for (int y = 0; y < c.height; ++y)
             std::copy_n(&c.rgb[static_cast<size_t>(y) * c.width * 3], static_cast<size_t>(c.width) * 3,
-                        &sheet.rgb[(static_cast<size_t>(y0 + y) * sheet.width + x0) * 3]);
-        int ly = y0 + c.height + pad / 2;
-        for (const std::string& line : wrapLabel(c.label, maxChars)) {
-            drawText(sheet.rgb, sheet.width, sheet.height, x0, ly, line, scale, 235, 235, 235);
-            ly += lineH;
+                        &sheet->rgb[(static_cast<size_t>(y0 + y) * sheet->width + x0) * 3]);
+        // The label's area: under the image, as wide as the cell. Text is clipped to it.
+        const OIIO::ROI area(x0, x0 + cellW, y0 + c.height, y0 + cellH + labelH, 0, 1, 0, 3);
+        int baseline = y0 + c.height + pad / 2 - extent.ybegin;
+        for (const std::string& line : labels[i]) {
+            if (!line.empty() && !OIIO::ImageBufAlgo::render_text(canvas, x0, baseline, line, fontSize, fontPath, ink,
+                                                                  OIIO::ImageBufAlgo::TextAlignX::Left,
+                                                                  OIIO::ImageBufAlgo::TextAlignY::Baseline, 0, area)) {
+                *error = "contact sheet: cell " + std::to_string(i) + ": " + canvas.geterror();
+                return false;
+            }
+            baseline += lineH;
         }
     }
-    return sheet;
+    return true;
 }
 
 }  // namespace caustic

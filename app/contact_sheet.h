@@ -1,5 +1,6 @@
-// Contact sheets for --sweep: a grid of 8-bit RGB images, each cell with a text label under it,
-// drawn with a built-in 5x7 pixel font (ASCII letters, digits and the punctuation of JSON paths).
+// Contact sheets for --sweep and `caustic sheet`: a grid of 8-bit RGB images, each cell with a
+// text label under it, drawn by OpenImageIO (ImageBufAlgo::render_text, FreeType) in DejaVu Sans
+// Mono.
 #pragma once
 
 #include <cstdint>
@@ -8,10 +9,13 @@
 
 namespace caustic {
 
+// The labels' font, from Debian's fonts-dejavu-core (setup.sh installs it).
+inline constexpr const char* kSheetFont = "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf";
+
 struct SheetCell {
     int width = 0, height = 0;
     std::vector<std::uint8_t> rgb;  // width * height * 3, row 0 at the top
-    std::string label;
+    std::string label;              // UTF-8
 };
 
 struct Sheet {
@@ -20,12 +24,10 @@ struct Sheet {
 };
 
 // Lays the cells out row by row, `columns` per row; each cell's label is printed under it
-// (several lines if it contains '\n'), scaled up for legibility on large images.
-Sheet makeContactSheet(const std::vector<SheetCell>& cells, int columns);
-
-// Draws text into an RGB buffer at (x, y), `scale` pixels per font pixel. Characters the font
-// lacks are drawn as a hollow box.
-void drawText(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y, const std::string& text,
-              int scale, std::uint8_t r, std::uint8_t g, std::uint8_t b);
+// (several lines if it contains '\n' or is wider than the cell), scaled up for legibility on
+// large images, and never drawn outside its cell. False with a message when the font cannot be
+// loaded (a missing file names the Debian package).
+bool makeContactSheet(const std::vector<SheetCell>& cells, int columns, Sheet* sheet, std::string* error,
+                      const std::string& fontPath = kSheetFont);
 
 }  // namespace caustic

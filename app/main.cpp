@@ -359,7 +359,8 @@ int runBatch(const CliOptions& o) {
     }
     if (!o.sweeps.empty() && !o.variant && !part) {
         const int columns = static_cast<int>(splitValues(o.sweeps[0].substr(o.sweeps[0].find('=') + 1)).size());
-        Sheet sheet = makeContactSheet(cells, columns);
+        Sheet sheet;
+        if (!makeContactSheet(cells, columns, &sheet, &error)) return fail(error);
         ImageMetadata meta = {{"Software", std::string("caustic ") + CAUSTIC_VERSION}, {"caustic:scene", *o.scene}};
         if (!writeImage8(stem + "-sheet.png", sheet.width, sheet.height, sheet.rgb, meta, &error)) return fail(error);
         wrote(stem + "-sheet.png");

@@ -54,7 +54,8 @@ int runSheet(const CliOptions& o) {
                 cell.rgb[p * 3 + k] = std::uint8_t(std::lround(std::clamp(img.pixels[p * img.channels + k], 0.0f, 1.0f) * 255.0f));
         cells.push_back(std::move(cell));
     }
-    const Sheet sheet = makeContactSheet(cells, int(layout["columns"].get<long long>()));
+    Sheet sheet;
+    if (!makeContactSheet(cells, int(layout["columns"].get<long long>()), &sheet, &error)) return commandFailed(error);
     const std::string out = resolve(layout["output"].get<std::string>());
     const ImageMetadata meta = {{"Software", std::string("caustic ") + CAUSTIC_VERSION}};
     if (!writeImage8(out, sheet.width, sheet.height, sheet.rgb, meta, &error)) return commandFailed(error);

@@ -22,7 +22,7 @@ import test_cli as cli
 
 # 16x16 at 2 spp: every test here is about what happens around the render, not the image.
 TINY = ["--width", "16", "--height", "16", "--samples", "2"]
-HANG_GUARD = 180  # seconds; only so that a regression fails instead of hanging the suite
+HANG_GUARD = cli.HANG_GUARD  # seconds; only so that a regression fails instead of hanging the suite
 
 
 def scene_with(tmp, name="scene.json", material_extra="", environment=None, objects=None):

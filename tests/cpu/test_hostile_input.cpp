@@ -238,12 +238,20 @@ TEST_CASE("hostile: the HDR reader refuses a FIFO, /dev/zero and a folder, namin
     REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
     ImageData img;
     std::string error;
-    ::alarm(60);  // hang guard: an unguarded read of a FIFO with no writer never returns
+    // Hang guard: an unguarded read of a FIFO with no writer never returns; the alarm then ends the
+    // test program saying so.
+    std::signal(SIGALRM, [](int) {
+        static const char kMessage[] = "hostile: the HDR reader hung on a FIFO or /dev/zero (no answer in 60 s)\n";
+        [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+        ::_exit(1);
+    });
+    ::alarm(60);
     CHECK_FALSE(readRadianceHdr(fifo, &img, &error));
     CHECK(error == fifo + ": cannot read: a FIFO (named pipe), not a regular file");
     CHECK_FALSE(readRadianceHdr("/dev/zero", &img, &error));
     CHECK(error == "/dev/zero: cannot read: a character device, not a regular file");
     ::alarm(0);
+    std::signal(SIGALRM, SIG_DFL);
     CHECK_FALSE(readRadianceHdr(dir.path.string(), &img, &error));
     CHECK(error == dir.path.string() + ": cannot read: a folder, not a regular file");
     CHECK_FALSE(readRadianceHdr(std::string("sky.hdr\0.png", 12), &img, &error));

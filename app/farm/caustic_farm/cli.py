@@ -20,7 +20,9 @@ import sys
 import time
 
 from caustic_farm import plan as planning
-from caustic_farm.exr import check_complete
+from caustic_farm import report
+from caustic_farm.exr import check_complete, read_header
+from caustic_farm.files import write_atomically
 
 PART_FORMAT = "caustic-part-1"   # app/part_file.h, kPartFormat
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -31,27 +33,6 @@ class FarmError(Exception):
 
 
 # --- files -----------------------------------------------------------------------------------
-
-def write_atomically(path, data):
-    """data -> path through a temporary file beside it, flushed to disk, then renamed over it."""
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    tmp = os.path.join(folder, ".%s.tmp-%d" % (os.path.basename(path), os.getpid()))
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-    fd = os.open(folder, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
 
 def part_problem(path, part):
     """"" when path is a complete part file of exactly this part, else what is wrong with it (the
@@ -68,6 +49,34 @@ def part_problem(path, part):
     if (w, h) != (part.x1 - part.x0, part.y1 - part.y0) or "sum.A" not in channels:
         return "%s: holds %dx%d pixels, the part is %s" % (path, w, h, part.crop)
     return ""
+
+
+def output_folder(args):
+    """--output, or the run's own folder under renders/farm/ (a run's files never mix with
+    caustic's own renders in renders/, nor with another run's)."""
+    if args.output:
+        return args.output
+    stem = lambda path: os.path.splitext(os.path.basename(path))[0]
+    if args.command == "compare":
+        return os.path.join("renders", "farm")
+    name = {"render": lambda: stem(args.scene), "sweep": lambda: stem(args.scene) + "-sweep",
+            "batch": lambda: stem(args.jobs)}[args.command]()
+    return os.path.join("renders", "farm", name)
+
+
+def refuse_used_folder(args):
+    """A render, sweep or batch writes into a folder that holds nothing but the farm's own hidden
+    bookkeeping (.farm/ and temporaries), so that nothing is replaced or mixed with older files by
+    surprise; --resume (continuing the run whose files are there) and --force write there anyway."""
+    if args.command == "compare" or args.resume or args.force or not os.path.isdir(args.output):
+        return
+    held = sorted(name for name in os.listdir(args.output) if not name.startswith("."))
+    if held:
+        more = " and %d more" % (len(held) - 5) if len(held) > 5 else ""
+        raise FarmError("--output %s already holds %s%s: each run writes into a folder of its own. Give another "
+                        "--output, --resume the run those files are from, or --force to write among them (files "
+                        "of the same names are replaced, the others are left as they are)"
+                        % (args.output, ", ".join(held[:5]), more))
 
 
 def remove_if_empty(folder):
@@ -131,6 +140,14 @@ class Cluster:
     """The Ray connection and the one remote function every task runs."""
 
     def __init__(self, args):
+        if not args.address:
+            # Ray 2.60 turns token authentication on for a cluster that ray.init() starts while
+            # RAY_AUTH_MODE is unset, and warns on every run that it did. The farm sets that mode
+            # itself (Ray's documented setting): the same cluster, authenticated, without the
+            # warning. A RAY_AUTH_MODE in the user's environment is kept. Set before Ray is
+            # imported: Ray reads its configuration once, and a driver still configured without
+            # authentication could not talk to the cluster it started.
+            os.environ.setdefault("RAY_AUTH_MODE", "token")
         import ray
 
         self.ray = ray
@@ -548,18 +565,16 @@ def reference_for(reference, name):
 def report_item(name, exr, written, variant, seconds, reference=None):
     samples = None
     try:
-        attrs = check_complete(exr)[0]
+        attrs = read_header(exr)
         samples = int(attrs.get("caustic:samples", "0")) or None
         if seconds is None and "caustic:render_seconds" in attrs:
             seconds = float(attrs["caustic:render_seconds"])
-    except (OSError, ValueError):
+    except (OSError, RuntimeError, ValueError):
         pass
     return {"name": name, "image": exr, "reference": reference, "seconds": seconds, "samples": samples}
 
 
 def make_report(args, caustic, items, reference, stem):
-    from caustic_farm import report
-
     for it in items:
         if it["reference"] is None:
             it["reference"] = reference_for(reference, it["name"]) if reference else None
@@ -586,7 +601,10 @@ def parser():
     # one of the farm's own.
     common = argparse.ArgumentParser(add_help=False, allow_abbrev=False)
     g = common.add_argument_group("farm")
-    g.add_argument("--output", default="renders", help="output folder (default: renders)")
+    g.add_argument("--output", help="output folder, which must hold no files yet (default: renders/farm/<scene>, "
+                                    "<scene>-sweep or <jobs file>; compare: renders/farm)")
+    g.add_argument("--force", action="store_true",
+                   help="write into an output folder that already holds files (same names are replaced)")
     g.add_argument("--address", help="join this Ray cluster (host:port, or 'auto'); default: start a local one")
     g.add_argument("--resume", action="store_true", help="keep the parts or images a killed run left, render the rest")
     g.add_argument("--max-retries", type=int, default=3, help="retries of a task whose worker died (default 3)")
@@ -637,6 +655,8 @@ def main(argv=None):
         # Which program the tasks run: with several checkouts, a farm installed from another one
         # finds that checkout's build/caustic (docs/farm.md).
         print("caustic-farm: caustic is %s" % caustic, file=sys.stderr)
+        args.output = output_folder(args)
+        refuse_used_folder(args)
         os.makedirs(args.output, exist_ok=True)
         return {"render": cmd_render, "sweep": cmd_sweep, "batch": cmd_batch, "compare": cmd_compare}[args.command](
             args, flags, caustic)

@@ -15,6 +15,8 @@ import subprocess
 import tempfile
 import zlib
 
+from caustic_farm.files import write_atomically
+
 
 def png_bytes(rgb8, width, height):
     """An 8-bit RGB PNG from rows of bytes (numpy uint8 array H x W x 3)."""
@@ -168,8 +170,6 @@ def write_report(caustic, items, stem):
                     b=fig("reference", "reference"), c=fig("flip", "HDR-FLIP"), d=fig("relmse", "relMSE"),
                     x=fig("difference", "|image - reference| x 4")))
     page = PAGE.replace("@ROWS@", "\n".join(rows)).replace("@SECTIONS@", "\n".join(sections))
-    from caustic_farm.cli import write_atomically
-
     paths = {"html": stem + "-report.html", "json": stem + "-report.json", "csv": stem + "-report.csv"}
     write_atomically(paths["html"], page.encode())
     write_atomically(paths["json"], (json.dumps(table, indent=2) + "\n").encode())
