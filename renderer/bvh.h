@@ -11,7 +11,7 @@
 // primitive list. Children always come after their parent, so one reverse pass over the nodes is
 // a bottom-up pass (refit).
 //
-// Build (see docs in bvh.cpp for the measurements behind the choices): binned SAH over centroid
+// Build (see bvh_build.cpp for the measurements behind the choices): binned SAH over centroid
 // bounds on all three axes with 16 bins, traversal cost 0.125 relative to one primitive test;
 // leaves are made where the SAH says a leaf is cheaper than the best split (up to maxLeafSize
 // primitives); a median split on the longest centroid axis when the binned split degenerates.
@@ -167,7 +167,7 @@ float sahCost(const Bvh& bvh, float traversalCost = 0.125f);
 
 // Refit keeps the topology, so moving things apart grows overlapping boxes and the cost. The
 // renderer refits while the cost stays under kBvhRebuildFactor times the cost measured after the
-// last build and rebuilds beyond it: see bvh.cpp for the measurement behind 1.5.
+// last build and rebuilds beyond it: see bvh_build.cpp for the measurement behind 1.5.
 inline constexpr float kBvhRebuildFactor = 1.5f;
 bool needsRebuild(const Bvh& bvh, float traversalCost = 0.125f);
 

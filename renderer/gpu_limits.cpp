@@ -54,7 +54,7 @@ std::string gpuLimitProblem(const Scene& scene, const CompiledScene& c, const Gp
     }
     if (limits.maxStorageBlockSize <= 0) return {};
     const double tableBytes = double(tableOffsets(c).total) * sizeof(float);   // packTables' size, not packed here
-    // texel: the bytes of a texel of the buffer texture that views it (renderer.cpp, bindScene), 0
+    // texel: the bytes of a texel of the buffer texture that views it (renderer_dispatch.cpp, bindScene), 0
     // for a buffer read only as a storage buffer.
     const struct {
         const char* what;

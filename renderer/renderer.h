@@ -142,7 +142,7 @@ public:
     // scene and settings, whether or not this renderer specialises (test kernels build with them).
     ShaderDefines featureDefines() const;
     // Whether a specialised program may hold the scene's primitives as constants (a scene of a
-    // few analytic primitives and no mesh: CAUSTIC_BAKED_PRIMITIVES, renderer.cpp
+    // few analytic primitives and no mesh: CAUSTIC_BAKED_PRIMITIVES, renderer_programs.cpp
     // bakedPrimitiveTests): 1.8x on llvmpipe for the Cornell box, but every change of geometry
     // then builds a new program (about a second on llvmpipe). For renders whose geometry stays
     // put (batch mode, caustic-bench), not for the editor. Off by default; without
@@ -191,11 +191,11 @@ private:
 
     std::string m_shaderDir;
     ResolvedIntegratorConfig m_config;
-    bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer.cpp)
+    bool m_specialize = false;   // build the integrator per scene (featureDefines in renderer_programs.cpp)
     bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
     std::map<std::string, std::string> m_programFailures;  // the compiler's message, by the same keys
-    unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer.cpp, generalDefines)
+    unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer_programs.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     bool m_programFellBack = false;  // programFellBack
     std::string m_fallbackReason;    // the failure the last fallback reported (on stderr, once)

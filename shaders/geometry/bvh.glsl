@@ -96,7 +96,7 @@ WatertightRay makeWatertightRay(vec3 o, vec3 d) {
 // fl(a b) >= fl(c d), and the result is never of the wrong sign (it may be 0 where the exact value
 // is not, which the triangle test redoes in double). `precise` forbids the compiler to contract it
 // into fma(a, b, -fl(c d)), which can have the wrong sign: a ray through one of two triangles
-// near their shared edge could then miss both. renderer/bvh.cpp computes the same on the CPU.
+// near their shared edge could then miss both. renderer/bvh_reference.cpp computes the same on the CPU.
 float edgeFunction(float a, float b, float c, float d) {
     precise float ab = a * b;
     precise float cd = c * d;
@@ -271,7 +271,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
         (CAUSTIC_TRAVERSAL == 0u && frame.geometry.y == 0u && frame.counts.x <= BVH_BRUTE_FORCE_MAX)) {
         bool found = false;
 #ifdef CAUSTIC_BAKED_PRIMITIVES
-        // The primitives as constants of the program (renderer.cpp, bakedPrimitiveTests): the
+        // The primitives as constants of the program (renderer_programs.cpp, bakedPrimitiveTests): the
         // same tests as the loop below, on immediates instead of fetched records.
         Ray bakedRay;
         bakedRay.o = rayO;
@@ -292,7 +292,7 @@ bool traceScene(vec3 rayO, vec3 rayD, float tMax, bool anyHit, out TraceHit hit)
     }
 #if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
     {
-        // The top level's entries as constants of the program (renderer.cpp, bakedPrimitiveTests):
+        // The top level's entries as constants of the program (renderer_programs.cpp, bakedPrimitiveTests):
         // the one ray as either ray of traceScenePair.
         bool occluded;
         bool found = traceScenePair(!anyHit, rayO, rayD, tMax, anyHit, rayO, rayD, tMax, hit, occluded);

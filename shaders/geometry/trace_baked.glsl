@@ -6,7 +6,7 @@
 #define GEOMETRY_TRACE_BAKED_GLSL
 
 #if defined(CAUSTIC_BAKED_PRIMITIVES) || defined(CAUSTIC_BAKED_TOP_LEVEL)
-// Baked geometry (renderer.cpp, bakedPrimitiveTests): the renderer's define expands to one of these
+// Baked geometry (renderer_programs.cpp, bakedPrimitiveTests): the renderer's define expands to one of these
 // per primitive or instance, each record's words as literals, inside traceScene or traceScenePair
 // (they use its bakedRay, rayO, rayD, anyHit, hit and found). The tests are the loop's and the walk's own.
 #define BAKED_PRIMITIVE(kind, ra, rb, rc, index) BAKED_PRIMITIVE_TEST(kind, ra, rb, rc, index)
@@ -67,7 +67,7 @@
 #endif
 
 #if defined(CAUSTIC_BAKED_TOP_LEVEL) && HAS_MESHES
-// Two rays in one walk of a baked top level (at most 16 instances; renderer.cpp): a path step's
+// Two rays in one walk of a baked top level (at most 16 instances; renderer_programs.cpp): a path step's
 // continuation and shadow rays (integrator/path.glsl, CAUSTIC_PAIRED_TRACE), or traceScene's one
 // ray as either. Ray 0 is traced for its closest hit below tMax0 (the return value, and hit0), ray
 // 1 (a shadow ray) for any hit below tMax1 (occluded1); either may be absent (want0, want1). Each

@@ -2,7 +2,7 @@
 // GpuWideBvhNode in shared/layout.h), walked with the newest pending entries held in variables:
 // llvmpipe's walk (renderer/integrator_config.h chooses it; it reads the nodes through buffer
 // textures, so it needs CAUSTIC_FETCH_TEXELS). Half as many steps as the binary tree's, each
-// testing four boxes at once; docs/performance.md, "What bounds speed", has the figures.
+// testing four boxes at once; docs/performance.md, "What bounds speed on llvmpipe", has the figures.
 // Included by geometry/bvh.glsl, which declares what it uses (slabTests, traceLeafTriangles,
 // g_bvhStack, WALK_STATS_*).
 #ifndef GEOMETRY_WALK_WIDE4_GLSL
@@ -14,7 +14,7 @@
 // in that order. False when none is hit.
 bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, out int nFar) {
     // The node's four texels (GpuWideBvhNode), its boxes decoded from bytes: bound = origin +
-    // q * scale, exact product, so the decoded box is the one renderer/bvh.cpp checked contains
+    // q * scale, exact product, so the decoded box is the one renderer/bvh_wide.cpp checked contains
     // the child's.
     uint t0 = 4u * ref;
     uvec4 head = FETCH_U4(wideNodeTexels, t0), qXY = FETCH_U4(wideNodeTexels, t0 + 1u);

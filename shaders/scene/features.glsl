@@ -3,7 +3,7 @@
 // bitmask over the corresponding constants of shared/layout.h (bit MAT_DIFFUSE of
 // CAUSTIC_MATERIALS, and so on); left undefined it is every kind, which is the general program
 // (the test kernels, and the integrator where specialisation is off). The renderer defines them
-// from the scene it renders (renderer/renderer.cpp, featureDefines) when it specialises: on
+// from the scene it renders (renderer/renderer_programs.cpp, featureDefines) when it specialises: on
 // llvmpipe by default. Code for a kind the scene lacks is then constant-false and the compiler
 // removes it.
 //   Why: llvmpipe runs 8 invocations as the lanes of a SIMD register, and Mesa 22.3's executes

@@ -52,7 +52,7 @@ using uint = std::uint32_t;
 // Buffer textures over the scene's storage buffers (usamplerBuffer), read instead of the buffers
 // when CAUSTIC_FETCH_TEXELS is defined (scene/buffers.glsl). Each view's format is here and only
 // here, as TEXUNIT_<name>_FORMAT, the GLSL image format's name: scene/buffers.glsl puts it in the
-// image declaration, renderer.cpp (bindScene) turns it into the GL format the view is made and
+// image declaration, renderer_dispatch.cpp (bindScene) turns it into the GL format the view is made and
 // bound with (an image's format qualifier must be the view's own format).
 #define TEXUNIT_PRIMITIVES 1
 #define TEXUNIT_PRIMITIVES_FORMAT rgba32ui

@@ -1,4 +1,4 @@
-// Baked primitives (Renderer::setBakeGeometry, renderer.cpp bakedPrimitiveTests): a batch
+// Baked primitives (Renderer::setBakeGeometry, renderer_programs.cpp bakedPrimitiveTests): a batch
 // render's scene-specialised program for a scene of a few analytic primitives holds their hit
 // records as constants instead of fetching them (1.8x on llvmpipe for the Cornell box,
 // docs/performance.md), and a scene of a few meshes and primitives its top level's entries

@@ -1,4 +1,4 @@
-// The GPU traversal against the CPU one (renderer/bvh.cpp, itself tested against brute force):
+// The GPU traversal against the CPU one (renderer/bvh_reference.cpp, itself tested against brute force):
 // the same rays give the same hit, t and triangle, closest and any hit; rays aimed exactly at
 // the shared vertices and edges of a closed mesh never escape it; and moving instances through
 // Renderer::update (top level only) gives the same hits as a fresh build.
