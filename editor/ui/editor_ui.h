@@ -4,6 +4,7 @@
 #pragma once
 
 #include "editor/model/camera_views.h"
+#include "editor/model/editor_config.h"
 #include "editor/model/editor_state.h"
 #include "editor/model/keymap.h"
 #include "editor/model/modal_transform.h"
