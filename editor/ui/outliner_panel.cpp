@@ -1,9 +1,10 @@
 // The outliner: the camera, render settings, environment, objects, lights and materials. Click
 // to select; right-click to rename, duplicate or delete; "Add" makes primitives, lights and
-// materials.
+// materials. The lights' section also lists the emissive objects (scene_lights.h), marked as such.
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/mesh_import.h"
 #include "editor/model/lookdev.h"
+#include "editor/model/scene_lights.h"
 
 #include <imgui.h>
 
@@ -46,7 +47,8 @@ void contextMenu(EditorUi& ui, EntityRef ref) {
     ImGui::EndPopup();
 }
 
-void entityRow(EditorUi& ui, EntityRef ref, const char* icon) {
+// suffix: shown after the name (the lights' section marks the emissive objects it lists).
+void entityRow(EditorUi& ui, EntityRef ref, const char* icon, const char* suffix = "") {
     ImGui::PushID(static_cast<int>(ref.kind) * 100000 + ref.index);
     std::string name = entityName(ui.state.scene, ref);
     if (g_rename.ref == ref && ref) {
@@ -66,7 +68,7 @@ void entityRow(EditorUi& ui, EntityRef ref, const char* icon) {
     } else {
         const bool hidden = ref.kind == EntityKind::Object && std::find(ui.hidden.begin(), ui.hidden.end(), name) != ui.hidden.end();
         const std::string label = std::string(icon) + "  " + (name.empty() ? std::string("(unnamed)") : name) +
-                                  (hidden ? "  (hidden)" : "");
+                                  (hidden ? "  (hidden)" : "") + suffix;
         if (ImGui::Selectable(label.c_str(), ui.state.isSelected(ref), ImGuiSelectableFlags_AllowDoubleClick)) {
             // Ctrl or Shift+click adds an object to the selection or takes it out (EditorState::select).
             const ImGuiIO& io = ImGui::GetIO();
@@ -118,6 +120,20 @@ void section(EditorUi& ui, const char* title, const List& list, EntityKind kind,
     for (size_t i = 0; i < list.size(); ++i) entityRow(ui, {kind, static_cast<int>(i)}, icon);
 }
 
+// The lights, then the emissive objects (a row selects the object): both light the scene.
+void lightsSection(EditorUi& ui) {
+    const Scene& scene = ui.state.scene;
+    const std::vector<int> emissive = emissiveObjects(scene);
+    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    const std::string header = "Lights (" + std::to_string(scene.lights.size() + emissive.size()) + ")";
+    if (!ImGui::CollapsingHeader(header.c_str())) return;
+    if (scene.lights.empty() && emissive.empty()) ImGui::TextDisabled("  none: use Add");
+    for (size_t i = 0; i < scene.lights.size(); ++i) entityRow(ui, {EntityKind::Light, static_cast<int>(i)}, "[L]");
+    ImGui::PushID("emissive");   // the objects' rows again, in their own ID scope
+    for (int i : emissive) entityRow(ui, {EntityKind::Object, i}, "[O]", "  (emissive object)");
+    ImGui::PopID();
+}
+
 }  // namespace
 
 void drawOutlinerPanel(EditorUi& ui) {
@@ -148,7 +164,7 @@ void drawOutlinerPanel(EditorUi& ui) {
     entityRow(ui, {EntityKind::Render, -1}, "[R]");
     entityRow(ui, {EntityKind::Environment, -1}, "[E]");
     section(ui, "Objects", ui.state.scene.objects, EntityKind::Object, "[O]");
-    section(ui, "Lights", ui.state.scene.lights, EntityKind::Light, "[L]");
+    lightsSection(ui);
     section(ui, "Materials", ui.state.scene.materials, EntityKind::Material, "[M]");
     ImGui::End();
 }
