@@ -3,6 +3,7 @@
 // the object and file, and the loader's per-request cancel that a superseded open uses.
 #include "editor/model/editor_state.h"
 #include "editor/model/scene_open.h"
+#include "renderer/gpu_scene.h"
 #include "renderer/scene_io.h"
 #include "tests/editor/hang_guard.h"
 #include "tests/support/meshes.h"
