@@ -9,7 +9,6 @@
 //    saved with the inspector open is the same file).
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/param_widgets.h"
-#include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
