@@ -23,24 +23,24 @@ ScriptStep check(ScriptContext& c, bool ok, const std::string& why) {
 
 ScriptStep expectError(ScriptContext& c) {
     const EditorUi& ui = c.ui;
-    return check(c, ui.lastMessageIsError && ui.lastMessage.find(c.a[0]) != std::string::npos,
-                 "expected an error containing '" + c.a[0] + "', the last message is '" + ui.lastMessage + "'");
+    return check(c, ui.app.lastMessageIsError && ui.app.lastMessage.find(c.a[0]) != std::string::npos,
+                 "expected an error containing '" + c.a[0] + "', the last message is '" + ui.app.lastMessage + "'");
 }
 
 // The status bar's last message, info or error, contains the text.
 ScriptStep expectMessage(ScriptContext& c) {
-    return check(c, c.ui.lastMessage.find(c.a[0]) != std::string::npos,
-                 "expected a message containing '" + c.a[0] + "', the last message is '" + c.ui.lastMessage + "'");
+    return check(c, c.app.lastMessage.find(c.a[0]) != std::string::npos,
+                 "expected a message containing '" + c.a[0] + "', the last message is '" + c.app.lastMessage + "'");
 }
 
 ScriptStep expectUndoSteps(ScriptContext& c) {
     const int n = static_cast<int>(c.num(0));
-    const std::size_t have = c.ui.state.history.undoCount();
+    const std::size_t have = c.app.state.history.undoCount();
     return check(c, static_cast<int>(have) == n, "expected " + std::to_string(n) + " undo steps, have " + std::to_string(have));
 }
 
 ScriptStep expectCount(ScriptContext& c) {
-    const Scene& scene = c.ui.state.scene;
+    const Scene& scene = c.app.state.scene;
     const std::string& list = c.a[0];
     const std::size_t n = list == "objects" ? scene.objects.size() : list == "lights" ? scene.lights.size()
                         : list == "materials" ? scene.materials.size() : ~std::size_t(0);
@@ -49,12 +49,12 @@ ScriptStep expectCount(ScriptContext& c) {
 }
 
 ScriptStep expectSelected(ScriptContext& c) {
-    const std::size_t n = c.ui.state.selectedObjects().size();
+    const std::size_t n = c.app.state.selectedObjects().size();
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + " selected objects, have " + std::to_string(n));
 }
 
 ScriptStep expectMaterial(ScriptContext& c) {
-    const Scene& scene = c.ui.state.scene;
+    const Scene& scene = c.app.state.scene;
     const EntityRef ref = findEntity(scene, EntityKind::Object, c.a[0]);
     if (!ref) return check(c, false, "no object called '" + c.a[0] + "'");
     const std::string& has = scene.objects[size_t(ref.index)].material;
@@ -70,7 +70,7 @@ ScriptStep expectFocusOverlay(ScriptContext& c) {
 ScriptStep expectNoFocusOverlay(ScriptContext& c) { return check(c, c.ui.focusOverlayCells < 0, "the focus overlay is shown"); }
 
 ScriptStep expectViews(ScriptContext& c) {
-    const std::size_t n = c.ui.views.of(c.ui.state.path).size();
+    const std::size_t n = c.app.views.of(c.app.state.path).size();
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + " views, have " + std::to_string(n));
 }
 
@@ -81,17 +81,17 @@ ScriptStep expectFontSize(ScriptContext& c) {
 }
 
 ScriptStep expectKeymap(ScriptContext& c) {
-    const char* in = c.ui.keymap == KeymapStyle::Blender ? "blender" : "default";
+    const char* in = c.app.keymap == KeymapStyle::Blender ? "blender" : "default";
     return check(c, c.a[0] == in, std::string("the key map is ") + in);
 }
 
 ScriptStep expectHidden(ScriptContext& c) {
-    const std::size_t n = c.ui.hidden.size();
+    const std::size_t n = c.app.hidden.size();
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + ", have " + std::to_string(n));
 }
 
 ScriptStep expectRenderedObjects(ScriptContext& c) {
-    const std::size_t n = c.ui.session.renderedObjects.empty() ? c.ui.state.scene.objects.size() : c.ui.session.renderedObjects.size();
+    const std::size_t n = c.app.session.renderedObjects.empty() ? c.app.state.scene.objects.size() : c.app.session.renderedObjects.size();
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + ", have " + std::to_string(n));
 }
 
@@ -103,29 +103,29 @@ ScriptStep expectModal(ScriptContext& c) {
 ScriptStep expectDenoised(ScriptContext& c) {
     bool yes = false;
     if (!c.onOff(&yes)) return ScriptStep::done();
-    const bool shown = c.ui.denoiser && c.ui.denoiser->shown(c.ui);
+    const bool shown = c.app.denoiser && c.app.denoiser->shown(c.ui);
     return check(c, shown == yes, std::string("the viewport ") + (shown ? "shows" : "does not show") + " a denoised image");
 }
 
 ScriptStep expectModified(ScriptContext& c) {
     bool yes = false;
     if (!c.onOff(&yes)) return ScriptStep::done();
-    const bool modified = c.ui.state.modified();
+    const bool modified = c.app.state.modified();
     return check(c, modified == yes, std::string("the scene is ") + (modified ? "modified" : "not modified"));
 }
 
 ScriptStep expectRecoveryOffered(ScriptContext& c) {
     if (c.ui.recoveryPromptRequested) return ScriptStep::again();   // the prompt opens during this frame's drawing
-    return check(c, c.ui.recovered && ImGui::IsPopupOpen("Recover unsaved work?"), "no recovery was offered");
+    return check(c, c.app.recovered && ImGui::IsPopupOpen("Recover unsaved work?"), "no recovery was offered");
 }
 
 ScriptStep mark(ScriptContext& c) {
-    c.run.markedGeneration = c.ui.session.accumulationGeneration;
+    c.run.markedGeneration = c.app.session.accumulationGeneration;
     return ScriptStep::done();
 }
 
 ScriptStep expectRestarted(ScriptContext& c) {
-    const bool restarted = c.ui.session.accumulationGeneration != c.run.markedGeneration;
+    const bool restarted = c.app.session.accumulationGeneration != c.run.markedGeneration;
     return check(c, restarted == (c.a[0] == "yes"),
                  std::string("accumulation ") + (restarted ? "restarted" : "did not restart") + " since `mark`");
 }

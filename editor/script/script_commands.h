@@ -13,6 +13,7 @@
 
 namespace caustic::editor {
 
+struct AppState;
 struct EditorUi;
 struct ScriptRun;
 
@@ -30,9 +31,10 @@ struct ScriptStep {
     static ScriptStep doneAfterFrames(int frames) { return {Kind::DoneAfterFrames, frames}; }
 };
 
-// What a handler works with: the editor, the run, its line.
+// What a handler works with: the editor (its UI and the application), the run, its line.
 struct ScriptContext {
     EditorUi& ui;
+    AppState& app;                       // ui.app
     ScriptRun& run;
     const ScriptLine& line;
     const std::vector<std::string>& a;   // line.args

@@ -29,7 +29,7 @@ EntityKind kindFromWord(const std::string& w) {
 
 // Moves the selected object or light by d: one step of an edit.
 bool moveSelection(EditorUi& ui, glm::vec3 d, bool continuous, std::string* why) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     std::unique_ptr<Command> c;
     if (s.selection.kind == EntityKind::Object) {
         Object o = s.scene.objects.at(static_cast<size_t>(s.selection.index));
@@ -50,13 +50,13 @@ bool moveSelection(EditorUi& ui, glm::vec3 d, bool continuous, std::string* why)
 // Applies `c` as one edit; a refused one fails the script.
 ScriptStep applyEdit(ScriptContext& c, std::unique_ptr<Command> command) {
     std::string why;
-    if (!c.ui.state.apply(std::move(command), &why)) c.fail(why);
+    if (!c.app.state.apply(std::move(command), &why)) c.fail(why);
     c.markEdit();
     return ScriptStep::done();
 }
 
 ScriptStep select(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     const EntityKind kind = kindFromWord(c.a[0]);
     if (kind == EntityKind::None) { c.fail("unknown kind '" + c.a[0] + "'"); return ScriptStep::done(); }
     const std::string name = c.a.size() > 1 ? c.a[1] : "";
@@ -68,7 +68,7 @@ ScriptStep select(ScriptContext& c) {
 
 // As Ctrl+click in the viewport (or Ctrl/Shift+click in the outliner).
 ScriptStep selectAdd(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     const EntityRef ref = findEntity(s.scene, kindFromWord(c.a[0]), c.a[1]);
     if (!ref) { c.fail("no " + c.a[0] + " called '" + c.a[1] + "'"); return ScriptStep::done(); }
     s.select(ref, EditorState::SelectMode::Toggle);
@@ -92,65 +92,65 @@ ScriptStep drag(ScriptContext& c) {
     std::string why;
     if (!moveSelection(c.ui, {r.drag[0], r.drag[1], r.drag[2]}, true, &why)) { c.fail(why); return ScriptStep::done(); }
     c.markEdit();
-    c.ui.session.interacting = true;
-    c.ui.session.lastInteraction = glfwGetTime();
+    c.app.session.interacting = true;
+    c.app.session.lastInteraction = glfwGetTime();
     if (--r.dragStepsLeft > 0) return ScriptStep::again();
-    c.ui.session.interacting = false;
-    c.ui.state.seal();
+    c.app.session.interacting = false;
+    c.app.state.seal();
     return ScriptStep::done();
 }
 
 ScriptStep orbitCamera(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     s.apply(makeSetCamera(s, orbit(s.scene.camera, c.num(0), c.num(1))));
     c.markEdit();
     return ScriptStep::done();
 }
 
 ScriptStep setSamples(ScriptContext& c) {
-    RenderSettings r = c.ui.state.scene.render;
+    RenderSettings r = c.app.state.scene.render;
     r.samples = static_cast<int>(c.num(0));
-    return applyEdit(c, makeSetRender(c.ui.state, r));
+    return applyEdit(c, makeSetRender(c.app.state, r));
 }
 
 ScriptStep undo(ScriptContext& c) {
-    if (!c.ui.state.undo()) c.fail("nothing to undo");
+    if (!c.app.state.undo()) c.fail("nothing to undo");
     c.markEdit();
     return ScriptStep::done();
 }
 
 ScriptStep redo(ScriptContext& c) {
-    if (!c.ui.state.redo()) c.fail("nothing to redo");
+    if (!c.app.state.redo()) c.fail("nothing to redo");
     c.markEdit();
     return ScriptStep::done();
 }
 
-ScriptStep addMaterial(ScriptContext& c) { return applyEdit(c, makeAddMaterial(c.ui.state)); }
+ScriptStep addMaterial(ScriptContext& c) { return applyEdit(c, makeAddMaterial(c.app.state)); }
 
 // The inspector's actions on the selected objects (editor/model/lookdev.h).
 ScriptStep applyOrFail(ScriptContext& c, std::unique_ptr<Command> command, const std::string& why) {
     std::string refused = why;
-    if (!command || !c.ui.state.apply(std::move(command), &refused)) c.fail(refused);
+    if (!command || !c.app.state.apply(std::move(command), &refused)) c.fail(refused);
     c.markEdit();
     return ScriptStep::done();
 }
 
 ScriptStep assignMaterial(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     std::string why;
     auto command = makeAssignMaterial(s, s.selectedObjects(), c.a[0], &why);
     return applyOrFail(c, std::move(command), why);
 }
 
 ScriptStep makeUnique(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     std::string why;
     auto command = makeMakeUnique(s, s.selectedObjects(), &why);
     return applyOrFail(c, std::move(command), why);
 }
 
 ScriptStep newMaterial(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     const Material* preset = c.a.empty() ? nullptr : findLibraryMaterial(c.a[0]);
     if (!c.a.empty() && !preset) { c.fail("no preset called '" + c.a[0] + "'"); return ScriptStep::done(); }
     std::string why;
@@ -159,7 +159,7 @@ ScriptStep newMaterial(ScriptContext& c) {
 }
 
 ScriptStep applyPreset(ScriptContext& c) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     const Material* preset = findLibraryMaterial(c.a[0]);
     if (!preset) { c.fail("no preset called '" + c.a[0] + "'"); return ScriptStep::done(); }
     int index = -1;
@@ -171,10 +171,10 @@ ScriptStep applyPreset(ScriptContext& c) {
 }
 
 ScriptStep setFocus(ScriptContext& c) {
-    Camera camera = c.ui.state.scene.camera;
+    Camera camera = c.app.state.scene.camera;
     camera.focalDistance = c.num(0);
     camera.focusPoint.reset();
-    applyEdit(c, makeSetCamera(c.ui.state, camera));
+    applyEdit(c, makeSetCamera(c.app.state, camera));
     return ScriptStep::doneAfterFrames(1);   // the overlay is drawn by the next frame's viewport
 }
 
@@ -191,14 +191,14 @@ ScriptStep storeView(ScriptContext& c) {
 }
 
 ScriptStep recallView(ScriptContext& c) {
-    if (!recallCameraView(c.ui, c.a[0])) c.fail(c.ui.lastMessage);
+    if (!recallCameraView(c.ui, c.a[0])) c.fail(c.app.lastMessage);
     c.markEdit();
     return ScriptStep::done();
 }
 
 // The listing the inspector's "..." shows (asset_files.h), and the path a pick stores (`pick`).
 ScriptStep pickerEntry(ScriptContext& c, bool pick) {
-    EditorState& s = c.ui.state;
+    EditorState& s = c.app.state;
     const auto& a = c.a;
     const bool env = a[0] == "environment";
     const AssetKind kind = env ? AssetKind::EnvironmentMap : AssetKind::Texture;

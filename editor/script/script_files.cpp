@@ -28,12 +28,12 @@ ScriptStep open(ScriptContext& c) {
 // Until the scene being opened is adopted (or refused) [timeout s].
 ScriptStep waitOpen(ScriptContext& c) {
     const double timeout = c.a.empty() ? kScriptWaitSeconds : double(c.num(0));
-    return ScriptStep::doneIf(c.run.waitFor(c.ui, c.line, !c.ui.meshImports->opening(), timeout, "still opening"));
+    return ScriptStep::doneIf(c.run.waitFor(c.ui, c.line, !c.app.meshImports->opening(), timeout, "still opening"));
 }
 
 ScriptStep save(ScriptContext& c) {
-    const std::string file = c.a.empty() ? c.ui.state.path : c.resolve(c.a[0]);
-    if (!saveFile(c.ui, file)) c.fail(c.ui.lastMessage);
+    const std::string file = c.a.empty() ? c.app.state.path : c.resolve(c.a[0]);
+    if (!saveFile(c.ui, file)) c.fail(c.app.lastMessage);
     return ScriptStep::done();
 }
 
@@ -56,7 +56,7 @@ ScriptStep renderToFile(ScriptContext& c) {
         c.run.renderStarted = true;
         return ScriptStep::again();
     }
-    if (c.ui.renderToFile) return ScriptStep::again();   // still rendering
+    if (c.app.renderToFile) return ScriptStep::again();   // still rendering
     c.run.renderStarted = false;
     return ScriptStep::done();
 }
@@ -69,25 +69,25 @@ ScriptStep report(ScriptContext& c) {
 
 // Starts a background import; the object appears when it is ready.
 ScriptStep importMesh(ScriptContext& c) {
-    c.ui.meshImports->importFile(c.ui, c.resolve(c.a[0]));
+    c.app.meshImports->importFile(c.ui, c.resolve(c.a[0]));
     return ScriptStep::done();
 }
 
 // The selected mesh object's file, through the same background import.
 ScriptStep setMeshFile(ScriptContext& c) {
-    const EditorState& s = c.ui.state;
+    const EditorState& s = c.app.state;
     const bool mesh = s.selection.kind == EntityKind::Object && s.selection.index >= 0 &&
                       static_cast<size_t>(s.selection.index) < s.scene.objects.size() &&
                       s.scene.objects[static_cast<size_t>(s.selection.index)].shape == Shape::Mesh;
     if (!mesh) { c.fail("select a mesh object first"); return ScriptStep::done(); }
-    c.ui.meshImports->setObjectFile(c.ui, s.selection.index, c.resolve(c.a[0]));
+    c.app.meshImports->setObjectFile(c.ui, s.selection.index, c.resolve(c.a[0]));
     return ScriptStep::done();
 }
 
 // Until every import has finished and its edit applied [timeout s].
 ScriptStep waitImport(ScriptContext& c) {
     const double timeout = c.a.empty() ? kScriptWaitSeconds : double(c.num(0));
-    return ScriptStep::doneIf(c.run.waitFor(c.ui, c.line, !c.ui.meshImports->pending(), timeout, "still importing"));
+    return ScriptStep::doneIf(c.run.waitFor(c.ui, c.line, !c.app.meshImports->pending(), timeout, "still importing"));
 }
 
 // As if another program had written the file.
@@ -100,13 +100,13 @@ ScriptStep touch(ScriptContext& c) {
 
 ScriptStep writePreview(ScriptContext& c) {
     std::string why;
-    if (!c.ui.preview->writeImage(c.resolve(c.a[0]), c.ui, &why)) c.fail(why);
+    if (!c.app.preview->writeImage(c.resolve(c.a[0]), c.ui, &why)) c.fail(why);
     return ScriptStep::done();
 }
 
 // Where the next reload (F5) reads the shaders from.
 ScriptStep shaderDir(ScriptContext& c) {
-    c.ui.shaderDir = c.resolve(c.a[0]);
+    c.app.shaderDir = c.resolve(c.a[0]);
     return ScriptStep::done();
 }
 
@@ -122,17 +122,17 @@ ScriptStep autosave(ScriptContext& c) {
     bool on = false;
     if (!c.onOff(&on)) return ScriptStep::done();
     c.run.autosave = on;
-    c.ui.lastAutosave = glfwGetTime();   // the interval counts from here
+    c.app.lastAutosave = glfwGetTime();   // the interval counts from here
     return ScriptStep::done();
 }
 
 ScriptStep autosaveNow(ScriptContext& c) {
     if (!autosaveAllowed(c)) return ScriptStep::done();
     EditorUi& ui = c.ui;
-    if (!ui.state.modified()) { c.fail("nothing to autosave: no unsaved changes"); return ScriptStep::done(); }
+    if (!ui.app.state.modified()) { c.fail("nothing to autosave: no unsaved changes"); return ScriptStep::done(); }
     std::string error;
-    if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) { c.fail(error); return ScriptStep::done(); }
-    ++ui.autosaveWrites;
+    if (!ui.app.autosave.write(ui.app.state.scene, ui.app.state.path, &error)) { c.fail(error); return ScriptStep::done(); }
+    ++ui.app.autosaveWrites;
     return ScriptStep::done();
 }
 
@@ -142,8 +142,8 @@ ScriptStep waitAutosave(ScriptContext& c) {
     if (!autosaveAllowed(c)) return ScriptStep::done();
     const double timeout = c.a.empty() ? kScriptWaitSeconds : double(c.num(0));
     if (!c.run.autosave) { c.fail("autosave is off (autosave on)"); return ScriptStep::done(); }
-    if (first) c.run.countAtStart = c.ui.autosaveWrites;
-    if (c.ui.autosaveWrites > c.run.countAtStart) return ScriptStep::done();
+    if (first) c.run.countAtStart = c.app.autosaveWrites;
+    if (c.app.autosaveWrites > c.run.countAtStart) return ScriptStep::done();
     if (c.run.secondsOnLine() > timeout) { c.fail("no autosave within " + std::to_string(int(timeout)) + " s"); return ScriptStep::done(); }
     return ScriptStep::again();
 }
@@ -157,12 +157,12 @@ ScriptStep crash(ScriptContext& c) {
 ScriptStep recover(ScriptContext& c) {
     c.run.startLine();
     if (!c.run.pressed) {
-        if (!c.ui.recovered) { c.fail("no recovery was offered"); return ScriptStep::done(); }
+        if (!c.app.recovered) { c.fail("no recovery was offered"); return ScriptStep::done(); }
         c.run.pressRecover = true;   // the prompt's "Recover" button takes it next frame
         c.run.pressed = true;
         return ScriptStep::again();
     }
-    if (c.ui.recovered) {
+    if (c.app.recovered) {
         if (c.run.secondsOnLine() > kScriptWaitSeconds) c.fail("the recovery prompt did not take the answer");
         else return ScriptStep::again();
     }

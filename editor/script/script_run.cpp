@@ -36,7 +36,7 @@ std::string list(const std::vector<double>& v) {
 void ScriptRun::fail(EditorUi& ui, const ScriptLine& line, const std::string& why) {
     std::fprintf(stderr, "caustic: script %s:%d: %s: %s\n", file.c_str(), line.line, line.op.c_str(), why.c_str());
     failed = true;
-    ui.quit = true;
+    ui.app.quit = true;
 }
 
 std::string ScriptRun::resolve(const std::string& path) const {
@@ -45,7 +45,7 @@ std::string ScriptRun::resolve(const std::string& path) const {
 }
 
 void ScriptRun::markEdit(const EditorUi& ui) {
-    if (ui.state.pendingDirty() != kDirtyNone) {
+    if (ui.app.state.pendingDirty() != kDirtyNone) {
         editTime = glfwGetTime();
         editPending = true;
     }
@@ -70,7 +70,7 @@ bool ScriptRun::waitFor(EditorUi& ui, const ScriptLine& line, bool done, double 
     if (waitImportSince < 0.0) waitImportSince = glfwGetTime();
     if (glfwGetTime() - waitImportSince <= timeout) return false;
     waitImportSince = -1.0;
-    fail(ui, line, std::string(what) + " after " + std::to_string(int(timeout)) + " s: " + ui.meshImports->status());
+    fail(ui, line, std::string(what) + " after " + std::to_string(int(timeout)) + " s: " + ui.app.meshImports->status());
     return true;
 }
 
@@ -78,27 +78,27 @@ void ScriptRun::recordFrame(const EditorUi& ui, double frameSeconds) {
     allFrameMs.push_back(frameSeconds * 1e3);
     // The viewport's render size, divisor and samples, whenever one of the first two changes
     // (`record_sizes` starts the list afresh): the refinement after an edit, panel resizes.
-    if (ui.session.sceneUploaded) {
-        const std::array<int, 4> now{ui.session.renderedSize.x, ui.session.renderedSize.y, ui.session.previewDivisor,
-                                     ui.renderer ? ui.renderer->samplesDone() : 0};
+    if (ui.app.session.sceneUploaded) {
+        const std::array<int, 4> now{ui.app.session.renderedSize.x, ui.app.session.renderedSize.y, ui.app.session.previewDivisor,
+                                     ui.app.renderer ? ui.app.renderer->samplesDone() : 0};
         if (sizes.empty() || sizes.back()[0] != now[0] || sizes.back()[1] != now[1] || sizes.back()[2] != now[2])
             sizes.push_back(now);
         else
             sizes.back()[3] = now[3];   // the samples the size reached before it changed
     }
-    if (ui.meshImports->pending()) {
+    if (ui.app.meshImports->pending()) {
         importFrameMs.push_back(frameSeconds * 1e3);
-        if (ui.session.renderedThisFrame) ++importRenderingFrames;
+        if (ui.app.session.renderedThisFrame) ++importRenderingFrames;
     }
-    if (ui.meshImports->opening()) {
+    if (ui.app.meshImports->opening()) {
         openFrameMs.push_back(frameSeconds * 1e3);
-        if (ui.session.renderedThisFrame) ++openRenderingFrames;
+        if (ui.app.session.renderedThisFrame) ++openRenderingFrames;
     }
-    if (ui.session.renderedThisFrame) {
+    if (ui.app.session.renderedThisFrame) {
         frameMs.push_back(frameSeconds * 1e3);
-        overheadMs.push_back((frameSeconds - ui.session.renderSeconds) * 1e3);
-        samplesPerFrame.push_back(ui.session.samplesThisFrame);
-        if (editPending && ui.state.pendingDirty() == kDirtyNone) {
+        overheadMs.push_back((frameSeconds - ui.app.session.renderSeconds) * 1e3);
+        samplesPerFrame.push_back(ui.app.session.samplesThisFrame);
+        if (editPending && ui.app.state.pendingDirty() == kDirtyNone) {
             editLatencyMs.push_back((glfwGetTime() - editTime) * 1e3);
             editPending = false;
         }
@@ -106,7 +106,7 @@ void ScriptRun::recordFrame(const EditorUi& ui, double frameSeconds) {
 }
 
 std::string ScriptRun::reportJson(const EditorUi& ui) const {
-    const EditorState& s = ui.state;
+    const EditorState& s = ui.app.state;
     double sppMean = 0.0;
     for (int n : samplesPerFrame) sppMean += n;
     if (!samplesPerFrame.empty()) sppMean /= double(samplesPerFrame.size());
@@ -124,20 +124,20 @@ std::string ScriptRun::reportJson(const EditorUi& ui) const {
       << ",\n  \"rendering_frames_during_import\": " << importRenderingFrames
       << ",\n  \"frame_ms_median_during_import\": " << percentile(importFrameMs, 0.5)
       << ",\n  \"frame_ms_max_during_import\": " << percentile(importFrameMs, 1.0)
-      << ",\n  \"import_seconds\": " << list(ui.meshImports->importSeconds())
+      << ",\n  \"import_seconds\": " << list(ui.app.meshImports->importSeconds())
       << ",\n  \"frames_during_open\": " << openFrameMs.size()
       << ",\n  \"rendering_frames_during_open\": " << openRenderingFrames
       << ",\n  \"frame_ms_median_during_open\": " << percentile(openFrameMs, 0.5)
       << ",\n  \"frame_ms_max_during_open\": " << percentile(openFrameMs, 1.0)
-      << ",\n  \"open_seconds\": " << list(ui.meshImports->openSeconds())
+      << ",\n  \"open_seconds\": " << list(ui.app.meshImports->openSeconds())
       << ",\n  \"viewport_sizes\": [";
     for (size_t i = 0; i < sizes.size(); ++i)
         j << (i ? ", " : "") << "[" << sizes[i][0] << ", " << sizes[i][1] << ", " << sizes[i][2] << ", " << sizes[i][3] << "]";
     j << "]"
-      << ",\n  \"viewport_resolution\": [" << ui.session.viewportResolution(s.scene).x << ", "
-      << ui.session.viewportResolution(s.scene).y << "]"
-      << ",\n  \"samples\": " << (ui.renderer ? ui.renderer->samplesDone() : 0)
-      << ",\n  \"render_elapsed_seconds\": " << ui.session.sampleRate.elapsedSeconds()
+      << ",\n  \"viewport_resolution\": [" << ui.app.session.viewportResolution(s.scene).x << ", "
+      << ui.app.session.viewportResolution(s.scene).y << "]"
+      << ",\n  \"samples\": " << (ui.app.renderer ? ui.app.renderer->samplesDone() : 0)
+      << ",\n  \"render_elapsed_seconds\": " << ui.app.session.sampleRate.elapsedSeconds()
       << ",\n  \"idle_pacing\": " << (idle ? "true" : "false")
       << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
     return j.str();

@@ -39,10 +39,10 @@ void ScriptRunner::step(EditorUi& ui) {
         return;
     }
     // Run lines until one has to wait for frames to pass.
-    while (r.next < r.lines.size() && !ui.quit) {
+    while (r.next < r.lines.size() && !ui.app.quit) {
         const ScriptLine& line = r.lines[r.next];
         const ScriptCommand* command = findScriptCommand(line.op);   // the parser checked it exists
-        ScriptContext c{ui, r, line, line.args};
+        ScriptContext c{ui, ui.app, r, line, line.args};
         const ScriptStep s = command->run(c);
         if (s.kind == ScriptStep::Kind::Again) return;
         ++r.next;
@@ -52,7 +52,7 @@ void ScriptRunner::step(EditorUi& ui) {
         }
         if (r.failed) return;
     }
-    if (r.next >= r.lines.size()) ui.quit = true;   // a script always ends the session
+    if (r.next >= r.lines.size()) ui.app.quit = true;   // a script always ends the session
 }
 
 void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
@@ -71,7 +71,7 @@ void ScriptRunner::afterDraw(EditorUi& ui, int fbWidth, int fbHeight) {
     if (!writeImage8(r.screenshotPending, fbWidth, fbHeight, rgb, {{"Software", "caustic editor"}}, &error)) {
         std::fprintf(stderr, "caustic: screenshot: %s\n", error.c_str());
         r.failed = true;
-        ui.quit = true;
+        ui.app.quit = true;
     }
     r.screenshotPending.clear();
 }

@@ -21,30 +21,30 @@ namespace {
 
 // The viewport shows the scene as it is, at full resolution, with nothing being dragged.
 bool settled(const EditorUi& ui) {
-    return ui.renderer && ui.session.sceneUploaded && ui.session.previewDivisor == 1 && ui.state.pendingDirty() == kDirtyNone &&
-           !ui.session.interacting;
+    return ui.app.renderer && ui.app.session.sceneUploaded && ui.app.session.previewDivisor == 1 && ui.app.state.pendingDirty() == kDirtyNone &&
+           !ui.app.session.interacting;
 }
 
 // Render until N samples per pixel (and stop there).
 ScriptStep waitSamples(ScriptContext& c) {
     EditorUi& ui = c.ui;
     const int n = static_cast<int>(c.num(0));
-    ui.session.sampleCap = n;
-    if (!ui.renderer) { c.fail("no renderer (the shaders did not compile)"); return ScriptStep::done(); }
+    ui.app.session.sampleCap = n;
+    if (!ui.app.renderer) { c.fail("no renderer (the shaders did not compile)"); return ScriptStep::done(); }
     const bool ready = settled(ui);
-    if (ready && !ui.session.renderError.empty() && ui.renderer->samplesDone() == 0) { c.fail(ui.session.renderError); return ScriptStep::done(); }
-    return ScriptStep::doneIf(ready && ui.renderer->samplesDone() >= std::min(n, ui.state.scene.render.samples));
+    if (ready && !ui.app.session.renderError.empty() && ui.app.renderer->samplesDone() == 0) { c.fail(ui.app.session.renderError); return ScriptStep::done(); }
+    return ScriptStep::doneIf(ready && ui.app.renderer->samplesDone() >= std::min(n, ui.app.state.scene.render.samples));
 }
 
 ScriptStep frames(ScriptContext& c) { return ScriptStep::doneAfterFrames(static_cast<int>(c.num(0)) - 1); }
 
 ScriptStep uncap(ScriptContext& c) {
-    c.ui.session.sampleCap.reset();
+    c.app.session.sampleCap.reset();
     return ScriptStep::done();
 }
 
 ScriptStep snapshot(ScriptContext& c) {
-    if (c.ui.display) c.ui.display->takeSnapshot();
+    if (c.app.display) c.app.display->takeSnapshot();
     return ScriptStep::done();
 }
 
@@ -68,7 +68,7 @@ ScriptStep denoiseAndWait(ScriptContext& c, bool press) {
     ScriptRun& r = c.run;
     const bool first = r.startLine();
     const double timeout = c.a.empty() ? kScriptWaitSeconds : double(c.num(0));
-    ViewportDenoiser* dn = ui.denoiser.get();
+    ViewportDenoiser* dn = ui.app.denoiser.get();
     if (!dn) { c.fail("no denoiser"); return ScriptStep::done(); }
     if (first) r.countAtStart = dn->failures();
     if (dn->shown(ui)) return ScriptStep::done();
@@ -79,7 +79,7 @@ ScriptStep denoiseAndWait(ScriptContext& c, bool press) {
     }
     // denoise: one request for the settled image (again if an edit made the first one stale).
     if (press && settled(ui) && !dn->busy() && !dn->current(ui)) {
-        const std::pair<std::uint64_t, int> key(ui.session.accumulationGeneration, ui.renderer->samplesDone());
+        const std::pair<std::uint64_t, int> key(ui.app.session.accumulationGeneration, ui.app.renderer->samplesDone());
         if (!r.pressed || r.denoiseKey != key) {
             std::string why;
             if (!dn->request(ui, false, &why)) { c.fail(why); return ScriptStep::done(); }
@@ -97,22 +97,22 @@ ScriptStep waitDenoised(ScriptContext& c) { return denoiseAndWait(c, false); }
 ScriptStep denoiseAuto(ScriptContext& c) {
     bool on = false;
     if (!c.onOff(&on)) return ScriptStep::done();
-    if (!c.ui.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
-    c.ui.denoiser->settings.autoDenoise = on;
+    if (!c.app.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
+    c.app.denoiser->settings.autoDenoise = on;
     return ScriptStep::done();
 }
 
 ScriptStep showRaw(ScriptContext& c) {
     bool on = false;
     if (!c.onOff(&on)) return ScriptStep::done();
-    if (!c.ui.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
-    c.ui.denoiser->settings.showDenoised = !on;
+    if (!c.app.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
+    c.app.denoiser->settings.showDenoised = !on;
     return ScriptStep::done();
 }
 
 ScriptStep previewLighting(ScriptContext& c) {
     if (c.a[0] != "scene" && c.a[0] != "studio") { c.fail("expected scene or studio"); return ScriptStep::done(); }
-    c.ui.preview->lighting = c.a[0] == "scene" ? PreviewLighting::Scene : PreviewLighting::Studio;
+    c.app.preview->lighting = c.a[0] == "scene" ? PreviewLighting::Scene : PreviewLighting::Studio;
     return ScriptStep::done();
 }
 
@@ -121,7 +121,7 @@ ScriptStep waitPreview(ScriptContext& c) {
     ScriptRun& r = c.run;
     // The inspector asks for the preview while it shows a material (this frame, before us).
     // A selection made on this frame shows in the inspector from the next one.
-    if (!ui.preview->requested()) {
+    if (!ui.app.preview->requested()) {
         if (++r.previewMissing > 5) {
             r.previewMissing = 0;
             c.fail("the inspector shows no material (select a material, or an object with its material open)");
@@ -136,8 +136,8 @@ ScriptStep waitPreview(ScriptContext& c) {
         r.previewLine = r.next;
         return ScriptStep::again();
     }
-    if (!ui.preview->error().empty()) { c.fail("the preview failed: " + ui.preview->error()); return ScriptStep::done(); }
-    const bool done = ui.preview->current() && ui.preview->samples() >= static_cast<int>(c.num(0));
+    if (!ui.app.preview->error().empty()) { c.fail("the preview failed: " + ui.app.preview->error()); return ScriptStep::done(); }
+    const bool done = ui.app.preview->current() && ui.app.preview->samples() >= static_cast<int>(c.num(0));
     if (done) r.previewLine = static_cast<size_t>(-1);
     const double timeout = c.a.size() > 1 ? c.num(1) : kScriptWaitSeconds;
     return ScriptStep::doneIf(r.waitFor(ui, c.line, done, timeout, "the material preview did not converge"));
@@ -145,7 +145,7 @@ ScriptStep waitPreview(ScriptContext& c) {
 
 // View > UI scale (0: follow the monitor).
 ScriptStep uiScale(ScriptContext& c) {
-    c.ui.uiScaleChoice = c.num(0);
+    c.app.uiScaleChoice = c.num(0);
     c.ui.resetLayout = true;   // as the menu does
     return ScriptStep::done();
 }
@@ -164,7 +164,7 @@ ScriptStep recordSizes(ScriptContext& c) {
 
 // As the user resizing the window.
 ScriptStep windowSize(ScriptContext& c) {
-    glfwSetWindowSize(c.ui.window, static_cast<int>(c.num(0)), static_cast<int>(c.num(1)));
+    glfwSetWindowSize(c.app.window, static_cast<int>(c.num(0)), static_cast<int>(c.num(1)));
     return ScriptStep::doneAfterFrames(3);
 }
 
@@ -176,7 +176,7 @@ ScriptStep idle(ScriptContext& c) {
 
 ScriptStep keymap(ScriptContext& c) {
     if (c.a[0] != "default" && c.a[0] != "blender") { c.fail("expected default or blender"); return ScriptStep::done(); }
-    c.ui.keymap = c.a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;
+    c.app.keymap = c.a[0] == "blender" ? KeymapStyle::Blender : KeymapStyle::Default;
     return ScriptStep::done();
 }
 
@@ -229,7 +229,7 @@ ScriptStep focus(ScriptContext& c) {
 }
 
 ScriptStep quit(ScriptContext& c) {
-    c.ui.quit = true;
+    c.app.quit = true;
     return ScriptStep::done();
 }
 

@@ -52,17 +52,17 @@ bool chordPressed(const Chord& chord) {
     return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
 }
 
-EditorUi::EditorUi()
+AppState::AppState()
     : preview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
       meshImports(std::make_unique<MeshImports>()) {}
-EditorUi::~EditorUi() = default;
+AppState::~AppState() = default;
 
 // ---- Actions shared by the panels ---------------------------------------------------------------
 
 void notify(EditorUi& ui, const std::string& message, bool isError) {
-    ui.lastMessage = message;
-    ui.lastMessageIsError = isError;
-    if (isError) ui.shownError = {false, ui.state.history.revision()};
+    ui.app.lastMessage = message;
+    ui.app.lastMessageIsError = isError;
+    if (isError) ui.app.shownError = {false, ui.app.state.history.revision()};
     if (isError) std::fprintf(stderr, "caustic: %s\n", message.c_str());
 }
 
@@ -77,50 +77,50 @@ bool openFile(EditorUi& ui, const std::string& file) {
     SceneLoadResult loaded = loadScene(file);
     if (!loaded) {
         showError(ui, "could not open the scene; the current one is kept.\n" + loaded.error);
-        ui.recent.remove(file);
+        ui.app.recent.remove(file);
         return false;
     }
     // Its meshes import in the background; the scene is adopted when they are ready (at once
     // when there is nothing to import). docs/editor.md, "Opening scenes".
-    ui.meshImports->openScene(ui, std::move(*loaded.scene), file, false);
+    ui.app.meshImports->openScene(ui, std::move(*loaded.scene), file, false);
     return true;
 }
 
 bool saveFile(EditorUi& ui, const std::string& file) {
     std::string error;
-    const std::string before = ui.state.path;
-    if (!ui.state.saveAs(file, &error)) {
+    const std::string before = ui.app.state.path;
+    if (!ui.app.state.saveAs(file, &error)) {
         showError(ui, "could not save; nothing was overwritten.\n" + error);
         return false;
     }
-    ui.views.carry(before, file);   // the saved camera views go with the scene to its new path
-    if (!ui.viewsPath.empty() && !ui.views.of(file).empty() && !ui.views.save(ui.viewsPath, &error))
+    ui.app.views.carry(before, file);   // the saved camera views go with the scene to its new path
+    if (!ui.app.viewsPath.empty() && !ui.app.views.of(file).empty() && !ui.app.views.save(ui.app.viewsPath, &error))
         notify(ui, "could not save the camera views: " + error, true);
-    ui.recent.add(fs::absolute(file).lexically_normal().string());
+    ui.app.recent.add(fs::absolute(file).lexically_normal().string());
     std::string ignored;
-    ui.recent.save(ui.recentListPath, &ignored);
-    ui.autosave.remove();
+    ui.app.recent.save(ui.app.recentListPath, &ignored);
+    ui.app.autosave.remove();
     notify(ui, "saved " + file);
     return true;
 }
 
 void storeCameraView(EditorUi& ui, const std::string& name) {
-    ui.views.store(ui.state.path, name, ui.state.scene.camera);
+    ui.app.views.store(ui.app.state.path, name, ui.app.state.scene.camera);
     std::string error;
-    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+    if (!ui.app.viewsPath.empty() && !ui.app.state.path.empty() && !ui.app.views.save(ui.app.viewsPath, &error))
         notify(ui, "could not save the camera views: " + error, true);
     else
         notify(ui, "stored camera view '" + name + "'");
 }
 
 bool recallCameraView(EditorUi& ui, const std::string& name) {
-    const CameraView* v = ui.views.find(ui.state.path, name);
+    const CameraView* v = ui.app.views.find(ui.app.state.path, name);
     if (!v) {
         notify(ui, "no camera view '" + name + "'", true);
         return false;
     }
     std::string why;
-    if (!ui.state.apply(makeSetCamera(ui.state, v->camera), &why)) {
+    if (!ui.app.state.apply(makeSetCamera(ui.app.state, v->camera), &why)) {
         notify(ui, why, true);
         return false;
     }
@@ -128,19 +128,19 @@ bool recallCameraView(EditorUi& ui, const std::string& name) {
 }
 
 void deleteCameraView(EditorUi& ui, const std::string& name) {
-    ui.views.remove(ui.state.path, name);
+    ui.app.views.remove(ui.app.state.path, name);
     std::string error;
-    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
+    if (!ui.app.viewsPath.empty() && !ui.app.state.path.empty() && !ui.app.views.save(ui.app.viewsPath, &error))
         notify(ui, "could not save the camera views: " + error, true);
 }
 
 void saveOrSaveAs(EditorUi& ui) {
-    if (ui.state.path.empty()) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
-    else saveFile(ui, ui.state.path);
+    if (ui.app.state.path.empty()) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
+    else saveFile(ui, ui.app.state.path);
 }
 
 void guardUnsaved(EditorUi& ui, std::function<void()> action) {
-    if (!ui.state.modified()) {
+    if (!ui.app.state.modified()) {
         action();
         return;
     }
@@ -149,11 +149,11 @@ void guardUnsaved(EditorUi& ui, std::function<void()> action) {
 }
 
 void frameSelection(EditorUi& ui) {
-    auto b = entityBounds(ui.state.scene, ui.state.selection, meshBoundsLookup(ui));
-    if (!b) b = sceneBounds(ui.state.scene, meshBoundsLookup(ui));
+    auto b = entityBounds(ui.app.state.scene, ui.app.state.selection, meshBoundsLookup(ui));
+    if (!b) b = sceneBounds(ui.app.state.scene, meshBoundsLookup(ui));
     if (!b) return;
-    const RenderSettings& rs = ui.state.scene.render;
-    ui.state.apply(makeSetCamera(ui.state, frameBounds(ui.state.scene.camera, b->first, b->second,
+    const RenderSettings& rs = ui.app.state.scene.render;
+    ui.app.state.apply(makeSetCamera(ui.app.state, frameBounds(ui.app.state.scene.camera, b->first, b->second,
                                                        float(rs.width) / float(rs.height))));
 }
 
@@ -161,63 +161,63 @@ void reloadShaders(EditorUi& ui) {
     // Every program is compiled before any is replaced: a failed compile keeps all of the last
     // working ones (the viewport's tone mapping included), never a mix.
     std::string error;
-    auto fresh = Renderer::create(ui.shaderDir, &error);
+    auto fresh = Renderer::create(ui.app.shaderDir, &error);
     if (fresh && !fresh->checkSource(&error)) fresh.reset();   // create() no longer compiles it on llvmpipe
-    std::unique_ptr<Display> display = fresh ? Display::create(ui.shaderDir, &error) : nullptr;
+    std::unique_ptr<Display> display = fresh ? Display::create(ui.app.shaderDir, &error) : nullptr;
     if (!fresh || !display) {
         showError(ui, "shader reload failed; the last working shaders stay in use.\n" + error);
         return;
     }
     fresh->setImageReader(readImage);
-    if (ui.renderer) fresh->meshCache() = std::move(ui.renderer->meshCache());   // no re-import of meshes
-    ui.renderer = std::move(fresh);
-    if (ui.display) ui.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against
-    else ui.display = std::move(display);
-    ui.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
-    if (ui.preview) ui.preview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
+    if (ui.app.renderer) fresh->meshCache() = std::move(ui.app.renderer->meshCache());   // no re-import of meshes
+    ui.app.renderer = std::move(fresh);
+    if (ui.app.display) ui.app.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against
+    else ui.app.display = std::move(display);
+    ui.app.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
+    if (ui.app.preview) ui.app.preview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
     notify(ui, "shaders reloaded");
 }
 
 void startRenderToFile(EditorUi& ui, const std::string& file) {
-    ui.renderToFile = file;
-    ui.session.sampleCap.reset();
-    notify(ui, "rendering " + std::to_string(ui.state.scene.render.samples) + " spp to " + file);
+    ui.app.renderToFile = file;
+    ui.app.session.sampleCap.reset();
+    notify(ui, "rendering " + std::to_string(ui.app.state.scene.render.samples) + " spp to " + file);
 }
 
 bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error) {
-    if (!ui.renderer || !ui.session.sceneUploaded) {
+    if (!ui.app.renderer || !ui.app.session.sceneUploaded) {
         *error = "nothing rendered yet";
         return false;
     }
-    const Film film = ui.renderer->readFilm();
+    const Film film = ui.app.renderer->readFilm();
     ImageMetadata meta = {
         {"Software", "caustic editor"},
-        {"caustic:scene", ui.state.path},
-        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
-        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
+        {"caustic:scene", ui.app.state.path},
+        {"caustic:samples", std::to_string(ui.app.renderer->samplesDone())},
+        {"caustic:seed", std::to_string(ui.app.state.scene.render.seed)},
     };
-    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
+    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.app.state.view.toneMap, ui.app.state.view.exposure), meta, error);
 }
 
 bool writeViewportImage(EditorUi& ui, const std::string& file, std::string* error) {
-    if (!ui.denoiser || !ui.denoiser->shown(ui)) return writeFilmImage(ui, file, error);
-    const Film film = ui.denoiser->shownFilm();
+    if (!ui.app.denoiser || !ui.app.denoiser->shown(ui)) return writeFilmImage(ui, file, error);
+    const Film film = ui.app.denoiser->shownFilm();
     ImageMetadata meta = {
         {"Software", "caustic editor"},
-        {"caustic:scene", ui.state.path},
-        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
-        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
+        {"caustic:scene", ui.app.state.path},
+        {"caustic:samples", std::to_string(ui.app.renderer->samplesDone())},
+        {"caustic:seed", std::to_string(ui.app.state.scene.render.seed)},
         {"caustic:denoiser", "Open Image Denoise " + denoiserVersion()},
     };
-    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
+    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.app.state.view.toneMap, ui.app.state.view.exposure), meta, error);
 }
 
 void denoiseNow(EditorUi& ui) {
-    if (!ui.denoiser) return;
+    if (!ui.app.denoiser) return;
     std::string why;
-    if (ui.denoiser->request(ui, true, &why)) {
-        ui.denoiser->settings.showDenoised = true;
-        notify(ui, "denoising " + std::to_string(ui.renderer->samplesDone()) + " spp");
+    if (ui.app.denoiser->request(ui, true, &why)) {
+        ui.app.denoiser->settings.showDenoised = true;
+        notify(ui, "denoising " + std::to_string(ui.app.renderer->samplesDone()) + " spp");
     } else {
         notify(ui, "cannot denoise: " + why, true);
     }
