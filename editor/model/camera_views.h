@@ -1,6 +1,6 @@
 // Saved camera views (issue 15): named cameras an artist stores and recalls (a recall is one
 // undoable camera edit). They are the editor's own state, not the scene's: kept in
-// <config>/views.json (editor_state.h editorConfigDir), by the scene file's absolute path.
+// <config>/views.json (editor_config.h editorConfigDir), by the scene file's absolute path.
 // Why not in the scene file: a view is a navigation bookmark, not part of the image (batch mode
 // renders the scene's one camera and would ignore them), and the scene format is shared with batch
 // mode, the farm and the schema-generated docs, which an editor convenience should not widen.

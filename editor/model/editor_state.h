@@ -3,6 +3,7 @@
 // here is unit-tested without a window (tests/editor/).
 #pragma once
 
+#include "editor/model/command_factories.h"   // the edits made on it (makeSetObject ...)
 #include "editor/model/commands.h"
 #include "renderer/scene.h"
 #include "renderer/tonemap.h"
@@ -101,72 +102,5 @@ private:
 // to the renderer, and then goes as kDirtyGeometry (a full recompile: the material table's
 // indices may have moved). kDirtyNone when nothing needs the renderer.
 std::uint32_t dirtyForRenderer(std::uint32_t dirty, std::uint32_t* deferred);
-
-// ---- Edits built from the current scene (the usual way to make a command) ---------------------
-
-std::unique_ptr<Command> makeSetObject(const EditorState& s, int index, Object after);
-std::unique_ptr<Command> makeSetLight(const EditorState& s, int index, Light after);
-std::unique_ptr<Command> makeSetMaterial(const EditorState& s, int index, Material after);
-std::unique_ptr<Command> makeSetCamera(const EditorState& s, Camera after);
-std::unique_ptr<Command> makeSetRender(const EditorState& s, RenderSettings after);
-std::unique_ptr<Command> makeSetEnvironment(const EditorState& s, Environment after);
-
-// Adds a primitive, light or material with a unique name in front of the camera's look-at point.
-std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape);
-std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type);
-// preset: a material to copy (renderer/gpu_materials.h materialPresets), named after it.
-std::unique_ptr<Command> makeAddMaterial(const EditorState& s, const Material* preset = nullptr);
-// A mesh object for a model file (check the file first: the renderer would refuse a broken one).
-// The path is stored relative to the scene's folder when the scene has a file.
-std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file);
-// Object `index` (a mesh) with another model file; null when index is not a mesh object.
-std::unique_ptr<Command> makeSetMeshFile(const EditorState& s, int index, const std::string& file);
-// A model file's path as a mesh object of this scene stores it: relative to the scene's folder
-// when the scene has a file, else as given.
-std::string meshFileForScene(const EditorState& s, const std::string& file);
-// Duplicates / deletes the entity `ref` (objects, lights, materials). Returns null with *why set
-// when it cannot (e.g. deleting a material that objects use).
-std::unique_ptr<Command> makeDuplicate(const EditorState& s, EntityRef ref, std::string* why);
-std::unique_ptr<Command> makeDelete(const EditorState& s, EntityRef ref, std::string* why);
-// Renames (names must stay unique among their kind; a material rename follows its users).
-std::unique_ptr<Command> makeRename(const EditorState& s, EntityRef ref, const std::string& name, std::string* why);
-
-// "box" -> "box", or "box 2", "box 3" ... whichever is free among `taken`.
-std::string uniqueName(const std::string& base, const std::vector<std::string>& taken);
-std::string entityName(const Scene& scene, EntityRef ref);
-// Finds an entity by kind and name (the singletons ignore the name).
-EntityRef findEntity(const Scene& scene, EntityKind kind, const std::string& name);
-
-// ---- Recent files and autosave (in the config folder) ------------------------------------------
-
-// $CAUSTIC_EDITOR_HOME, else $XDG_CONFIG_HOME/caustic, else $HOME/.config/caustic.
-std::string editorConfigDir();
-
-class RecentFiles {
-public:
-    static constexpr std::size_t kMax = 10;
-    void add(const std::string& file);             // most recent first, no duplicates
-    void remove(const std::string& file);
-    const std::vector<std::string>& files() const { return m_files; }
-    bool load(const std::string& listFile);        // one path per line; missing file = empty
-    bool save(const std::string& listFile, std::string* error) const;
-
-private:
-    std::vector<std::string> m_files;
-};
-
-// The autosave: the scene as JSON plus the path of the file it belongs to, written atomically.
-// A clean exit removes it; one found at start-up is offered back (the editor crashed or was killed).
-struct Autosave {
-    std::string scenePath;   // <dir>/autosave.json
-    std::string ownerPath;   // <dir>/autosave.owner: the original file ("" when untitled)
-
-    static Autosave in(const std::string& dir);
-    bool write(const Scene& scene, const std::string& owner, std::string* error) const;
-    bool exists() const;
-    // The recovered scene and its owner; nullopt with *error when it cannot be read.
-    std::optional<std::pair<Scene, std::string>> read(std::string* error) const;
-    void remove() const;
-};
 
 }  // namespace caustic::editor

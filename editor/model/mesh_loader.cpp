@@ -1,5 +1,7 @@
 #include "editor/model/mesh_loader.h"
 
+#include "renderer/gpu_scene.h"   // MeshCacheEntry's definition: the worker makes the entries
+
 #include <algorithm>
 #include <chrono>
 

@@ -1,5 +1,5 @@
 // Background mesh preparation for the editor: a model file is imported (Assimp) and its BVH built
-// on a worker thread (renderer/gpu_scene.h prepareMesh: pure CPU, no GL), so a large mesh never
+// on a worker thread (renderer/mesh_cache.h prepareMesh: pure CPU, no GL), so a large mesh never
 // stalls the frame loop. The UI thread polls for finished meshes once per frame, inserts each into
 // the renderer's MeshCache and only then applies the edit that uses it (docs/editor.md,
 // "Importing meshes"); until then the viewport keeps rendering the scene as it was.
@@ -9,7 +9,7 @@
 // import to finish (joins the thread).
 #pragma once
 
-#include "renderer/gpu_scene.h"
+#include "renderer/mesh_cache.h"
 
 #include <condition_variable>
 #include <cstdint>

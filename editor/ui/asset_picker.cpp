@@ -38,7 +38,7 @@ std::optional<AssetFile> assetPickerButton(EditorUi& ui, const char* id, AssetKi
     ImGui::PushID(id);
     if (ImGui::Button("...")) {
         g_picker.id = id;
-        g_picker.sceneFolder = sceneFolderOf(ui.state.path);
+        g_picker.sceneFolder = sceneFolderOf(ui.app.state.path);
         g_picker.assetsFolder = assetsFolderFor(g_picker.sceneFolder);
         g_picker.files = listAssetFiles(kind, g_picker.sceneFolder, g_picker.assetsFolder);
         g_picker.filter[0] = '\0';

@@ -8,7 +8,7 @@
 #include "editor/ui/frame_driver.h"
 #include "editor/ui/material_preview.h"
 #include "editor/ui/mesh_import.h"
-#include "editor/ui/script_runner.h"
+#include "editor/script/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
 #include "renderer/gl_context.h"
@@ -40,8 +40,6 @@ namespace fs = std::filesystem;
 namespace caustic::editor {
 namespace {
 
-constexpr double kAutosaveSeconds = 30.0;            // $CAUSTIC_EDITOR_AUTOSAVE_SECONDS overrides it
-
 double now() { return glfwGetTime(); }
 
 void glfwError(int code, const char* what) { std::fprintf(stderr, "caustic: GLFW error %d: %s\n", code, what); }
@@ -49,8 +47,8 @@ void glfwError(int code, const char* what) { std::fprintf(stderr, "caustic: GLFW
 void* glfwLoader(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
 void updateTitle(EditorUi& ui) {
-    std::string title = (ui.state.modified() ? "* " : "") + ui.state.displayName() + " - caustic";
-    glfwSetWindowTitle(ui.window, title.c_str());
+    std::string title = (ui.app.state.modified() ? "* " : "") + ui.app.state.displayName() + " - caustic";
+    glfwSetWindowTitle(ui.app.window, title.c_str());
 }
 
 // The default layout: outliner left, inspector right, viewport in the middle.
@@ -103,12 +101,12 @@ void drawModals(EditorUi& ui) {
         ui.unsavedPromptRequested = false;
     }
     if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("'%s' has unsaved changes.", ui.state.displayName().c_str());
+        ImGui::Text("'%s' has unsaved changes.", ui.app.state.displayName().c_str());
         if (ImGui::Button("Save")) {
             ImGui::CloseCurrentPopup();
-            if (ui.state.path.empty()) {
+            if (ui.app.state.path.empty()) {
                 openFileBrowser(ui, FileBrowserState::Mode::SaveAs);   // the action runs after it saves
-            } else if (saveFile(ui, ui.state.path) && ui.afterUnsavedPrompt) {
+            } else if (saveFile(ui, ui.app.state.path) && ui.afterUnsavedPrompt) {
                 auto action = std::move(ui.afterUnsavedPrompt);
                 ui.afterUnsavedPrompt = nullptr;
                 action();
@@ -136,18 +134,18 @@ void drawModals(EditorUi& ui) {
     }
     if (ImGui::BeginPopupModal("Recover unsaved work?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("The editor did not close cleanly last time. An autosave exists");
-        if (ui.recovered) ImGui::Text("of '%s'.", ui.recovered->second.empty() ? "an untitled scene" : ui.recovered->second.c_str());
+        if (ui.app.recovered) ImGui::Text("of '%s'.", ui.app.recovered->second.empty() ? "an untitled scene" : ui.app.recovered->second.c_str());
         // A script's `recover` presses the same button.
-        if (ImGui::Button("Recover") || ui.driver->pressRecover()) {
+        if (ImGui::Button("Recover") || ui.app.driver->pressRecover()) {
             // Its meshes import in the background first, as when opening (mesh_import.h).
-            if (ui.recovered) ui.meshImports->openScene(ui, std::move(ui.recovered->first), ui.recovered->second, true);
-            ui.recovered.reset();
+            if (ui.app.recovered) ui.app.meshImports->openScene(ui, std::move(ui.app.recovered->first), ui.app.recovered->second, true);
+            ui.app.recovered.reset();
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();
         if (ImGui::Button("Discard it")) {
-            ui.recovered.reset();
-            ui.autosave.remove();
+            ui.app.recovered.reset();
+            ui.app.autosave.remove();
             ImGui::CloseCurrentPopup();
         }
         ImGui::EndPopup();
@@ -170,24 +168,24 @@ void drawModals(EditorUi& ui) {
 void handleShortcuts(EditorUi& ui) {
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantTextInput) return;
-    for (const KeyBinding& b : keyBindings(ui.keymap)) {
+    for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
         if (b.scope != KeyScope::Global || !chordPressed(b.chord)) continue;
         std::string why;
         switch (b.action) {
-            case Action::Undo: ui.state.undo(); break;
+            case Action::Undo: ui.app.state.undo(); break;
             case Action::Redo:
-            case Action::RedoAlt: ui.state.redo(); break;
+            case Action::RedoAlt: ui.app.state.redo(); break;
             case Action::Save: saveOrSaveAs(ui); break;
             case Action::SaveAs: openFileBrowser(ui, FileBrowserState::Mode::SaveAs); break;
             case Action::Open: guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); }); break;
             case Action::Duplicate:
-                if (!ui.state.selection) break;
-                if (auto c = makeDuplicate(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+                if (!ui.app.state.selection) break;
+                if (auto c = makeDuplicate(ui.app.state, ui.app.state.selection, &why)) ui.app.state.apply(std::move(c));
                 break;
             case Action::Delete: {
                 const KeyFocus focus{io.WantTextInput, ImGui::IsAnyItemActive(), ui.viewportFocused || ui.outlinerFocused};
-                if (!ui.state.selection || !deleteKeyDeletes(focus)) break;
-                if (auto c = makeDelete(ui.state, ui.state.selection, &why)) ui.state.apply(std::move(c));
+                if (!ui.app.state.selection || !deleteKeyDeletes(focus)) break;
+                if (auto c = makeDelete(ui.app.state, ui.app.state.selection, &why)) ui.app.state.apply(std::move(c));
                 else if (!why.empty()) notify(ui, why, true);
                 break;
             }
@@ -203,12 +201,12 @@ void drawShortcutsWindow(EditorUi& ui) {
     if (!ui.showShortcuts) return;
     ImGui::SetNextWindowSize(ImVec2(ImGui::GetFontSize() * 62.0f, ImGui::GetFontSize() * 40.0f), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Keyboard and mouse", &ui.showShortcuts)) {
-        int style = static_cast<int>(ui.keymap);
+        int style = static_cast<int>(ui.app.keymap);
         ImGui::TextUnformatted("Key map:");
         ImGui::SameLine();
-        if (ImGui::RadioButton("Default", &style, 0)) ui.keymap = KeymapStyle::Default;
+        if (ImGui::RadioButton("Default", &style, 0)) ui.app.keymap = KeymapStyle::Default;
         ImGui::SameLine();
-        if (ImGui::RadioButton("Blender", &style, 1)) ui.keymap = KeymapStyle::Blender;
+        if (ImGui::RadioButton("Blender", &style, 1)) ui.app.keymap = KeymapStyle::Blender;
         ImGui::SameLine();
         ImGui::TextDisabled("(also View > Key map)");
         if (ImGui::BeginTable("keys", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp)) {
@@ -218,7 +216,7 @@ void drawShortcutsWindow(EditorUi& ui) {
             ImGui::TableSetupColumn("Where", ImGuiTableColumnFlags_WidthFixed, em * 7.5f);
             ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
             ImGui::TableHeadersRow();
-            for (const KeyBinding& b : keyBindings(ui.keymap)) {
+            for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextUnformatted(chordText(b.chord).c_str());
@@ -227,7 +225,7 @@ void drawShortcutsWindow(EditorUi& ui) {
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(b.what.size()), b.what.data());
             }
-            for (const MouseAction& m : mouseActions(ui.keymap)) {
+            for (const MouseAction& m : mouseActions(ui.app.keymap)) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextWrapped("%.*s", int(m.input.size()), m.input.data());
@@ -246,46 +244,46 @@ void drawShortcutsWindow(EditorUi& ui) {
 // this frame's samples; then what it says is shown: the image, a compile error (or its end), the
 // file a "Render to file" waited for.
 void renderFrame(EditorUi& ui) {
-    if (!ui.renderer) return;
+    if (!ui.app.renderer) return;
     // Render to file (and scripts, by default) render at the output resolution, else the viewport
     // renders at its panel's size.
-    ui.session.outputSize = ui.renderToFile.has_value() || ui.driver->wantsOutputSize();
+    ui.app.session.outputSize = ui.app.renderToFile.has_value() || ui.app.driver->wantsOutputSize();
     // Idle pacing (render_session.h) for a person at the keyboard; scripts measure frames.
-    ui.session.idlePacing = ui.driver->mayWaitForInput();
+    ui.app.session.idlePacing = ui.app.driver->mayWaitForInput();
     // Hidden objects (H) are left out of the viewport only: Render to file renders them.
-    ui.session.hidden = ui.renderToFile ? std::vector<std::string>{} : ui.hidden;
+    ui.app.session.hidden = ui.app.renderToFile ? std::vector<std::string>{} : ui.app.hidden;
     const ImGuiIO& io = ImGui::GetIO();
     if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f || io.MouseWheel != 0.0f || ImGui::IsAnyMouseDown() ||
         io.InputQueueCharacters.Size > 0 || io.KeyCtrl || io.KeyShift || io.KeyAlt || ImGui::IsAnyItemActive())
-        ui.session.noteInput(now());
+        ui.app.session.noteInput(now());
     // Meshes the scene uses that changed on disk import again in the background meanwhile.
-    const bool holding = ui.session.sceneUploaded && ui.meshImports->refreshing(ui);
-    const RenderStep step = ui.session.step(*ui.renderer, ui.state, now(), holding);
-    if (step.compiled && ui.lastMessageIsError && errorResolved(ui.shownError, true, ui.state.history.revision())) {
+    const bool holding = ui.app.session.sceneUploaded && ui.app.meshImports->refreshing(ui);
+    const RenderStep step = ui.app.session.step(*ui.app.renderer, ui.app.state, now(), holding);
+    if (step.compiled && ui.app.lastMessageIsError && errorResolved(ui.app.shownError, true, ui.app.state.history.revision())) {
         // A stale error goes: the scene compiles again, or an edit since it went through.
-        ui.lastMessage.clear();
-        ui.lastMessageIsError = false;
+        ui.app.lastMessage.clear();
+        ui.app.lastMessageIsError = false;
     }
     if (!step.error.empty()) {
         notify(ui, step.error, true);
-        ui.shownError.fromRender = true;
+        ui.app.shownError.fromRender = true;
     }
     // The scene's own integrator failed to build and the general one renders it (right, slower;
     // the compiler's message is on stderr): said once in the status bar when it starts, so the
     // user knows why the viewport is slow (a defect of the shaders, not of the scene).
-    const bool fellBack = ui.renderer->programFellBack();
-    if (fellBack && !ui.fallbackNoticed)
+    const bool fellBack = ui.app.renderer->programFellBack();
+    if (fellBack && !ui.app.fallbackNoticed)
         notify(ui, "the integrator built for this scene failed to compile (see the terminal); "
                    "rendering with the general one, which is slower");
-    ui.fallbackNoticed = fellBack;
-    if (step.show && ui.display)
-        ui.display->update(ui.renderer->accumulationTexture(), step.width, step.height, ui.state.view.toneMap,
-                           ui.state.view.exposure);
+    ui.app.fallbackNoticed = fellBack;
+    if (step.show && ui.app.display)
+        ui.app.display->update(ui.app.renderer->accumulationTexture(), step.width, step.height, ui.app.state.view.toneMap,
+                           ui.app.state.view.exposure);
     // "Render to file": written once the full-resolution image has all its samples.
-    if (ui.renderToFile && step.targetReached) {
+    if (ui.app.renderToFile && step.targetReached) {
         std::string error;
-        const std::string file = *ui.renderToFile;
-        ui.renderToFile.reset();
+        const std::string file = *ui.app.renderToFile;
+        ui.app.renderToFile.reset();
         if (writeFilmImage(ui, file, &error)) notify(ui, "wrote " + file);
         else showError(ui, error);
     }
@@ -293,18 +291,18 @@ void renderFrame(EditorUi& ui) {
 
 void autosaveTick(EditorUi& ui) {
     const double t = now();
-    if (t - ui.lastAutosave < autosaveIntervalSeconds()) return;
-    ui.lastAutosave = t;
-    if (!ui.state.modified() || ui.recovered) return;
+    if (t - ui.app.lastAutosave < autosaveIntervalSeconds()) return;
+    ui.app.lastAutosave = t;
+    if (!ui.app.state.modified() || ui.app.recovered) return;
     std::string error;
-    if (!ui.autosave.write(ui.state.scene, ui.state.path, &error)) notify(ui, "autosave failed: " + error, true);
-    else ++ui.autosaveWrites;
+    if (!ui.app.autosave.write(ui.app.state.scene, ui.app.state.path, &error)) notify(ui, "autosave failed: " + error, true);
+    else ++ui.app.autosaveWrites;
 }
 
 // The preferences' section of layout.ini (editor/model/preferences.h), through an ImGui settings
 // handler: read with the layout, written whenever ImGui saves it.
 struct PreferenceSettings {
-    EditorUi* ui = nullptr;
+    AppState* app = nullptr;
     Preferences stored;   // as layout.ini had them
     // The session's changes are saved: not in a script without $CAUSTIC_EDITOR_HOME (a test that
     // switches key maps must not change the next session's, nor the user's).
@@ -312,7 +310,7 @@ struct PreferenceSettings {
     Preferences saved;    // last written (a change marks the settings dirty)
 };
 
-Preferences currentPreferences(const EditorUi& ui) { return {ui.keymap, ui.uiScaleChoice}; }
+Preferences currentPreferences(const AppState& app) { return {app.keymap, app.uiScaleChoice}; }
 
 void registerPreferenceSettings(PreferenceSettings* ps) {
     ImGuiSettingsHandler h;
@@ -327,7 +325,7 @@ void registerPreferenceSettings(PreferenceSettings* ps) {
     };
     h.WriteAllFn = [](ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
         auto* settings = static_cast<PreferenceSettings*>(handler->UserData);
-        const Preferences p = settings->live ? currentPreferences(*settings->ui) : settings->stored;
+        const Preferences p = settings->live ? currentPreferences(*settings->app) : settings->stored;
         buf->append("[Caustic][Preferences]\n");
         buf->append(writePreferenceLines(p).c_str());
         buf->append("\n");
@@ -349,10 +347,10 @@ void saveLayout(const std::string& path) {
 // The UI scale (View > UI scale): the window's content scale (HiDPI), or the chosen factor; the
 // style's sizes are scaled from the base style each time it changes, the fonts by FontScaleDpi.
 void applyUiScale(EditorUi& ui) {
-    float scale = ui.uiScaleChoice;
+    float scale = ui.app.uiScaleChoice;
     if (scale <= 0.0f) {
         float sx = 1.0f, sy = 1.0f;
-        glfwGetWindowContentScale(ui.window, &sx, &sy);
+        glfwGetWindowContentScale(ui.app.window, &sx, &sy);
         scale = std::clamp(std::max(sx, sy), kMinUiScale, kMaxUiScale);
     }
     if (scale == ui.uiScaleApplied) return;
@@ -408,14 +406,15 @@ int runEditor(const std::optional<std::string>& sceneFile) {
 
     int exitCode = 0;
     {
-        auto ui = std::make_unique<EditorUi>();
-        ui->window = window;
+        auto app = std::make_unique<AppState>();
+        auto ui = std::make_unique<EditorUi>(*app);
+        app->window = window;
         const std::string configDir = editorConfigDir();
         std::error_code ec;
         fs::create_directories(configDir, ec);
-        ui->recentListPath = (fs::path(configDir) / "recent.txt").string();
-        ui->recent.load(ui->recentListPath);
-        ui->autosave = Autosave::in(configDir);
+        app->recentListPath = (fs::path(configDir) / "recent.txt").string();
+        app->recent.load(app->recentListPath);
+        app->autosave = Autosave::in(configDir);
 
         static std::string iniPath;   // ImGui keeps the pointer
         iniPath = (fs::path(configDir) / "layout.ini").string();
@@ -426,63 +425,63 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         io.ConfigFlags |= ImGuiConfigFlags_DockingEnable | ImGuiConfigFlags_NavEnableKeyboard;
         io.IniFilename = nullptr;   // loaded below, once the driver is known; saved by saveLayout
         PreferenceSettings preferences;
-        preferences.ui = ui.get();
+        preferences.app = app.get();
         registerPreferenceSettings(&preferences);
         applyStyle();
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450 core");
 
-        ui->shaderDir = defaultShaderDir();
-        ui->integratorConfig = IntegratorConfig::fromEnvironment();
-        ui->renderer = Renderer::create(ui->shaderDir, ui->integratorConfig, &error);
-        if (ui->renderer) ui->renderer->setImageReader(readImage);
+        app->shaderDir = defaultShaderDir();
+        app->integratorConfig = IntegratorConfig::fromEnvironment();
+        app->renderer = Renderer::create(app->shaderDir, app->integratorConfig, &error);
+        if (app->renderer) app->renderer->setImageReader(readImage);
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
-        ui->display = Display::create(ui->shaderDir, &error);
-        ui->denoiser = std::make_unique<ViewportDenoiser>();
-        if (!ui->display) showError(*ui, error);
+        app->display = Display::create(app->shaderDir, &error);
+        app->denoiser = std::make_unique<ViewportDenoiser>();
+        if (!app->display) showError(*ui, error);
 
         if (const char* scriptFile = std::getenv("CAUSTIC_EDITOR_SCRIPT"); scriptFile && *scriptFile) {
             auto script = std::make_unique<ScriptRunner>();
             const bool loaded = script->load(scriptFile, &error);
-            ui->driver = std::move(script);
+            app->driver = std::move(script);
             if (!loaded) {
                 std::fprintf(stderr, "caustic: error: %s\n", error.c_str());
                 exitCode = 1;
-                ui->quit = true;
+                app->quit = true;
             }
         }
         // The layout and the preferences (View > Key map, UI scale) of the last session.
         ImGui::LoadIniSettingsFromDisk(iniPath.c_str());
-        preferences.live = ui->driver->offersRecovery();
+        preferences.live = app->driver->offersRecovery();
         if (preferences.live) {
-            ui->keymap = preferences.stored.keymap;
-            ui->uiScaleChoice = preferences.stored.uiScale;
+            app->keymap = preferences.stored.keymap;
+            app->uiScaleChoice = preferences.stored.uiScale;
         }
-        preferences.saved = currentPreferences(*ui);
+        preferences.saved = currentPreferences(*app);
         // Saved camera views (camera_views.h), in the config folder; like the autosave, a script
         // touches them only with $CAUSTIC_EDITOR_HOME set (offersRecovery says so).
-        if (ui->driver->offersRecovery()) {
-            ui->viewsPath = (fs::path(configDir) / "views.json").string();
-            if (std::string viewsError; !ui->views.load(ui->viewsPath, &viewsError))
+        if (app->driver->offersRecovery()) {
+            app->viewsPath = (fs::path(configDir) / "views.json").string();
+            if (std::string viewsError; !app->views.load(app->viewsPath, &viewsError))
                 notify(*ui, "the saved camera views could not be read (they are ignored): " + viewsError, true);
         }
         // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
-        if (ui->autosave.exists() && ui->driver->offersRecovery()) {
-            ui->recovered = ui->autosave.read(&error);
-            if (ui->recovered) ui->recoveryPromptRequested = true;
+        if (app->autosave.exists() && app->driver->offersRecovery()) {
+            app->recovered = app->autosave.read(&error);
+            if (app->recovered) ui->recoveryPromptRequested = true;
         }
         if (sceneFile) openFile(*ui, *sceneFile);
 
-        ui->lastAutosave = now();
+        app->lastAutosave = now();
         double frameStart = now();
-        while (!ui->quit) {
+        while (!app->quit) {
             // Converged and idle: sleep until input instead of spinning.
-            const bool busy = ui->session.busy(ui->renderer.get(), ui->state.scene) || ui->preview->converging();
-            if (!busy && ui->driver->mayWaitForInput() && ui->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
+            const bool busy = app->session.busy(app->renderer.get(), app->state.scene) || app->preview->converging();
+            if (!busy && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
             if (glfwWindowShouldClose(window)) {
                 glfwSetWindowShouldClose(window, GLFW_FALSE);
-                guardUnsaved(*ui, [u = ui.get()] { u->quit = true; });
+                guardUnsaved(*ui, [u = ui.get()] { u->app.quit = true; });
             }
             const double uiStart = now();
             applyUiScale(*ui);
@@ -491,7 +490,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 ImGui_ImplGlfw_NewFrame();
                 ImGui::NewFrame();
                 ImGuizmo::BeginFrame();
-                ui->meshImports->finish(*ui);   // meshes imported in the background: their edits apply now
+                app->meshImports->finish(*ui);   // meshes imported in the background: their edits apply now
                 drawMenuBar(*ui);
                 drawDockSpace(*ui);
                 drawOutlinerPanel(*ui);
@@ -503,21 +502,21 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 drawShortcutsWindow(*ui);
                 handleShortcuts(*ui);
                 if (ui->lastWheel >= 0.0 && now() - ui->lastWheel > 0.5) {
-                    ui->state.seal();   // a pause ends one zoom gesture
+                    app->state.seal();   // a pause ends one zoom gesture
                     ui->lastWheel = -1.0;
                 }
-                ui->driver->step(*ui);
+                app->driver->step(*ui);
                 ImGui::Render();
             } catch (const std::exception& e) {
                 // No exception crosses the frame loop: report it and carry on with the next frame.
                 showError(*ui, std::string("unexpected failure: ") + e.what());
                 ImGui::EndFrame();
             }
-            ui->session.uiSeconds = 0.8 * ui->session.uiSeconds + 0.2 * (now() - uiStart);
+            app->session.uiSeconds = 0.8 * app->session.uiSeconds + 0.2 * (now() - uiStart);
             try {
                 renderFrame(*ui);
-                if (ui->denoiser) ui->denoiser->tick(*ui);
-                ui->preview->tick(*ui);   // a few ms for the material preview, when one is shown
+                if (app->denoiser) app->denoiser->tick(*ui);
+                app->preview->tick(*ui);   // a few ms for the material preview, when one is shown
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -527,28 +526,28 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             glClearColor(0.1f, 0.1f, 0.11f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
             if (ImDrawData* dd = ImGui::GetDrawData(); dd && dd->Valid) ImGui_ImplOpenGL3_RenderDrawData(dd);
-            ui->driver->afterDraw(*ui, fbw, fbh);
+            app->driver->afterDraw(*ui, fbw, fbh);
             glfwSwapBuffers(window);
             const double t = now();
-            ui->session.endFrame(t - frameStart);
+            app->session.endFrame(t - frameStart);
             frameStart = t;
-            ui->driver->afterSwap(*ui, ui->session.frameSeconds);
+            app->driver->afterSwap(*ui, app->session.frameSeconds);
             updateTitle(*ui);
-            if (ui->driver->usesAutosave()) autosaveTick(*ui);
-            if (preferences.live && !(currentPreferences(*ui) == preferences.saved)) ImGui::MarkIniSettingsDirty();
+            if (app->driver->usesAutosave()) autosaveTick(*ui);
+            if (preferences.live && !(currentPreferences(*app) == preferences.saved)) ImGui::MarkIniSettingsDirty();
             if (ImGui::GetIO().WantSaveIniSettings) saveLayout(iniPath);
         }
         saveLayout(iniPath);
-        if (ui->driver->failed()) exitCode = 1;
+        if (app->driver->failed()) exitCode = 1;
         // A clean exit: nothing to recover next time (unless the offer was never answered, or a
         // script ran without `autosave on`, which never touches the autosave).
-        if (!ui->recovered && ui->driver->usesAutosave()) ui->autosave.remove();
+        if (!app->recovered && app->driver->usesAutosave()) app->autosave.remove();
         std::string recentError;
-        ui->recent.save(ui->recentListPath, &recentError);
-        ui->denoiser.reset();   // joins the worker; deletes its texture while GL is current
-        ui->preview.reset();    // its renderer and display, while GL is current
-        ui->display.reset();
-        ui->renderer.reset();
+        app->recent.save(app->recentListPath, &recentError);
+        app->denoiser.reset();   // joins the worker; deletes its texture while GL is current
+        app->preview.reset();    // its renderer and display, while GL is current
+        app->display.reset();
+        app->renderer.reset();
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
@@ -556,218 +555,6 @@ int runEditor(const std::optional<std::string>& sceneFile) {
     glfwDestroyWindow(window);
     glfwTerminate();
     return exitCode;
-}
-
-ImGuiKey imguiKey(std::string_view k) {
-    if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') return static_cast<ImGuiKey>(ImGuiKey_A + (k[0] - 'A'));
-    if (k.size() >= 2 && k.size() <= 3 && k[0] == 'F' && k.substr(1).find_first_not_of("0123456789") == std::string_view::npos) {
-        const int n = std::stoi(std::string(k.substr(1)));
-        return n >= 1 && n <= 12 ? static_cast<ImGuiKey>(ImGuiKey_F1 + (n - 1)) : ImGuiKey_None;
-    }
-    if (k == "Delete") return ImGuiKey_Delete;
-    if (k == "Escape") return ImGuiKey_Escape;
-    if (k == "Enter") return ImGuiKey_Enter;
-    if (k.size() == 7 && k.substr(0, 6) == "Numpad" && k[6] >= '0' && k[6] <= '9')
-        return static_cast<ImGuiKey>(ImGuiKey_Keypad0 + (k[6] - '0'));
-    return ImGuiKey_None;
-}
-
-// A key map chord (editor/model/keymap.h) pressed this frame, with exactly its modifiers.
-bool chordPressed(const Chord& chord) {
-    const ImGuiIO& io = ImGui::GetIO();
-    if (io.KeyCtrl != chord.ctrl || io.KeyShift != chord.shift || io.KeyAlt != chord.alt) return false;
-    if (chord.key == "Enter") return ImGui::IsKeyPressed(ImGuiKey_Enter, false) || ImGui::IsKeyPressed(ImGuiKey_KeypadEnter, false);
-    const ImGuiKey key = imguiKey(chord.key);
-    return key != ImGuiKey_None && ImGui::IsKeyPressed(key, false);
-}
-
-EditorUi::EditorUi()
-    : preview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
-      meshImports(std::make_unique<MeshImports>()) {}
-EditorUi::~EditorUi() = default;
-
-// ---- Actions shared by the panels ---------------------------------------------------------------
-
-void notify(EditorUi& ui, const std::string& message, bool isError) {
-    ui.lastMessage = message;
-    ui.lastMessageIsError = isError;
-    if (isError) ui.shownError = {false, ui.state.history.revision()};
-    if (isError) std::fprintf(stderr, "caustic: %s\n", message.c_str());
-}
-
-void showError(EditorUi& ui, const std::string& message) {
-    notify(ui, message, true);
-    ui.errorPopup = message;
-    ui.errorPopupRequested = true;
-}
-
-bool openFile(EditorUi& ui, const std::string& file) {
-    // The JSON is parsed and validated here (fast): a broken file is refused at once.
-    SceneLoadResult loaded = loadScene(file);
-    if (!loaded) {
-        showError(ui, "could not open the scene; the current one is kept.\n" + loaded.error);
-        ui.recent.remove(file);
-        return false;
-    }
-    // Its meshes import in the background; the scene is adopted when they are ready (at once
-    // when there is nothing to import). docs/editor.md, "Opening scenes".
-    ui.meshImports->openScene(ui, std::move(*loaded.scene), file, false);
-    return true;
-}
-
-bool saveFile(EditorUi& ui, const std::string& file) {
-    std::string error;
-    const std::string before = ui.state.path;
-    if (!ui.state.saveAs(file, &error)) {
-        showError(ui, "could not save; nothing was overwritten.\n" + error);
-        return false;
-    }
-    ui.views.carry(before, file);   // the saved camera views go with the scene to its new path
-    if (!ui.viewsPath.empty() && !ui.views.of(file).empty() && !ui.views.save(ui.viewsPath, &error))
-        notify(ui, "could not save the camera views: " + error, true);
-    ui.recent.add(fs::absolute(file).lexically_normal().string());
-    std::string ignored;
-    ui.recent.save(ui.recentListPath, &ignored);
-    ui.autosave.remove();
-    notify(ui, "saved " + file);
-    return true;
-}
-
-void storeCameraView(EditorUi& ui, const std::string& name) {
-    ui.views.store(ui.state.path, name, ui.state.scene.camera);
-    std::string error;
-    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
-        notify(ui, "could not save the camera views: " + error, true);
-    else
-        notify(ui, "stored camera view '" + name + "'");
-}
-
-bool recallCameraView(EditorUi& ui, const std::string& name) {
-    const CameraView* v = ui.views.find(ui.state.path, name);
-    if (!v) {
-        notify(ui, "no camera view '" + name + "'", true);
-        return false;
-    }
-    std::string why;
-    if (!ui.state.apply(makeSetCamera(ui.state, v->camera), &why)) {
-        notify(ui, why, true);
-        return false;
-    }
-    return true;
-}
-
-void deleteCameraView(EditorUi& ui, const std::string& name) {
-    ui.views.remove(ui.state.path, name);
-    std::string error;
-    if (!ui.viewsPath.empty() && !ui.state.path.empty() && !ui.views.save(ui.viewsPath, &error))
-        notify(ui, "could not save the camera views: " + error, true);
-}
-
-void saveOrSaveAs(EditorUi& ui) {
-    if (ui.state.path.empty()) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
-    else saveFile(ui, ui.state.path);
-}
-
-void guardUnsaved(EditorUi& ui, std::function<void()> action) {
-    if (!ui.state.modified()) {
-        action();
-        return;
-    }
-    ui.afterUnsavedPrompt = std::move(action);
-    ui.unsavedPromptRequested = true;
-}
-
-void frameSelection(EditorUi& ui) {
-    auto b = entityBounds(ui.state.scene, ui.state.selection, meshBoundsLookup(ui));
-    if (!b) b = sceneBounds(ui.state.scene, meshBoundsLookup(ui));
-    if (!b) return;
-    const RenderSettings& rs = ui.state.scene.render;
-    ui.state.apply(makeSetCamera(ui.state, frameBounds(ui.state.scene.camera, b->first, b->second,
-                                                       float(rs.width) / float(rs.height))));
-}
-
-void reloadShaders(EditorUi& ui) {
-    // Every program is compiled before any is replaced: a failed compile keeps all of the last
-    // working ones (the viewport's tone mapping included), never a mix.
-    std::string error;
-    auto fresh = Renderer::create(ui.shaderDir, ui.integratorConfig, &error);
-    if (fresh && !fresh->checkSource(&error)) fresh.reset();   // create() no longer compiles it on llvmpipe
-    std::unique_ptr<Display> display = fresh ? Display::create(ui.shaderDir, &error) : nullptr;
-    if (!fresh || !display) {
-        showError(ui, "shader reload failed; the last working shaders stay in use.\n" + error);
-        return;
-    }
-    fresh->setImageReader(readImage);
-    if (ui.renderer) fresh->meshCache() = std::move(ui.renderer->meshCache());   // no re-import of meshes
-    ui.renderer = std::move(fresh);
-    if (ui.display) ui.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against
-    else ui.display = std::move(display);
-    ui.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
-    if (ui.preview) ui.preview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
-    notify(ui, "shaders reloaded");
-}
-
-void startRenderToFile(EditorUi& ui, const std::string& file) {
-    ui.renderToFile = file;
-    ui.session.sampleCap.reset();
-    notify(ui, "rendering " + std::to_string(ui.state.scene.render.samples) + " spp to " + file);
-}
-
-bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error) {
-    if (!ui.renderer || !ui.session.sceneUploaded) {
-        *error = "nothing rendered yet";
-        return false;
-    }
-    const Film film = ui.renderer->readFilm();
-    ImageMetadata meta = {
-        {"Software", "caustic editor"},
-        {"caustic:scene", ui.state.path},
-        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
-        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
-    };
-    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
-}
-
-bool writeViewportImage(EditorUi& ui, const std::string& file, std::string* error) {
-    if (!ui.denoiser || !ui.denoiser->shown(ui)) return writeFilmImage(ui, file, error);
-    const Film film = ui.denoiser->shownFilm();
-    ImageMetadata meta = {
-        {"Software", "caustic editor"},
-        {"caustic:scene", ui.state.path},
-        {"caustic:samples", std::to_string(ui.renderer->samplesDone())},
-        {"caustic:seed", std::to_string(ui.state.scene.render.seed)},
-        {"caustic:denoiser", "Open Image Denoise " + denoiserVersion()},
-    };
-    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta, error);
-}
-
-void denoiseNow(EditorUi& ui) {
-    if (!ui.denoiser) return;
-    std::string why;
-    if (ui.denoiser->request(ui, true, &why)) {
-        ui.denoiser->settings.showDenoised = true;
-        notify(ui, "denoising " + std::to_string(ui.renderer->samplesDone()) + " spp");
-    } else {
-        notify(ui, "cannot denoise: " + why, true);
-    }
-}
-
-double autosaveIntervalSeconds() {
-    static const double seconds = [] {
-        if (const char* v = std::getenv("CAUSTIC_EDITOR_AUTOSAVE_SECONDS"); v && *v) {
-            char* end = nullptr;
-            const double s = std::strtod(v, &end);
-            if (end && *end == '\0' && s > 0.0) return s;
-            std::fprintf(stderr, "caustic: ignoring CAUSTIC_EDITOR_AUTOSAVE_SECONDS='%s' (not a positive number)\n", v);
-        }
-        return kAutosaveSeconds;
-    }();
-    return seconds;
-}
-
-bool scriptMayUseAutosave() {
-    const char* home = std::getenv("CAUSTIC_EDITOR_HOME");
-    return home && *home;
 }
 
 }  // namespace caustic::editor

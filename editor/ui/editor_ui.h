@@ -1,16 +1,11 @@
-// What the panels share: the model, the renderer, the display, view options, pending requests.
-// One panel per file (viewport_panel.cpp, outliner_panel.cpp, inspector_panel.cpp, status_bar.cpp,
-// menu_bar.cpp, file_browser.cpp); editor_app.cpp owns the window and the frame loop.
+// What the panels share: the UI state (EditorUi) over the application (AppState, app_state.h), and
+// the actions (actions.cpp). One panel per file (viewport_panel.cpp, outliner_panel.cpp,
+// inspector_panel.cpp, status_bar.cpp, menu_bar.cpp, file_browser.cpp); editor_app.cpp owns the
+// window and the frame loop.
 #pragma once
 
-#include "editor/model/camera_views.h"
-#include "editor/model/editor_state.h"
-#include "editor/model/keymap.h"
 #include "editor/model/modal_transform.h"
-#include "editor/model/render_session.h"
-#include "editor/model/status.h"
-#include "editor/ui/display.h"
-#include "renderer/renderer.h"
+#include "editor/ui/app_state.h"
 
 #include <functional>
 #include <memory>
@@ -21,14 +16,7 @@ enum ImGuiKey : int;   // imgui.h
 #include <string>
 #include <vector>
 
-struct GLFWwindow;
-
 namespace caustic::editor {
-
-class FrameDriver;
-class MaterialPreview;
-class MeshImports;
-class ViewportDenoiser;
 
 enum class GizmoOp { Translate, Rotate, Scale };
 
@@ -42,25 +30,14 @@ struct FileBrowserState {
     std::string confirmOverwrite;   // the existing file Save As / Render to file asks to replace
 };
 
+// The UI's own state: widgets, hover and focus, the gizmo, dialogs and prompts; the application it
+// shows is `app` (app_state.h). Panels take an EditorUi and read and edit the application through it.
 struct EditorUi {
-    EditorUi();    // editor_app.cpp
-    ~EditorUi();
+    explicit EditorUi(AppState& application) : app(application) {}
     EditorUi(const EditorUi&) = delete;
     EditorUi& operator=(const EditorUi&) = delete;
 
-    GLFWwindow* window = nullptr;
-    EditorState state;
-    std::unique_ptr<Renderer> renderer;
-    std::unique_ptr<Display> display;
-    std::string shaderDir;
-    IntegratorConfig integratorConfig;  // filled once at start (IntegratorConfig::fromEnvironment)
-    RecentFiles recent;
-    std::string recentListPath;
-    Autosave autosave;
-    CameraViews views;                // saved camera views (camera_views.h), in <config>/views.json
-    std::string viewsPath;
-    double lastAutosave = 0.0;
-    std::uint64_t autosaveWrites = 0;   // autosaves written this session (scripts wait on it)
+    AppState& app;
 
     // Viewport interaction.
     GizmoOp gizmoOp = GizmoOp::Translate;
@@ -74,8 +51,7 @@ struct EditorUi {
     // the cells it marked in the last frame (scripts check it).
     double focusOverlayUntil = -1.0;
     int focusOverlayCells = -1;       // -1: not shown
-    // The key map (View > Key map) and the Blender map's modal transform (G / R / S) in progress.
-    KeymapStyle keymap = KeymapStyle::Default;
+    // The Blender map's modal transform (G / R / S) in progress.
     struct Modal {
         bool active = false;
         ModalStart start;
@@ -85,49 +61,25 @@ struct EditorUi {
         bool applied = false;   // a step went to the history (undone on cancel)
         std::size_t undoAtStart = 0;
     } modal;
-    std::vector<std::string> hidden;   // objects hidden in the viewport (H; view state, not saved)
     float viewportImage[4] = {0, 0, 1, 1};   // the viewport image's screen x, y, width, height
-    // View > UI scale: 0 follows the window's content scale (HiDPI), else this factor.
-    float uiScaleChoice = 0.0f;
-    float uiScaleApplied = -1.0f;
+    float uiScaleApplied = -1.0f;     // the UI scale the style has now (app.uiScaleChoice chooses it)
     bool viewportHovered = false;
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;
 
-    // Rendering: the render session (scheduling, preview resolution, the figures the status bar
-    // shows; editor/model/render_session.h).
-    RenderSession session;
-    std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
-    // The material preview ball (material_preview.h): rendered only while a material is shown.
-    std::unique_ptr<MaterialPreview> preview;
-
-    // Lookdev.
+    // Lookdev: the split view of the snapshot and the live render.
     bool compare = false;
     float compareSplit = 0.5f;
-    std::optional<std::string> renderToFile;   // written when the target sample count is reached
-    std::string lastMessage;          // status bar: the latest info or error
-    bool lastMessageIsError = false;
-    ShownError shownError;            // where the shown error came from (cleared when its cause is gone)
-    bool fallbackNoticed = false;     // the status bar said the general integrator stands in (editor_app.cpp)
 
     // Dialogs.
     FileBrowserState browser;
     std::function<void()> afterUnsavedPrompt;   // runs after Save / Discard in the prompt
     bool unsavedPromptRequested = false;
     bool recoveryPromptRequested = false;
-    std::optional<std::pair<Scene, std::string>> recovered;
     std::string errorPopup;           // shown in a modal (bad scene, failed save ...)
     bool errorPopupRequested = false;
-    bool quit = false;
     bool resetLayout = false;
     bool showShortcuts = false;       // Help > Keyboard and mouse
-
-    // What drives the frame loop besides the user (frame_driver.h): the test-script harness, or
-    // the base class, which does nothing. Never null.
-    std::unique_ptr<FrameDriver> driver;
-
-    // Mesh imports in the background (mesh_import.h): the edit applies when the mesh is ready.
-    std::unique_ptr<MeshImports> meshImports;
 };
 
 // Panels (each begins with `if (!ImGui::Begin(...)) { ImGui::End(); return; }`).

@@ -25,11 +25,11 @@ void openFileBrowser(EditorUi& ui, FileBrowserState::Mode mode) {
     b.justOpened = true;
     b.mode = mode;
     std::error_code ec;
-    const fs::path current = ui.state.path.empty() ? fs::current_path(ec) : fs::absolute(ui.state.path, ec).parent_path();
+    const fs::path current = ui.app.state.path.empty() ? fs::current_path(ec) : fs::absolute(ui.app.state.path, ec).parent_path();
     if (b.directory.empty() || mode != FileBrowserState::Mode::RenderTo) b.directory = current.string();
     b.confirmOverwrite.clear();
-    if (mode == FileBrowserState::Mode::SaveAs) b.fileName = suggestSaveAsName(b.directory, ui.state.path);
-    else if (mode == FileBrowserState::Mode::RenderTo) b.fileName = (ui.state.path.empty() ? std::string("render") : fs::path(ui.state.path).stem().string()) + ".png";
+    if (mode == FileBrowserState::Mode::SaveAs) b.fileName = suggestSaveAsName(b.directory, ui.app.state.path);
+    else if (mode == FileBrowserState::Mode::RenderTo) b.fileName = (ui.app.state.path.empty() ? std::string("render") : fs::path(ui.app.state.path).stem().string()) + ".png";
     else b.fileName.clear();
 }
 
@@ -117,9 +117,9 @@ void drawFileBrowser(EditorUi& ui) {
             case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;
             // Imported in the background; the edit applies when the mesh is ready, and a broken
             // file shows its error then, changing nothing (mesh_import.h).
-            case FileBrowserState::Mode::ImportMesh: ui.meshImports->importFile(ui, path); break;
+            case FileBrowserState::Mode::ImportMesh: ui.app.meshImports->importFile(ui, path); break;
             case FileBrowserState::Mode::MeshFile:
-                ui.meshImports->setObjectFile(ui, ui.state.selection.kind == EntityKind::Object ? ui.state.selection.index : -1, path);
+                ui.app.meshImports->setObjectFile(ui, ui.app.state.selection.kind == EntityKind::Object ? ui.app.state.selection.index : -1, path);
                 break;
         }
         if (ok) b.open = false;

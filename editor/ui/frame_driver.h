@@ -1,5 +1,5 @@
 // What drives the editor's frame loop besides the person at the keyboard: the test-script harness
-// (script_runner.h) or nothing (this base class, which does nothing). The frame loop
+// (editor/script/script_runner.h) or nothing (this base class, which does nothing). The frame loop
 // (editor_app.cpp) calls it at three points of every frame and asks it four questions; no other
 // part of the editor knows whether a script runs.
 #pragma once

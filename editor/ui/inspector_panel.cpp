@@ -36,7 +36,7 @@ void nameField(EditorUi& ui, EntityRef ref) {
     traceWidget("name", ParamKind::Name);
     static EntityRef s_for;
     static char s_buffer[256];
-    const std::string current = entityName(ui.state.scene, ref);
+    const std::string current = entityName(ui.app.state.scene, ref);
     if (!(s_for == ref) || !ImGui::IsItemActive()) {
         if (!(s_for == ref) || std::strcmp(s_buffer, current.c_str()) != 0) {
             std::strncpy(s_buffer, current.c_str(), sizeof s_buffer - 1);
@@ -47,7 +47,7 @@ void nameField(EditorUi& ui, EntityRef ref) {
     ImGui::InputText("Name", s_buffer, sizeof s_buffer);
     if (ImGui::IsItemDeactivatedAfterEdit()) {
         std::string why;
-        if (auto c = makeRename(ui.state, ref, s_buffer, &why)) ui.state.apply(std::move(c));
+        if (auto c = makeRename(ui.app.state, ref, s_buffer, &why)) ui.app.state.apply(std::move(c));
         else if (!why.empty()) notify(ui, why, true);
     }
 }
@@ -68,9 +68,9 @@ const Material* presetMenuItems() {
 
 // The preview ball (material_preview.h) and its lighting, above the material's parameters.
 void previewSection(EditorUi& ui, const Material& m) {
-    if (!ui.preview) return;
-    MaterialPreview& p = *ui.preview;
-    p.request(ui.state.scene, m);
+    if (!ui.app.preview) return;
+    MaterialPreview& p = *ui.app.preview;
+    p.request(ui.app.state.scene, m);
     const float side = static_cast<float>(MaterialPreview::kSize) * ImGui::GetFontSize() / 13.0f;
     if (const unsigned tex = p.texture())
         ImGui::Image(ImTextureRef(static_cast<ImTextureID>(tex)), ImVec2(side, side));
@@ -85,7 +85,7 @@ void previewSection(EditorUi& ui, const Material& m) {
         ImGui::SetTooltip("the scene's environment (a studio light when it has none)");
     if (ImGui::RadioButton("Studio", &lighting, 1)) p.lighting = PreviewLighting::Studio;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("a key light and an even grey fill");
-    if (p.lighting == PreviewLighting::Scene && ui.state.scene.environment.type == EnvironmentType::None)
+    if (p.lighting == PreviewLighting::Scene && ui.app.state.scene.environment.type == EnvironmentType::None)
         ImGui::TextDisabled("(no environment:\n a studio light)");
     ImGui::TextDisabled("%d / %d spp", p.samples(), MaterialPreview::kSamples);
     ImGui::EndGroup();
@@ -95,7 +95,7 @@ void previewSection(EditorUi& ui, const Material& m) {
 // The material's parameters (its type's, from the schema), with the preview ball and the preset
 // library above them. From the object inspector (shared material) the name is shown, not edited.
 void materialParams(EditorUi& ui, int index, bool renamable) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     Material m = s.scene.materials[static_cast<size_t>(index)];
     previewSection(ui, m);
     if (ImGui::BeginCombo("Preset", "apply a preset...", ImGuiComboFlags_HeightLarge)) {
@@ -152,7 +152,7 @@ void materialParams(EditorUi& ui, int index, bool renamable) {
 // The object's material: New (from the library or the default), Make unique, and, with several
 // objects selected, an assignment that reaches all of them.
 void objectMaterialButtons(EditorUi& ui, int index) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     std::vector<int> targets = s.selectedObjects();
     if (targets.empty()) targets = {index};
     if (ImGui::Button("New material")) ImGui::OpenPopup("new-material");
@@ -189,7 +189,7 @@ void objectMaterialButtons(EditorUi& ui, int index) {
 }
 
 void objectInspector(EditorUi& ui, int index) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     Object o = s.scene.objects[static_cast<size_t>(index)];
     const std::vector<int> selected = s.selectedObjects();
     if (selected.size() > 1)
@@ -228,7 +228,7 @@ void objectInspector(EditorUi& ui, int index) {
                     ImGui::SameLine();
                     // The scene's and the assets folder's model files; imported in the background.
                     if (const auto picked = assetPickerButton(ui, "mesh-file", AssetKind::Mesh))
-                        ui.meshImports->setObjectFile(ui, index, picked->absolute);
+                        ui.app.meshImports->setObjectFile(ui, index, picked->absolute);
                 }
                 return true;
             default: return false;
@@ -244,14 +244,14 @@ void objectInspector(EditorUi& ui, int index) {
 
 void materialInspector(EditorUi& ui, int index) {
     materialParams(ui, index, true);
-    const std::string& name = ui.state.scene.materials[static_cast<size_t>(index)].name;
+    const std::string& name = ui.app.state.scene.materials[static_cast<size_t>(index)].name;
     int users = 0;
-    for (const Object& o : ui.state.scene.objects) users += o.material == name;
+    for (const Object& o : ui.app.state.scene.objects) users += o.material == name;
     ImGui::TextDisabled("Used by %d object%s", users, users == 1 ? "" : "s");
 }
 
 void lightInspector(EditorUi& ui, int index) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     Light l = s.scene.lights[static_cast<size_t>(index)];
     Edit e{ui};
     drawParams<Light>(e, l, [&](const Param<Light>& p, Light& light) {
@@ -274,7 +274,7 @@ void lightInspector(EditorUi& ui, int index) {
 }
 
 void cameraInspector(EditorUi& ui) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     Camera c = s.scene.camera;
     const int blades = c.blades;
     Edit e{ui};
@@ -312,16 +312,16 @@ void cameraInspector(EditorUi& ui) {
     ImGui::SeparatorText("Saved views");
     static char s_viewName[128] = "";
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);
-    ImGui::InputTextWithHint("##viewname", ui.views.nextName(s.path).c_str(), s_viewName, sizeof s_viewName);
+    ImGui::InputTextWithHint("##viewname", ui.app.views.nextName(s.path).c_str(), s_viewName, sizeof s_viewName);
     ImGui::SameLine();
     if (ImGui::Button("Store view")) {
-        storeCameraView(ui, s_viewName[0] ? std::string(s_viewName) : ui.views.nextName(s.path));
+        storeCameraView(ui, s_viewName[0] ? std::string(s_viewName) : ui.app.views.nextName(s.path));
         s_viewName[0] = '\0';
     }
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("keeps this camera under the name (kept by the editor for this scene file, not saved in the scene)");
     std::string remove;
-    for (const CameraView& v : ui.views.of(s.path)) {
+    for (const CameraView& v : ui.app.views.of(s.path)) {
         ImGui::PushID(v.name.c_str());
         if (ImGui::SmallButton("Recall")) recallCameraView(ui, v.name);
         ImGui::SameLine();
@@ -332,11 +332,11 @@ void cameraInspector(EditorUi& ui) {
         ImGui::PopID();
     }
     if (!remove.empty()) deleteCameraView(ui, remove);
-    if (ui.views.of(s.path).empty()) ImGui::TextDisabled("none yet%s", s.path.empty() ? " (an untitled scene's last until it closes)" : "");
+    if (ui.app.views.of(s.path).empty()) ImGui::TextDisabled("none yet%s", s.path.empty() ? " (an untitled scene's last until it closes)" : "");
 }
 
 void renderInspector(EditorUi& ui) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     RenderSettings r = s.scene.render;
     Edit e{ui};
     drawParams<RenderSettings>(e, r);
@@ -347,9 +347,9 @@ void renderInspector(EditorUi& ui) {
     int tone = static_cast<int>(s.view.toneMap);
     if (combo("Tone mapping", &tone, tones)) s.view.toneMap = static_cast<ToneMap>(tone);
     ImGui::DragFloat("Exposure", &s.view.exposure, 0.02f, -20.0f, 20.0f, "%.2f EV");
-    if (ui.denoiser) {
+    if (ui.app.denoiser) {
         // Denoising (view state like the tone curve): viewport_denoise.h.
-        DenoiseSettings& d = ui.denoiser->settings;
+        DenoiseSettings& d = ui.app.denoiser->settings;
         const bool available = denoiserAvailable();
         ImGui::BeginDisabled(!available);
         ImGui::Checkbox("Denoise (OIDN) at target", &d.autoDenoise);
@@ -360,14 +360,14 @@ void renderInspector(EditorUi& ui) {
         ImGui::SameLine();
         bool raw = !d.showDenoised;
         if (ImGui::Checkbox("Show raw", &raw)) d.showDenoised = !raw;
-        if (ui.denoiser->holding()) {
+        if (ui.app.denoiser->holding()) {
             ImGui::SameLine();
-            if (ImGui::Button("Resume")) ui.denoiser->resume(ui);
+            if (ImGui::Button("Resume")) ui.app.denoiser->resume(ui);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("Denoise now paused the render at its sample count; continue it");
         }
         ImGui::Checkbox("Prefilter guides", &d.prefilterGuides);
         ImGui::EndDisabled();
-        if (const std::string st = ui.denoiser->status(ui); !st.empty()) ImGui::TextDisabled("%s", st.c_str());
+        if (const std::string st = ui.app.denoiser->status(ui); !st.empty()) ImGui::TextDisabled("%s", st.c_str());
     }
     ImGui::Separator();
     if (ImGui::Button("Restart render")) s.markDirty(kDirtySettings);
@@ -376,7 +376,7 @@ void renderInspector(EditorUi& ui) {
 }
 
 void environmentInspector(EditorUi& ui) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     Environment env = s.scene.environment;
     Edit e{ui};
     drawParams<Environment>(e, env, [&](const Param<Environment>& p, Environment& value) {
@@ -404,8 +404,8 @@ void drawInspectorPanel(EditorUi& ui) {
         ImGui::End();
         return;
     }
-    ui.state.validateSelection();
-    const EntityRef sel = ui.state.selection;
+    ui.app.state.validateSelection();
+    const EntityRef sel = ui.app.state.selection;
     // Room for the longest labels ("Roughness texture", "Russian roulette") beside the fields.
     ImGui::PushItemWidth(-ImGui::CalcTextSize("Roughness texture  ").x);
     switch (sel.kind) {

@@ -46,8 +46,8 @@ void MaterialPreview::tick(EditorUi& ui) {
     if (!requested || !m_wanted || m_createFailed) return;
     std::string error;
     if (!m_renderer) {
-        m_renderer = Renderer::create(ui.shaderDir, ui.integratorConfig, &error);
-        if (m_renderer) m_display = Display::create(ui.shaderDir, &error);
+        m_renderer = Renderer::create(ui.app.shaderDir, ui.app.integratorConfig, &error);
+        if (m_renderer) m_display = Display::create(ui.app.shaderDir, &error);
         if (!m_renderer || !m_display) {
             m_createFailed = true;
             m_error = "the preview could not start: " + error;
@@ -74,7 +74,7 @@ void MaterialPreview::tick(EditorUi& ui) {
     }
     if (!m_shown) return;
     if (m_renderer->samplesDone() < kSamples) m_renderer->renderFor(kBudgetSeconds, kSamples - m_renderer->samplesDone());
-    m_display->update(m_renderer->accumulationTexture(), kSize, kSize, ui.state.view.toneMap, ui.state.view.exposure);
+    m_display->update(m_renderer->accumulationTexture(), kSize, kSize, ui.app.state.view.toneMap, ui.app.state.view.exposure);
 }
 
 void MaterialPreview::reloadShaders() {
@@ -98,7 +98,7 @@ bool MaterialPreview::writeImage(const std::string& file, const EditorUi& ui, st
     const Film film = m_renderer->readFilm();
     ImageMetadata meta = {{"Software", "caustic editor (material preview)"},
                           {"caustic:samples", std::to_string(m_renderer->samplesDone())}};
-    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.state.view.toneMap, ui.state.view.exposure), meta,
+    return writeImage8(file, film.width, film.height, toSrgb8(film, ui.app.state.view.toneMap, ui.app.state.view.exposure), meta,
                        error);
 }
 

@@ -15,13 +15,13 @@ namespace caustic::editor {
 
 void drawMenuBar(EditorUi& ui) {
     if (!ImGui::BeginMainMenuBar()) return;
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     if (ImGui::BeginMenu("File")) {
-        if (ImGui::MenuItem("New")) guardUnsaved(ui, [&ui] { ui.state.newScene(); ui.renderToFile.reset(); });
+        if (ImGui::MenuItem("New")) guardUnsaved(ui, [&ui] { ui.app.state.newScene(); ui.app.renderToFile.reset(); });
         if (ImGui::MenuItem("Open...", "Ctrl+O")) guardUnsaved(ui, [&ui] { openFileBrowser(ui, FileBrowserState::Mode::Open); });
-        if (ImGui::BeginMenu("Open recent", !ui.recent.files().empty())) {
+        if (ImGui::BeginMenu("Open recent", !ui.app.recent.files().empty())) {
             std::string chosen;
-            for (const std::string& f : ui.recent.files())
+            for (const std::string& f : ui.app.recent.files())
                 if (ImGui::MenuItem(f.c_str())) chosen = f;
             ImGui::EndMenu();
             if (!chosen.empty()) guardUnsaved(ui, [&ui, chosen] { openFile(ui, chosen); });
@@ -32,7 +32,7 @@ void drawMenuBar(EditorUi& ui) {
         ImGui::Separator();
         if (ImGui::MenuItem("Render to file...")) openFileBrowser(ui, FileBrowserState::Mode::RenderTo);
         ImGui::Separator();
-        if (ImGui::MenuItem("Quit")) guardUnsaved(ui, [&ui] { ui.quit = true; });
+        if (ImGui::MenuItem("Quit")) guardUnsaved(ui, [&ui] { ui.app.quit = true; });
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Edit")) {
@@ -64,35 +64,35 @@ void drawMenuBar(EditorUi& ui) {
         }
         if (ImGui::MenuItem("Frame selection", "F")) frameSelection(ui);
         ImGui::Separator();
-        if (ImGui::MenuItem("Take snapshot", nullptr, false, ui.display != nullptr)) {
-            ui.display->takeSnapshot();
+        if (ImGui::MenuItem("Take snapshot", nullptr, false, ui.app.display != nullptr)) {
+            ui.app.display->takeSnapshot();
             ui.compare = true;
         }
-        ImGui::MenuItem("Compare with snapshot", nullptr, &ui.compare, ui.display && ui.display->hasSnapshot());
-        if (ui.denoiser) {
+        ImGui::MenuItem("Compare with snapshot", nullptr, &ui.compare, ui.app.display && ui.app.display->hasSnapshot());
+        if (ui.app.denoiser) {
             ImGui::Separator();
             if (ImGui::MenuItem("Denoise now", "F6", false, denoiserAvailable())) denoiseNow(ui);
-            ImGui::MenuItem("Denoise at target samples", nullptr, &ui.denoiser->settings.autoDenoise, denoiserAvailable());
-            ImGui::MenuItem("Show denoised", nullptr, &ui.denoiser->settings.showDenoised);
+            ImGui::MenuItem("Denoise at target samples", nullptr, &ui.app.denoiser->settings.autoDenoise, denoiserAvailable());
+            ImGui::MenuItem("Show denoised", nullptr, &ui.app.denoiser->settings.showDenoised);
         }
         ImGui::Separator();
         if (ImGui::BeginMenu("Key map")) {
-            if (ImGui::MenuItem("Default (W E R gizmo)", nullptr, ui.keymap == KeymapStyle::Default)) ui.keymap = KeymapStyle::Default;
-            if (ImGui::MenuItem("Blender (G R S, Shift+D, H, numpad)", nullptr, ui.keymap == KeymapStyle::Blender))
-                ui.keymap = KeymapStyle::Blender;
+            if (ImGui::MenuItem("Default (W E R gizmo)", nullptr, ui.app.keymap == KeymapStyle::Default)) ui.app.keymap = KeymapStyle::Default;
+            if (ImGui::MenuItem("Blender (G R S, Shift+D, H, numpad)", nullptr, ui.app.keymap == KeymapStyle::Blender))
+                ui.app.keymap = KeymapStyle::Blender;
             ImGui::EndMenu();
         }
         if (ImGui::BeginMenu("UI scale")) {
             // 0: the window's content scale (glfwGetWindowContentScale: HiDPI monitors).
             for (const auto& [label, f] : {std::pair{"Follow the monitor", 0.0f}, std::pair{"100%", 1.0f}, std::pair{"125%", 1.25f},
                                            std::pair{"150%", 1.5f}, std::pair{"200%", 2.0f}})
-                if (ImGui::MenuItem(label, nullptr, ui.uiScaleChoice == f)) {
-                    ui.uiScaleChoice = f;
+                if (ImGui::MenuItem(label, nullptr, ui.app.uiScaleChoice == f)) {
+                    ui.app.uiScaleChoice = f;
                     ui.resetLayout = true;   // the panels laid out again for the new size of their labels
                 }
             ImGui::EndMenu();
         }
-        if (!ui.hidden.empty() && ImGui::MenuItem("Show hidden objects", "Alt+H (Blender keys)")) ui.hidden.clear();
+        if (!ui.app.hidden.empty() && ImGui::MenuItem("Show hidden objects", "Alt+H (Blender keys)")) ui.app.hidden.clear();
         if (ImGui::MenuItem("Reset layout")) ui.resetLayout = true;
         ImGui::EndMenu();
     }

@@ -16,8 +16,8 @@ namespace {
 
 // The renderer already holds this file, imported from its current contents.
 bool cachedAndCurrent(const EditorUi& ui, const std::string& key) {
-    if (!ui.renderer) return false;
-    auto entry = ui.renderer->meshCache().find(key);
+    if (!ui.app.renderer) return false;
+    auto entry = ui.app.renderer->meshCache().find(key);
     std::error_code ec;
     const auto stamp = fs::last_write_time(key, ec);
     return entry && !ec && entry->stamp == stamp;
@@ -28,15 +28,15 @@ std::string fileName(const std::string& file) { return fs::path(file).filename()
 // Replaces the current scene by an opened (or recovered) one whose meshes the renderer holds.
 void adopt(EditorUi& ui, PendingOpen& open) {
     if (open.recovered) {
-        ui.state.adoptRecovered(std::move(open.scene), open.file);
+        ui.app.state.adoptRecovered(std::move(open.scene), open.file);
         notify(ui, "recovered the autosave; save it to keep it");
         return;
     }
-    ui.state.adoptOpened(std::move(open.scene), open.file);
-    ui.recent.add(fs::absolute(open.file).lexically_normal().string());
+    ui.app.state.adoptOpened(std::move(open.scene), open.file);
+    ui.app.recent.add(fs::absolute(open.file).lexically_normal().string());
     std::string ignored;
-    ui.recent.save(ui.recentListPath, &ignored);
-    ui.renderToFile.reset();
+    ui.app.recent.save(ui.app.recentListPath, &ignored);
+    ui.app.renderToFile.reset();
     const std::vector<double> seconds = open.seconds();
     double total = 0.0;
     for (double t : seconds) total += t;
@@ -54,8 +54,8 @@ MeshImports::MeshImports() {
 }
 
 void MeshImports::importFile(EditorUi& ui, const std::string& file) {
-    Edit edit{0, ui.state.generation(), file, {}};
-    if (cachedAndCurrent(ui, meshCacheKey(ui.state.scene, meshFileForScene(ui.state, file)))) {
+    Edit edit{0, ui.app.state.generation(), file, {}};
+    if (cachedAndCurrent(ui, meshCacheKey(ui.app.state.scene, meshFileForScene(ui.app.state, file)))) {
         apply(ui, edit, nullptr);   // e.g. a second instance of a file: nothing to import
         return;
     }
@@ -65,14 +65,14 @@ void MeshImports::importFile(EditorUi& ui, const std::string& file) {
 }
 
 void MeshImports::setObjectFile(EditorUi& ui, int objectIndex, const std::string& file) {
-    const auto& objects = ui.state.scene.objects;
+    const auto& objects = ui.app.state.scene.objects;
     if (objectIndex < 0 || static_cast<size_t>(objectIndex) >= objects.size() ||
         objects[static_cast<size_t>(objectIndex)].shape != Shape::Mesh) {
         notify(ui, "select a mesh object to change its file", true);
         return;
     }
-    Edit edit{0, ui.state.generation(), file, objects[static_cast<size_t>(objectIndex)].name};
-    if (cachedAndCurrent(ui, meshCacheKey(ui.state.scene, meshFileForScene(ui.state, file)))) {
+    Edit edit{0, ui.app.state.generation(), file, objects[static_cast<size_t>(objectIndex)].name};
+    if (cachedAndCurrent(ui, meshCacheKey(ui.app.state.scene, meshFileForScene(ui.app.state, file)))) {
         apply(ui, edit, nullptr);
         return;
     }
@@ -86,8 +86,8 @@ void MeshImports::openScene(EditorUi& ui, Scene scene, const std::string& file, 
     scene.sourcePath = file;  // mesh files resolve against the file's folder (as compileScene does)
     auto open = std::make_shared<PendingOpen>(std::move(scene), file, recovered,
                                               [&ui](const std::string& key) { return cachedAndCurrent(ui, key); });
-    open->generation = ui.state.generation();
-    open->revision = ui.state.history.revision();
+    open->generation = ui.app.state.generation();
+    open->revision = ui.app.state.history.revision();
     if (open->ready()) {   // nothing to import (no meshes, or all held): as before, at once
         adopt(ui, *open);
         return;
@@ -104,7 +104,7 @@ void MeshImports::dropOpen() {
 
 void MeshImports::finishOpen(EditorUi& ui) {
     if (!m_open) return;
-    if (m_open->generation != ui.state.generation()) {   // New meanwhile
+    if (m_open->generation != ui.app.state.generation()) {   // New meanwhile
         notify(ui, "dropped the open of " + fileName(m_open->file) + ": another scene was made or opened meanwhile");
         dropOpen();
         return;
@@ -116,7 +116,7 @@ void MeshImports::finishOpen(EditorUi& ui) {
                           ".\n" + (m_open->file.empty() ? std::string("autosave") : m_open->file) + ": " + m_open->error());
         // A recovery that failed keeps the autosave on disk: the clean exit removes it only
         // when no recovered scene is left unanswered (it is offered again at the next start).
-        if (recovered) ui.recovered = std::make_pair(std::move(m_open->scene), m_open->file);
+        if (recovered) ui.app.recovered = std::make_pair(std::move(m_open->scene), m_open->file);
         dropOpen();
         return;
     }
@@ -125,12 +125,12 @@ void MeshImports::finishOpen(EditorUi& ui) {
     m_open.reset();
     // The renderer gets the meshes first, under the keys its compile looks up: the compile that
     // the adoption triggers only uploads them.
-    if (ui.renderer)
-        for (auto& [key, mesh] : open->meshes()) ui.renderer->meshCache().insert(key, mesh);
+    if (ui.app.renderer)
+        for (auto& [key, mesh] : open->meshes()) ui.app.renderer->meshCache().insert(key, mesh);
     // Edited while the meshes imported: the unsaved-changes prompt asks first (Cancel keeps it).
-    if (ui.state.modified() && ui.state.history.revision() != open->revision) {
+    if (ui.app.state.modified() && ui.app.state.history.revision() != open->revision) {
         ui.afterUnsavedPrompt = [&ui, open] {
-            if (ui.state.generation() == open->generation) adopt(ui, *open);
+            if (ui.app.state.generation() == open->generation) adopt(ui, *open);
         };
         ui.unsavedPromptRequested = true;
         notify(ui, fileName(open->file) + " is ready, but the current scene was edited meanwhile");
@@ -140,9 +140,9 @@ void MeshImports::finishOpen(EditorUi& ui) {
 }
 
 bool MeshImports::refreshing(EditorUi& ui) {
-    if (!ui.renderer) return false;
+    if (!ui.app.renderer) return false;
     bool waiting = false;
-    for (const SceneMeshFile& f : sceneMeshFiles(ui.state.scene)) {
+    for (const SceneMeshFile& f : sceneMeshFiles(ui.app.state.scene)) {
         if (m_refresh.count(f.key)) {
             waiting = true;
             continue;
@@ -169,10 +169,10 @@ void MeshImports::finish(EditorUi& ui) {
             const std::string key = r->first;
             m_refresh.erase(r);
             m_seconds.push_back(result.seconds);
-            if (result.ok() && ui.renderer) {
+            if (result.ok() && ui.app.renderer) {
                 m_refreshFailed.erase(key);
-                ui.renderer->meshCache().insert(key, result.mesh);
-                ui.session.heldDirty |= kDirtyGeometry;   // the new contents replace the old on screen
+                ui.app.renderer->meshCache().insert(key, result.mesh);
+                ui.app.session.heldDirty |= kDirtyGeometry;   // the new contents replace the old on screen
                 notify(ui, "imported " + fileName(key) + " again (" + std::to_string(int(result.seconds * 1e3 + 0.5)) +
                                " ms in the background)");
             } else {
@@ -193,7 +193,7 @@ void MeshImports::finish(EditorUi& ui) {
 }
 
 void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* result) {
-    if (edit.generation != ui.state.generation()) {
+    if (edit.generation != ui.app.state.generation()) {
         notify(ui, "dropped the import of " + fileName(edit.file) + ": another scene was opened meanwhile");
         return;
     }
@@ -203,23 +203,23 @@ void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* re
     }
     // The renderer gets the prepared mesh first (under the key its compile will look up), then
     // the edit: the compile it triggers finds the mesh and only uploads it.
-    const std::string objectFile = meshFileForScene(ui.state, edit.file);
-    if (result && ui.renderer) ui.renderer->meshCache().insert(meshCacheKey(ui.state.scene, objectFile), result->mesh);
+    const std::string objectFile = meshFileForScene(ui.app.state, edit.file);
+    if (result && ui.app.renderer) ui.app.renderer->meshCache().insert(meshCacheKey(ui.app.state.scene, objectFile), result->mesh);
     std::string done = result ? " (" + std::to_string(result->mesh->blas.triangles.size()) + " triangles, " +
                                     std::to_string(int(result->seconds * 1e3 + 0.5)) + " ms in the background)"
                               : std::string();
     if (edit.objectName.empty()) {
-        ui.state.apply(makeImportMesh(ui.state, edit.file));
+        ui.app.state.apply(makeImportMesh(ui.app.state, edit.file));
         notify(ui, "imported " + fileName(edit.file) + done);
         return;
     }
-    const EntityRef ref = findEntity(ui.state.scene, EntityKind::Object, edit.objectName);
-    auto command = ref ? makeSetMeshFile(ui.state, ref.index, edit.file) : nullptr;
+    const EntityRef ref = findEntity(ui.app.state.scene, EntityKind::Object, edit.objectName);
+    auto command = ref ? makeSetMeshFile(ui.app.state, ref.index, edit.file) : nullptr;
     if (!command) {
         notify(ui, "'" + edit.objectName + "' is no longer a mesh object; " + fileName(edit.file) + " was not applied", true);
         return;
     }
-    ui.state.apply(std::move(command));
+    ui.app.state.apply(std::move(command));
     notify(ui, "'" + edit.objectName + "' now uses " + fileName(edit.file) + done);
 }
 
@@ -234,8 +234,8 @@ std::string MeshImports::status() const {
 
 MeshBoundsLookup meshBoundsLookup(const EditorUi& ui) {
     return [&ui](const Object& o) -> std::optional<std::pair<glm::vec3, glm::vec3>> {
-        if (!ui.renderer) return std::nullopt;
-        auto entry = ui.renderer->meshCache().find(meshCacheKey(ui.state.scene, o.file));
+        if (!ui.app.renderer) return std::nullopt;
+        auto entry = ui.app.renderer->meshCache().find(meshCacheKey(ui.app.state.scene, o.file));
         if (!entry || entry->blas.bvh.empty()) return std::nullopt;
         const Aabb b = entry->blas.bvh.nodes.front().bounds();
         return std::make_pair(b.min, b.max);

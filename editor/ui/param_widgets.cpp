@@ -27,15 +27,15 @@ void Edit::track(bool c, bool discrete) {
     changed |= c;
     if ((discrete && c) || ImGui::IsItemDeactivatedAfterEdit()) seal = true;
     if (ImGui::IsItemActive()) {
-        ui.session.interacting = true;
-        ui.session.lastInteraction = ImGui::GetTime();
+        ui.app.session.interacting = true;
+        ui.app.session.lastInteraction = ImGui::GetTime();
     }
 }
 
 void Edit::commit(std::unique_ptr<Command> command) {
     std::string why;
-    if (changed && command && !ui.state.applyContinuous(std::move(command), &why)) notify(ui, why, true);
-    if (seal) ui.state.seal();
+    if (changed && command && !ui.app.state.applyContinuous(std::move(command), &why)) notify(ui, why, true);
+    if (seal) ui.app.state.seal();
 }
 
 namespace {

@@ -24,34 +24,34 @@ bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why) {
         *why = "Open Image Denoise is not in this build: " + denoiserVersion();
         return false;
     }
-    if (!ui.renderer || !ui.session.sceneUploaded) {
+    if (!ui.app.renderer || !ui.app.session.sceneUploaded) {
         *why = "nothing rendered yet";
         return false;
     }
-    const int done = ui.renderer->samplesDone();
+    const int done = ui.app.renderer->samplesDone();
     if (done <= 0) {
         *why = "no samples yet";
         return false;
     }
     // The same image is already being denoised: nothing to add.
-    if (m_lastRequest == std::make_pair(ui.session.accumulationGeneration, done) && m_worker.busy()) return true;
+    if (m_lastRequest == std::make_pair(ui.app.session.accumulationGeneration, done) && m_worker.busy()) return true;
     // Stop accumulating here so that the result is still current when it arrives.
-    if (hold && done < ui.state.scene.render.samples && (!ui.session.sampleCap || *ui.session.sampleCap > done)) {
-        ui.session.sampleCap = done;
-        m_hold = std::make_pair(ui.session.accumulationGeneration, done);
+    if (hold && done < ui.app.state.scene.render.samples && (!ui.app.session.sampleCap || *ui.app.session.sampleCap > done)) {
+        ui.app.session.sampleCap = done;
+        m_hold = std::make_pair(ui.app.session.accumulationGeneration, done);
     }
     DenoiseJob job;
-    job.generation = ui.session.accumulationGeneration;
+    job.generation = ui.app.session.accumulationGeneration;
     job.samples = done;
-    job.film = ui.renderer->readFilm();   // GL: on this thread; the worker gets its own copy
+    job.film = ui.app.renderer->readFilm();   // GL: on this thread; the worker gets its own copy
     job.options.prefilterGuides = settings.prefilterGuides;
     m_worker.request(std::move(job));
-    m_lastRequest = std::make_pair(ui.session.accumulationGeneration, done);
+    m_lastRequest = std::make_pair(ui.app.session.accumulationGeneration, done);
     return true;
 }
 
 void ViewportDenoiser::resume(EditorUi& ui) {
-    if (m_hold && ui.session.sampleCap && *ui.session.sampleCap == m_hold->second) ui.session.sampleCap.reset();
+    if (m_hold && ui.app.session.sampleCap && *ui.app.session.sampleCap == m_hold->second) ui.app.session.sampleCap.reset();
     m_hold.reset();
 }
 
@@ -79,7 +79,7 @@ void ViewportDenoiser::upload(const DenoiseOutput& out) {
 }
 
 void ViewportDenoiser::tick(EditorUi& ui) {
-    const std::uint64_t generation = ui.session.accumulationGeneration;
+    const std::uint64_t generation = ui.app.session.accumulationGeneration;
     // An edit restarted accumulation: a waiting job and a kept result are of no use any more,
     // and a hold placed for the old image is lifted.
     m_worker.dropOlderThan(generation);
@@ -99,11 +99,11 @@ void ViewportDenoiser::tick(EditorUi& ui) {
     }
 
     // Automatic: once the full-resolution image reaches its target sample count.
-    if (settings.autoDenoise && ui.renderer && ui.session.sceneUploaded && ui.session.previewDivisor == 1 && !ui.session.interacting &&
-        ui.state.pendingDirty() == kDirtyNone && denoiserAvailable()) {
-        int target = ui.state.scene.render.samples;
-        if (ui.session.sampleCap && !m_hold) target = std::min(target, *ui.session.sampleCap);
-        const int done = ui.renderer->samplesDone();
+    if (settings.autoDenoise && ui.app.renderer && ui.app.session.sceneUploaded && ui.app.session.previewDivisor == 1 && !ui.app.session.interacting &&
+        ui.app.state.pendingDirty() == kDirtyNone && denoiserAvailable()) {
+        int target = ui.app.state.scene.render.samples;
+        if (ui.app.session.sampleCap && !m_hold) target = std::min(target, *ui.app.session.sampleCap);
+        const int done = ui.app.renderer->samplesDone();
         const auto key = std::make_pair(generation, done);
         if (done > 0 && done >= target && m_lastRequest != key) {
             std::string why;
@@ -111,13 +111,13 @@ void ViewportDenoiser::tick(EditorUi& ui) {
         }
     }
 
-    if (shown(ui) && ui.display)
-        ui.display->update(m_texture, m_result->width, m_result->height, ui.state.view.toneMap, ui.state.view.exposure);
+    if (shown(ui) && ui.app.display)
+        ui.app.display->update(m_texture, m_result->width, m_result->height, ui.app.state.view.toneMap, ui.app.state.view.exposure);
 }
 
 bool ViewportDenoiser::current(const EditorUi& ui) const {
-    return m_result && m_texture && ui.renderer && ui.session.sceneUploaded && m_result->generation == ui.session.accumulationGeneration &&
-           m_result->samples == ui.renderer->samplesDone();
+    return m_result && m_texture && ui.app.renderer && ui.app.session.sceneUploaded && m_result->generation == ui.app.session.accumulationGeneration &&
+           m_result->samples == ui.app.renderer->samplesDone();
 }
 
 bool ViewportDenoiser::shown(const EditorUi& ui) const { return settings.showDenoised && current(ui); }

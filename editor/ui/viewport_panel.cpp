@@ -31,16 +31,16 @@ ImTextureRef textureRef(unsigned id) { return ImTextureRef(static_cast<ImTexture
 void drawToolbar(EditorUi& ui) {
     // Rotate and Scale are greyed out for a selection that cannot take them (point and sphere
     // lights have no rotation or scale, a spot no scale); the gizmo then moves it.
-    const GizmoOps ops = gizmoOpsFor(ui.state.scene, ui.state.selection);
+    const GizmoOps ops = gizmoOpsFor(ui.app.state.scene, ui.app.state.selection);
     auto opButton = [&](const char* label, GizmoOp op, const char* tip, bool allowed) {
         const bool active = ui.gizmoOp == op;
         if (active) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
-        ImGui::BeginDisabled(!allowed && ui.state.selection.kind == EntityKind::Light);
+        ImGui::BeginDisabled(!allowed && ui.app.state.selection.kind == EntityKind::Light);
         if (ImGui::Button(label)) ui.gizmoOp = op;
         ImGui::EndDisabled();
         if (active) ImGui::PopStyleColor();
         if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-            ImGui::SetTooltip("%s", allowed || ui.state.selection.kind != EntityKind::Light ? tip : "not for this light: it has no rotation or scale (spot: rotate turns its direction)");
+            ImGui::SetTooltip("%s", allowed || ui.app.state.selection.kind != EntityKind::Light ? tip : "not for this light: it has no rotation or scale (spot: rotate turns its direction)");
         ImGui::SameLine();
     };
     opButton("Move", GizmoOp::Translate, "Translate (W)", true);
@@ -59,16 +59,16 @@ void drawToolbar(EditorUi& ui) {
     ImGui::SameLine();
     ImGui::TextDisabled("|");
     ImGui::SameLine();
-    if (ImGui::Button(ui.state.view.fitToWindow ? "Fit" : "1:1")) ui.state.view.fitToWindow = !ui.state.view.fitToWindow;
+    if (ImGui::Button(ui.app.state.view.fitToWindow ? "Fit" : "1:1")) ui.app.state.view.fitToWindow = !ui.app.state.view.fitToWindow;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Scale the image to the panel, or show it 1:1");
     ImGui::SameLine();
-    if (ImGui::Button("Snapshot") && ui.display) {
-        ui.display->takeSnapshot();
+    if (ImGui::Button("Snapshot") && ui.app.display) {
+        ui.app.display->takeSnapshot();
         ui.compare = true;
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keep the current image to compare with the live render");
     ImGui::SameLine();
-    ImGui::BeginDisabled(!ui.display || !ui.display->hasSnapshot());
+    ImGui::BeginDisabled(!ui.app.display || !ui.app.display->hasSnapshot());
     ImGui::Checkbox("Compare", &ui.compare);
     ImGui::EndDisabled();
 }
@@ -76,7 +76,7 @@ void drawToolbar(EditorUi& ui) {
 // The gizmo's matrix for the selection, and how to write an edited matrix back (a light takes
 // only what it has: lightFromGizmo; an edit that changes nothing records no undo step).
 bool selectionMatrix(const EditorUi& ui, glm::mat4* m) {
-    const EditorState& s = ui.state;
+    const EditorState& s = ui.app.state;
     if (s.selection.kind == EntityKind::Object) {
         *m = s.scene.objects[static_cast<size_t>(s.selection.index)].transform.toMatrix();
         return true;
@@ -89,7 +89,7 @@ bool selectionMatrix(const EditorUi& ui, glm::mat4* m) {
 }
 
 void applyMatrix(EditorUi& ui, const glm::mat4& m) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     if (s.selection.kind == EntityKind::Object) {
         Object o = s.scene.objects[static_cast<size_t>(s.selection.index)];
         o.transform = transformFromMatrix(m);
@@ -115,7 +115,7 @@ void drawWorldLine(ImDrawList* dl, const glm::mat4& viewProj, ImVec2 pos, ImVec2
 // The lights' outlines over the image (lightOutline): every light faint, the selected one bright,
 // so lights that are not objects can be seen, picked by eye and placed.
 void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
-    const Scene& scene = ui.state.scene;
+    const Scene& scene = ui.app.state.scene;
     if (scene.lights.empty()) return;
     const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
                                viewMatrix(scene.camera);
@@ -124,7 +124,7 @@ void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     ImDrawList* dl = ImGui::GetWindowDrawList();
     dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
     for (int i = 0; i < int(scene.lights.size()); ++i) {
-        const bool selected = ui.state.selection.kind == EntityKind::Light && ui.state.selection.index == i;
+        const bool selected = ui.app.state.selection.kind == EntityKind::Light && ui.app.state.selection.index == i;
         const ImU32 colour = selected ? IM_COL32(255, 210, 60, 255) : IM_COL32(255, 210, 60, 110);
         for (const std::vector<glm::vec3>& line : lightOutline(scene.lights[size_t(i)], scene.camera, outlineSize)) {
             for (size_t k = 0; k + 1 < line.size(); ++k)
@@ -137,9 +137,9 @@ void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 // With several objects selected, each one's bounding box over the image (the active one
 // brighter), so a Ctrl+click's effect shows where it was made.
 void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
-    const std::vector<int> selected = ui.state.selectedObjects();
+    const std::vector<int> selected = ui.app.state.selectedObjects();
     if (selected.size() < 2) return;
-    const Scene& scene = ui.state.scene;
+    const Scene& scene = ui.app.state.scene;
     const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
                                viewMatrix(scene.camera);
     const MeshBoundsLookup meshBounds = meshBoundsLookup(ui);
@@ -157,7 +157,7 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
             local = *mb;
         }
         const glm::mat4 toWorld = o.transform.toMatrix();
-        const bool active = ui.state.selection == EntityRef{EntityKind::Object, i};
+        const bool active = ui.app.state.selection == EntityRef{EntityKind::Object, i};
         const ImU32 colour = active ? IM_COL32(255, 150, 40, 255) : IM_COL32(255, 150, 40, 150);
         glm::vec3 corner[8];
         for (int k = 0; k < 8; ++k)
@@ -176,19 +176,19 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     static Camera s_last;
     static std::uint64_t s_generation = ~std::uint64_t(0);
-    const Scene& scene = ui.state.scene;
+    const Scene& scene = ui.app.state.scene;
     const double t = ImGui::GetTime();
-    if (s_generation == ui.state.generation() && focusEdited(s_last, scene.camera)) ui.focusOverlayUntil = t + 1.5;
+    if (s_generation == ui.app.state.generation() && focusEdited(s_last, scene.camera)) ui.focusOverlayUntil = t + 1.5;
     s_last = scene.camera;
-    s_generation = ui.state.generation();
+    s_generation = ui.app.state.generation();
     if (t > ui.focusOverlayUntil) {
         ui.focusOverlayCells = -1;
         return;
     }
     const int cols = 96, rows = std::max(1, int(std::lround(96.0f * size.y / std::max(1.0f, size.x))));
     std::function<std::optional<float>(const Ray&)> meshHit;
-    if (ui.renderer) {
-        const CompiledScene& c = ui.renderer->compiled();
+    if (ui.app.renderer) {
+        const CompiledScene& c = ui.app.renderer->compiled();
         meshHit = [&c](const Ray& r) -> std::optional<float> {
             const RayHit h = intersectVisibleMeshes(c, caustic::Ray{r.origin, r.direction});
             return h.hit() ? std::optional<float>(h.t) : std::nullopt;
@@ -213,7 +213,7 @@ void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 // ---- The Blender key map's modal transforms (modal_transform.h) ----------------------------------
 
 void startModal(EditorUi& ui, ModalKind kind, ImVec2 pos, ImVec2 size) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     EditorUi::Modal m;
     m.ref = s.selection;
     if (s.selection.kind == EntityKind::Object) {
@@ -240,7 +240,7 @@ void startModal(EditorUi& ui, ModalKind kind, ImVec2 pos, ImVec2 size) {
 }
 
 void endModal(EditorUi& ui, bool confirm) {
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     s.seal();
     if (!confirm && ui.modal.applied) {
         s.undo();                  // back to where it started, and no redo step left behind
@@ -252,7 +252,7 @@ void endModal(EditorUi& ui, bool confirm) {
 
 void modalStep(EditorUi& ui, ImVec2 pos) {
     EditorUi::Modal& m = ui.modal;
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     if (!(s.selection == m.ref)) {   // the entity went (an undo, a delete): nothing to transform
         m.active = false;
         return;
@@ -277,7 +277,7 @@ void modalStep(EditorUi& ui, ImVec2 pos) {
 
 // The modal transform's keys and clicks (KeyScope::Modal): X Y Z, Enter / left click, Esc / right click.
 void modalInput(EditorUi& ui, ImVec2 pos, ImVec2 size) {
-    for (const KeyBinding& b : keyBindings(ui.keymap)) {
+    for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
         if (b.scope != KeyScope::Modal || !chordPressed(b.chord)) continue;
         auto toggle = [&](ModalAxis a) { ui.modal.axis = ui.modal.axis == a ? ModalAxis::Free : a; };
         switch (b.action) {
@@ -311,19 +311,19 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     glm::mat4 m;
     const bool usingBefore = ui.gizmoWasUsing;
     if (!selectionMatrix(ui, &m)) {
-        if (usingBefore) ui.state.seal();
+        if (usingBefore) ui.app.state.seal();
         ui.gizmoWasUsing = false;
         return;
     }
-    const Camera& cam = ui.state.scene.camera;
-    const RenderSettings& rs = ui.state.scene.render;
+    const Camera& cam = ui.app.state.scene.camera;
+    const RenderSettings& rs = ui.app.state.scene.render;
     const glm::mat4 view = viewMatrix(cam);
     const glm::mat4 proj = projectionMatrix(cam, rs.width, rs.height, 0.01f, 1000.0f);
     ImGuizmo::SetOrthographic(false);
     ImGuizmo::SetDrawlist();
     ImGuizmo::SetRect(pos.x, pos.y, size.x, size.y);
     // Only what the selection can take: point and sphere lights move, spots move and turn.
-    const GizmoOps ops = gizmoOpsFor(ui.state.scene, ui.state.selection);
+    const GizmoOps ops = gizmoOpsFor(ui.app.state.scene, ui.app.state.selection);
     const GizmoOp chosen = (ui.gizmoOp == GizmoOp::Rotate && !ops.rotate) || (ui.gizmoOp == GizmoOp::Scale && !ops.scale)
                                ? GizmoOp::Translate : ui.gizmoOp;
     const ImGuizmo::OPERATION op = chosen == GizmoOp::Translate ? ImGuizmo::TRANSLATE
@@ -338,16 +338,16 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         applyMatrix(ui, m);
     const bool usingNow = ImGuizmo::IsUsing();
     if (usingNow) {
-        ui.session.interacting = true;
-        ui.session.lastInteraction = ImGui::GetTime();
+        ui.app.session.interacting = true;
+        ui.app.session.lastInteraction = ImGui::GetTime();
     }
-    if (usingBefore && !usingNow) ui.state.seal();   // released: the drag is one undo step
+    if (usingBefore && !usingNow) ui.app.state.seal();   // released: the drag is one undo step
     ui.gizmoWasUsing = usingNow;
 }
 
 void navigate(EditorUi& ui, ImVec2 imageSize) {
     ImGuiIO& io = ImGui::GetIO();
-    EditorState& s = ui.state;
+    EditorState& s = ui.app.state;
     const bool orbitDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && !io.KeyShift;
     const bool altOrbit = io.KeyAlt && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0.0f);
     const bool panDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && io.KeyShift;
@@ -389,12 +389,12 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
     if (io.MouseWheel != 0.0f) {
         s.applyContinuous(makeSetCamera(s, dolly(s.scene.camera, std::pow(0.85f, io.MouseWheel))));
         ui.lastWheel = ImGui::GetTime();
-        ui.session.interacting = true;
-        ui.session.lastInteraction = ImGui::GetTime();
+        ui.app.session.interacting = true;
+        ui.app.session.lastInteraction = ImGui::GetTime();
     }
     if (ui.navigating) {
-        ui.session.interacting = true;
-        ui.session.lastInteraction = ImGui::GetTime();
+        ui.app.session.interacting = true;
+        ui.app.session.lastInteraction = ImGui::GetTime();
     }
 }
 
@@ -404,45 +404,45 @@ void drawViewportPanel(EditorUi& ui) {
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(4.0f, 4.0f));
     const bool open = ImGui::Begin("Viewport");
     ImGui::PopStyleVar();
-    ui.session.interacting = false;
+    ui.app.session.interacting = false;
     ui.viewportFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
     if (!open) {
         ImGui::End();
         return;
     }
     drawToolbar(ui);
-    const RenderSettings& rs = ui.state.scene.render;
+    const RenderSettings& rs = ui.app.state.scene.render;
     const ImVec2 avail = ImGui::GetContentRegionAvail();
-    if (!ui.renderer || !ui.display || !ui.session.sceneUploaded || ui.display->texture() == 0) {
+    if (!ui.app.renderer || !ui.app.display || !ui.app.session.sceneUploaded || ui.app.display->texture() == 0) {
         // The empty state says why and what to do.
         ImGui::Spacing();
-        if (!ui.renderer) ImGui::TextWrapped("The path tracer is not available: its shaders did not compile. Fix them and press F5 (Render > Reload shaders).");
-        else if (!ui.session.renderError.empty()) ImGui::TextWrapped("The scene cannot be rendered:\n%s", ui.session.renderError.c_str());
+        if (!ui.app.renderer) ImGui::TextWrapped("The path tracer is not available: its shaders did not compile. Fix them and press F5 (Render > Reload shaders).");
+        else if (!ui.app.session.renderError.empty()) ImGui::TextWrapped("The scene cannot be rendered:\n%s", ui.app.session.renderError.c_str());
         else ImGui::TextDisabled("Preparing the render...");
         ImGui::End();
         return;
     }
     float scale = 1.0f;
-    if (ui.state.view.fitToWindow) scale = std::max(0.05f, std::min(avail.x / float(rs.width), avail.y / float(rs.height)));
+    if (ui.app.state.view.fitToWindow) scale = std::max(0.05f, std::min(avail.x / float(rs.width), avail.y / float(rs.height)));
     const ImVec2 size(float(rs.width) * scale, float(rs.height) * scale);
     // The viewport renders at the size it is drawn at, in framebuffer pixels (render_session.h).
     const ImVec2 fb = ImGui::GetIO().DisplayFramebufferScale;
-    const float vs = ui.state.view.viewportScale;
-    ui.session.setViewport(int(size.x * fb.x * vs + 0.5f), int(size.y * fb.y * vs + 0.5f), ui.state.view.fitToWindow);
+    const float vs = ui.app.state.view.viewportScale;
+    ui.app.session.setViewport(int(size.x * fb.x * vs + 0.5f), int(size.y * fb.y * vs + 0.5f), ui.app.state.view.fitToWindow);
     ImVec2 cursor = ImGui::GetCursorPos();
     cursor.x += std::max(0.0f, (avail.x - size.x) * 0.5f);
     cursor.y += std::max(0.0f, (avail.y - size.y) * 0.5f);
     ImGui::SetCursorPos(cursor);
     const ImVec2 pos = ImGui::GetCursorScreenPos();
-    ImGui::Image(textureRef(ui.display->texture()), size);
+    ImGui::Image(textureRef(ui.app.display->texture()), size);
     const bool hovered = ImGui::IsItemHovered();
     ui.viewportHovered = hovered;
 
     ImDrawList* dl = ImGui::GetWindowDrawList();
-    if (ui.compare && ui.display->hasSnapshot()) {
+    if (ui.compare && ui.app.display->hasSnapshot()) {
         // Split view: the snapshot left of the divider, the live render right of it.
         const float split = std::clamp(ui.compareSplit, 0.0f, 1.0f);
-        dl->AddImage(textureRef(ui.display->snapshotTexture()), pos, ImVec2(pos.x + size.x * split, pos.y + size.y),
+        dl->AddImage(textureRef(ui.app.display->snapshotTexture()), pos, ImVec2(pos.x + size.x * split, pos.y + size.y),
                      ImVec2(0.0f, 0.0f), ImVec2(split, 1.0f));
         const float x = pos.x + size.x * split;
         dl->AddLine(ImVec2(x, pos.y), ImVec2(x, pos.y + size.y), IM_COL32(255, 200, 40, 255), 2.0f);
@@ -452,7 +452,7 @@ void drawViewportPanel(EditorUi& ui) {
         if (hovered && ImGui::GetIO().KeyCtrl && ImGui::IsMouseDown(ImGuiMouseButton_Left))
             ui.compareSplit = std::clamp((ImGui::GetIO().MousePos.x - pos.x) / size.x, 0.0f, 1.0f);
     }
-    if (ui.session.previewDivisor > 1)
+    if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
 
     drawLightOutlines(ui, pos, size);
@@ -478,49 +478,49 @@ void drawViewportPanel(EditorUi& ui) {
     if (hovered && !gizmoBusy && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
-        const Ray ray = cameraRay(ui.state.scene.camera, rs.width, rs.height, pixel);
+        const Ray ray = cameraRay(ui.app.state.scene.camera, rs.width, rs.height, pixel);
         // Hidden objects (H) cannot be picked: the scene without them, indices mapped back.
         std::vector<int> shown;
-        std::optional<PickHit> hit = ui.hidden.empty() ? pick(ui.state.scene, ray)
-                                                       : pick(withoutHidden(ui.state.scene, ui.hidden, &shown), ray);
+        std::optional<PickHit> hit = ui.app.hidden.empty() ? pick(ui.app.state.scene, ray)
+                                                       : pick(withoutHidden(ui.app.state.scene, ui.app.hidden, &shown), ray);
         if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
         // Meshes: the renderer's own CPU copy of their BVHs (the canonical shapes know no
         // triangles), whose objects are the renderer's (session.renderedObjects maps them),
         // through the alpha cut-outs as the render shows them.
-        if (ui.renderer) {
-            const CompiledScene& c = ui.renderer->compiled();
+        if (ui.app.renderer) {
+            const CompiledScene& c = ui.app.renderer->compiled();
             const RayHit mh = intersectVisibleMeshes(c, caustic::Ray{ray.origin, ray.direction});
             if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance)) {
                 int object = static_cast<int>(c.instanceObject[mh.instance]);
-                const std::vector<int>& map = ui.session.renderedObjects;
+                const std::vector<int>& map = ui.app.session.renderedObjects;
                 if (!map.empty()) object = object < int(map.size()) ? map[size_t(object)] : -1;
                 if (object >= 0) hit = PickHit{{EntityKind::Object, object}, mh.t};
             }
         }
         if (io.KeyShift) {
             if (hit) {
-                Camera cam = ui.state.scene.camera;
+                Camera cam = ui.app.state.scene.camera;
                 cam.focusPoint = ray.origin + hit->distance * ray.direction;
-                ui.state.apply(makeSetCamera(ui.state, cam));
+                ui.app.state.apply(makeSetCamera(ui.app.state, cam));
             }
         } else if (io.KeyCtrl) {
-            if (hit) ui.state.select(hit->ref, EditorState::SelectMode::Toggle);
+            if (hit) ui.app.state.select(hit->ref, EditorState::SelectMode::Toggle);
         } else {
-            ui.state.select(hit ? hit->ref : EntityRef{});
+            ui.app.state.select(hit ? hit->ref : EntityRef{});
         }
     }
     if (hovered && !gizmoBusy) navigate(ui, size);
     if (ui.navigating && !ImGui::IsMouseDown(ImGuiMouseButton_Middle) && !ImGui::IsMouseDown(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
-        ui.state.seal();
+        ui.app.state.seal();
         ui.navigating = false;
     }
     if ((hovered || ImGui::IsWindowFocused()) && !io.WantTextInput && !ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
         // The viewport's keys (editor/model/keymap.h, scope Viewport; chords match their
         // modifiers exactly).
-        EditorState& s = ui.state;
+        EditorState& s = ui.app.state;
         auto view = [&](glm::vec3 from) { s.apply(makeSetCamera(s, axisView(s.scene.camera, from))); };
-        for (const KeyBinding& b : keyBindings(ui.keymap)) {
+        for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
             if (b.scope != KeyScope::Viewport || !chordPressed(b.chord)) continue;
             switch (b.action) {
                 case Action::ModalGrab: startModal(ui, ModalKind::Grab, pos, size); break;
@@ -537,11 +537,11 @@ void drawViewportPanel(EditorUi& ui) {
                 case Action::Hide:
                     for (int i : s.selectedObjects()) {
                         const std::string& name = s.scene.objects[size_t(i)].name;
-                        if (std::find(ui.hidden.begin(), ui.hidden.end(), name) == ui.hidden.end()) ui.hidden.push_back(name);
+                        if (std::find(ui.app.hidden.begin(), ui.app.hidden.end(), name) == ui.app.hidden.end()) ui.app.hidden.push_back(name);
                     }
                     if (!s.selectedObjects().empty()) s.select({});
                     break;
-                case Action::UnhideAll: ui.hidden.clear(); break;
+                case Action::UnhideAll: ui.app.hidden.clear(); break;
                 case Action::ViewFront: view({0.0f, 0.0f, 1.0f}); break;
                 case Action::ViewBack: view({0.0f, 0.0f, -1.0f}); break;
                 case Action::ViewRight: view({1.0f, 0.0f, 0.0f}); break;

@@ -2,6 +2,7 @@
 // selection, names, modified tracking, files (open keeps the scene on error, atomic save,
 // autosave, recent files).
 #include "editor/model/editor_state.h"
+#include "editor/model/editor_config.h"
 #include "tests/editor/cornell_state.h"
 #include "renderer/scene_io.h"
 

@@ -3,12 +3,14 @@
 // their job's generation and sample count, failures come back as errors, and the destructor
 // joins a thread that is still busy.
 #include "editor/model/denoise_worker.h"
+#include "tests/editor/hang_guard.h"
 
 #include <catch2/catch.hpp>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <future>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -60,15 +62,6 @@ struct Gate {
     }
 };
 
-template <class F> bool eventually(F f, std::chrono::milliseconds limit = 5000ms) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-        if (f()) return true;
-        std::this_thread::sleep_for(1ms);
-    }
-    return f();
-}
-
 }  // namespace
 
 TEST_CASE("denoise worker: a result carries its generation and samples", "[denoise]") {
@@ -77,7 +70,7 @@ TEST_CASE("denoise worker: a result carries its generation and samples", "[denoi
     DenoiseWorker w(gate.fn());
     w.request(job(7, 16, 1.5f));
     std::optional<DenoiseOutput> out;
-    REQUIRE(eventually([&] { out = w.take(); return out.has_value(); }));
+    test::waitUntil("a result", [&] { out = w.take(); return out.has_value(); });
     CHECK(out->ok);
     CHECK(out->generation == 7);
     CHECK(out->samples == 16);
@@ -87,22 +80,28 @@ TEST_CASE("denoise worker: a result carries its generation and samples", "[denoi
     CHECK(out->image[1].x == 3.0f);
     CHECK(out->device == "test");
     CHECK_FALSE(w.take().has_value());   // taken once
-    REQUIRE(eventually([&] { return !w.busy(); }));
+    test::waitUntil("the worker going idle", [&] { return !w.busy(); });
 }
 
 TEST_CASE("denoise worker: requests never wait, and a waiting job is replaced", "[denoise]") {
     Gate gate;
     DenoiseWorker w(gate.fn());
     w.request(job(1, 4, 1.0f));
-    REQUIRE(eventually([&] { return gate.entered.load() == 1; }));   // job 1 is running, blocked
-    const auto t0 = std::chrono::steady_clock::now();
-    w.request(job(1, 8, 2.0f));     // waits
-    w.request(job(2, 12, 3.0f));    // replaces it
-    CHECK(std::chrono::steady_clock::now() - t0 < 500ms);   // the UI thread was not held up
+    test::waitUntil("the first job starting", [&] { return gate.entered.load() == 1; });   // job 1 is running, blocked
+    // Two requests while job 1 is held in the denoiser (the gate opens only after both return):
+    // a request that waited for the running job would never return.
+    auto requests = std::async(std::launch::async, [&w] {
+        w.request(job(1, 8, 2.0f));     // waits
+        w.request(job(2, 12, 3.0f));    // replaces it
+    });
+    if (requests.wait_for(std::chrono::duration<double>(test::kHangGuardSeconds)) != std::future_status::ready) {
+        gate.release();
+        FAIL("request() waited for the running job");
+    }
     CHECK(w.busy());
     CHECK_FALSE(w.take().has_value());
     gate.release();
-    REQUIRE(eventually([&] { return !w.busy() && w.jobsStarted() == 2; }));
+    test::waitUntil("the worker finishing both jobs", [&] { return !w.busy() && w.jobsStarted() == 2; });
     std::optional<DenoiseOutput> out = w.take();   // the newest result only
     REQUIRE(out.has_value());
     CHECK(out->generation == 2);
@@ -114,11 +113,11 @@ TEST_CASE("denoise worker: an edit drops a waiting job of the old generation", "
     Gate gate;
     DenoiseWorker w(gate.fn());
     w.request(job(3, 4, 1.0f));
-    REQUIRE(eventually([&] { return gate.entered.load() == 1; }));
+    test::waitUntil("the first job starting", [&] { return gate.entered.load() == 1; });
     w.request(job(3, 8, 1.0f));
     w.dropOlderThan(4);
     gate.release();
-    REQUIRE(eventually([&] { return !w.busy(); }));
+    test::waitUntil("the worker going idle", [&] { return !w.busy(); });
     CHECK(w.jobsStarted() == 1);
     std::optional<DenoiseOutput> out = w.take();
     REQUIRE(out.has_value());
@@ -136,11 +135,11 @@ TEST_CASE("denoise worker: failures and exceptions come back as errors", "[denoi
     });
     w.request(job(1, 1, 1.0f));
     std::optional<DenoiseOutput> out;
-    REQUIRE(eventually([&] { out = w.take(); return out.has_value(); }));
+    test::waitUntil("a result", [&] { out = w.take(); return out.has_value(); });
     CHECK_FALSE(out->ok);
     CHECK(out->error == "no device");
     w.request(job(1, 1, 1.0f));
-    REQUIRE(eventually([&] { out = w.take(); return out.has_value(); }));
+    test::waitUntil("a result", [&] { out = w.take(); return out.has_value(); });
     CHECK_FALSE(out->ok);
     CHECK(out->error == "boom");
 }
@@ -152,7 +151,7 @@ TEST_CASE("denoise worker: a wrong-sized result is an error", "[denoise]") {
     });
     w.request(job(1, 1, 1.0f));
     std::optional<DenoiseOutput> out;
-    REQUIRE(eventually([&] { out = w.take(); return out.has_value(); }));
+    test::waitUntil("a result", [&] { out = w.take(); return out.has_value(); });
     CHECK_FALSE(out->ok);
     CHECK(out->image.empty());
 }
@@ -163,7 +162,7 @@ TEST_CASE("denoise worker: the destructor joins while a job runs and drops the w
     {
         DenoiseWorker w(gate.fn());
         w.request(job(1, 1, 1.0f));
-        REQUIRE(eventually([&] { return gate.entered.load() == 1; }));
+        test::waitUntil("the first job starting", [&] { return gate.entered.load() == 1; });
         w.request(job(1, 2, 1.0f));
         releaser = std::thread([&gate] {
             std::this_thread::sleep_for(50ms);

@@ -1,4 +1,4 @@
-"""The real editor under Xvfb with Mesa: a scripted session (editor/model/script.h) on the
+"""The real editor under Xvfb with Mesa: a scripted session (editor/script/script.h) on the
 Cornell box. Checks that frames render, that an object moved by a command appears moved in the
 image, that undo restores the first image exactly, that a gizmo-style drag is one undo step, that a
 broken scene is refused with its JSON path while the current scene stays, that the saved scene

@@ -9,7 +9,6 @@
 //    saved with the inspector open is the same file).
 #include "editor/ui/editor_ui.h"
 #include "editor/ui/param_widgets.h"
-#include "editor/ui/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
@@ -101,7 +100,7 @@ void checkBounds(const T& value, const std::vector<WidgetRecord>& trace) {
 
 template <class T>
 void checkInspector(HeadlessImGui& imgui, EditorUi& ui, EntityRef ref, const T& value) {
-    ui.state.selection = ref;
+    ui.app.state.selection = ref;
     imgui.frame(ui);  // the first frame lays out
     const std::vector<WidgetRecord> trace = imgui.frame(ui);
     INFO("entity kind " << int(ref.kind) << " index " << ref.index);
@@ -114,13 +113,14 @@ void checkInspector(HeadlessImGui& imgui, EditorUi& ui, EntityRef ref, const T& 
 TEST_CASE("the inspector draws every schema parameter with the loader's range, and touching nothing changes nothing",
           "[inspector]") {
     HeadlessImGui imgui;
-    EditorUi ui;
-    ui.state.scene = test::everyTypeScene();
-    const std::string before = sceneToJson(ui.state.scene);
+    AppState app;
+    EditorUi ui(app);
+    ui.app.state.scene = test::everyTypeScene();
+    const std::string before = sceneToJson(ui.app.state.scene);
     REQUIRE(!before.empty());
     REQUIRE(parseScene(before, "every-type.json"));  // a valid scene
 
-    const Scene& s = ui.state.scene;
+    const Scene& s = ui.app.state.scene;
     for (int i = 0; i < int(s.materials.size()); ++i)
         checkInspector(imgui, ui, {EntityKind::Material, i}, s.materials[size_t(i)]);
     for (int i = 0; i < int(s.lights.size()); ++i) checkInspector(imgui, ui, {EntityKind::Light, i}, s.lights[size_t(i)]);
@@ -128,15 +128,15 @@ TEST_CASE("the inspector draws every schema parameter with the loader's range, a
         checkInspector(imgui, ui, {EntityKind::Object, i}, s.objects[size_t(i)]);
     checkInspector(imgui, ui, {EntityKind::Camera, -1}, s.camera);
     checkInspector(imgui, ui, {EntityKind::Render, -1}, s.render);
-    const EnvironmentType environmentBefore = ui.state.scene.environment.type;
+    const EnvironmentType environmentBefore = ui.app.state.scene.environment.type;
     for (const EnumChoice& c : enumChoices(EnvironmentType{})) {
-        ui.state.scene.environment.type = static_cast<EnvironmentType>(c.value);
-        checkInspector(imgui, ui, {EntityKind::Environment, -1}, ui.state.scene.environment);
+        ui.app.state.scene.environment.type = static_cast<EnvironmentType>(c.value);
+        checkInspector(imgui, ui, {EntityKind::Environment, -1}, ui.app.state.scene.environment);
     }
-    ui.state.scene.environment.type = environmentBefore;
+    ui.app.state.scene.environment.type = environmentBefore;
 
-    CHECK(ui.state.history.revision() == 0);
-    CHECK(sceneToJson(ui.state.scene) == before);
+    CHECK(ui.app.state.history.revision() == 0);
+    CHECK(sceneToJson(ui.app.state.scene) == before);
 }
 
 TEST_CASE("every scene of scenes/ is unchanged by the inspector drawn over each of its entities", "[inspector]") {
@@ -149,20 +149,21 @@ TEST_CASE("every scene of scenes/ is unchanged by the inspector drawn over each 
         INFO(loaded.error);
         REQUIRE(loaded);
         ++scenes;
-        EditorUi ui;
-        ui.state.scene = *loaded.scene;
-        const std::string before = sceneToJson(ui.state.scene);
+        AppState app;
+    EditorUi ui(app);
+        ui.app.state.scene = *loaded.scene;
+        const std::string before = sceneToJson(ui.app.state.scene);
         std::vector<EntityRef> refs = {{EntityKind::Camera, -1}, {EntityKind::Render, -1}, {EntityKind::Environment, -1}};
-        for (int i = 0; i < int(ui.state.scene.materials.size()); ++i) refs.push_back({EntityKind::Material, i});
-        for (int i = 0; i < int(ui.state.scene.objects.size()); ++i) refs.push_back({EntityKind::Object, i});
-        for (int i = 0; i < int(ui.state.scene.lights.size()); ++i) refs.push_back({EntityKind::Light, i});
+        for (int i = 0; i < int(ui.app.state.scene.materials.size()); ++i) refs.push_back({EntityKind::Material, i});
+        for (int i = 0; i < int(ui.app.state.scene.objects.size()); ++i) refs.push_back({EntityKind::Object, i});
+        for (int i = 0; i < int(ui.app.state.scene.lights.size()); ++i) refs.push_back({EntityKind::Light, i});
         for (const EntityRef& ref : refs) {
-            ui.state.selection = ref;
+            ui.app.state.selection = ref;
             for (int f = 0; f < 3; ++f) imgui.frame(ui);
         }
         INFO(name);
-        CHECK(ui.state.history.revision() == 0);
-        CHECK(sceneToJson(ui.state.scene) == before);
+        CHECK(ui.app.state.history.revision() == 0);
+        CHECK(sceneToJson(ui.app.state.scene) == before);
     }
     CHECK(scenes >= 5);
 }

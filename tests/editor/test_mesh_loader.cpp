@@ -4,6 +4,7 @@
 #include "editor/model/editor_state.h"
 #include "editor/model/mesh_loader.h"
 #include "renderer/gpu_scene.h"
+#include "tests/editor/hang_guard.h"
 #include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
@@ -22,7 +23,7 @@ namespace {
 std::vector<MeshLoadResult> drain(MeshLoader& loader, std::size_t expected) {
     std::vector<MeshLoadResult> all;
     for (int i = 0; i < 600 && all.size() < expected; ++i) {
-        REQUIRE(loader.waitIdle(30.0));
+        if (!loader.waitIdle(test::kHangGuardSeconds)) FAIL("hung: the mesh loader never went idle");
         for (auto& r : loader.poll()) all.push_back(std::move(r));
     }
     return all;
@@ -99,7 +100,7 @@ TEST_CASE("the mesh loader cancels and joins cleanly", "[editor][mesh]") {
         loader.request(file);
         loader.request(file);
         loader.cancel();
-        REQUIRE(loader.waitIdle(30.0));
+        if (!loader.waitIdle(test::kHangGuardSeconds)) FAIL("hung: the mesh loader never went idle");
         CHECK(loader.poll().empty());         // neither the cancelled import nor the queued one
         CHECK_FALSE(loader.busy());
         // It still works after a cancel.

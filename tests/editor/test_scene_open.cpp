@@ -3,7 +3,9 @@
 // the object and file, and the loader's per-request cancel that a superseded open uses.
 #include "editor/model/editor_state.h"
 #include "editor/model/scene_open.h"
+#include "renderer/gpu_scene.h"
 #include "renderer/scene_io.h"
+#include "tests/editor/hang_guard.h"
 #include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
@@ -134,7 +136,7 @@ TEST_CASE("the mesh loader cancels single requests and leaves the others", "[edi
     loader.cancel({a, c});   // the one in progress (or queued) and a queued one
     std::vector<MeshLoadResult> all;
     for (int i = 0; i < 100 && all.size() < 2; ++i) {
-        REQUIRE(loader.waitIdle(30.0));
+        if (!loader.waitIdle(test::kHangGuardSeconds)) FAIL("hung: the mesh loader never went idle");
         for (auto& r : loader.poll()) all.push_back(std::move(r));
     }
     REQUIRE(all.size() == 2);

@@ -1,9 +1,8 @@
 // The viewport's CPU geometry: rays match the GPU camera, picking finds what is under a pixel,
-// camera navigation, and the inverse of Transform::toMatrix; plus the frame pacer and scripts.
+// camera navigation, and the inverse of Transform::toMatrix; plus the frame pacer.
 #include "editor/model/editor_state.h"
 #include "tests/editor/cornell_state.h"
 #include "editor/model/frame_pacer.h"
-#include "editor/model/script.h"
 #include "editor/model/viewport_math.h"
 #include "renderer/gpu_scene.h"
 #include "tests/support/meshes.h"
@@ -211,20 +210,6 @@ TEST_CASE("the frame pacer turns measured speed into a preview size", "[editor]"
     CHECK(p.previewDivisor(1000 * 65536, 0.025) == 8); // at most 8
     p.record(1, 65536, 0.1);   // the scene became heavier: the estimate follows quickly
     CHECK(p.secondsPerSample(65536) > 0.05);
-}
-
-TEST_CASE("scripts parse with quotes and comments, mistakes name the line", "[editor]") {
-    ScriptParseResult r = parseScript("# a comment\nselect object \"small box\"\n\ntranslate 0.1 0 -2e-1  # move\nquit\n", "s.txt");
-    REQUIRE(r.error.empty());
-    REQUIRE(r.lines.size() == 3);
-    CHECK(r.lines[0].op == "select");
-    CHECK(r.lines[0].args == std::vector<std::string>{"object", "small box"});
-    CHECK(r.lines[1].line == 4);
-    CHECK(r.lines[1].args[2] == "-2e-1");
-    CHECK(parseScript("fly 1", "s.txt").error == "s.txt:1: unknown command 'fly'");
-    CHECK(parseScript("quit\ntranslate 1 2", "s.txt").error == "s.txt:2: translate: expected 3 arguments, got 2");
-    CHECK(parseScript("wait_samples many", "s.txt").error == "s.txt:1: wait_samples: argument 1: expected a number, got 'many'");
-    CHECK(parseScript("select \"open", "s.txt").error == "s.txt:1: unterminated quote");
 }
 
 TEST_CASE("light outlines: a rect's corners and normal, a sphere's silhouette, a spot's cone, a point's axes",

@@ -1,7 +1,7 @@
 // Editor scripts: a text file of editor commands, one per line, replayed by the real editor
 // (`CAUSTIC_EDITOR_SCRIPT=file caustic scene.json`) so end-to-end tests and measurements drive
-// the same code paths as the mouse. docs/editor.md lists the commands. Words are separated by
-// spaces; "double quotes" group words; # starts a comment.
+// the same code paths as the mouse. The commands are one table (script_commands.h); docs/editor.md
+// describes each. Words are separated by spaces; "double quotes" group words; # starts a comment.
 #pragma once
 
 #include <optional>
