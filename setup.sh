@@ -15,7 +15,7 @@ log() { printf '== %s\n' "$*" >&2; }
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
-# 1. Debian packages (shared/docs/dependencies.md says why each one and where from).
+# 1. Debian packages (docs/dependencies.md says why each one and where from).
 packages=(
   build-essential cmake ninja-build pkg-config python3 python3-venv
   libglm-dev nlohmann-json3-dev catch2
@@ -77,7 +77,7 @@ if ! "$venv/bin/python" -c 'import glad, sys; sys.exit(0 if glad.__version__ == 
 fi
 
 # 2b. Dear ImGui (docking) and ImGuizmo for the editor, from the imgui-bundle 1.93.0 sdist on PyPI
-# (shared/docs/dependencies.md): download once, check the sha256, extract only the needed files
+# (docs/dependencies.md): download once, check the sha256, extract only the needed files
 # into .deps/imgui (cmake/imgui.cmake builds them). The stamp file makes a repeat run skip this.
 imgui_sdist=imgui_bundle-1.93.0.tar.gz
 imgui_sha=10ad1dab8258a6787b4f07bb926b08d0efc648a7906242568c8dd778c5e719bf
@@ -110,7 +110,7 @@ if [ "$(cat "$imgui_dir/.stamp" 2>/dev/null)" != "$imgui_sha" ]; then
 fi
 
 # 2c. Intel Open Image Denoise 2.5.1 (--oidn): the libraries from the pyoidn wheel, the headers
-# from the mitsuba-oidn sdist (shared/docs/dependencies.md), sha256-checked, only the needed files,
+# from the mitsuba-oidn sdist (docs/dependencies.md), sha256-checked, only the needed files,
 # into .deps/oidn/{lib,include} (a CMake prefix). config.h is made from config.h.in: version
 # 2.5.1, no API namespace, shared libraries. Python's zipfile extracts the wheel (no unzip needed).
 oidn_whl=pyoidn-2.5.1.0-py3-none-manylinux2014_x86_64.whl

@@ -1,6 +1,6 @@
 # Dear ImGui (docking branch) and ImGuizmo for the editor, built as static libraries from the files
 # setup.sh extracts from the PyPI sdist imgui-bundle==1.93.0 into .deps/imgui (see
-# shared/docs/dependencies.md: the hello_imgui copy of ImGui is plain upstream docking).
+# docs/dependencies.md: the hello_imgui copy of ImGui is plain upstream docking).
 # Third-party code: compiled without our warning flags, included as SYSTEM headers.
 set(CAUSTIC_IMGUI_DIR "${CAUSTIC_DEPS_DIR}/imgui" CACHE PATH "Extracted Dear ImGui + ImGuizmo (setup.sh)")
 if(NOT EXISTS "${CAUSTIC_IMGUI_DIR}/imgui/imgui.cpp" OR NOT EXISTS "${CAUSTIC_IMGUI_DIR}/imguizmo/ImGuizmo.cpp")

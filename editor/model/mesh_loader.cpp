@@ -1,6 +1,6 @@
 #include "editor/model/mesh_loader.h"
 
-#include "renderer/gpu_scene.h"   // MeshCacheEntry's definition: the worker makes the entries
+#include "renderer/mesh_cache.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,7 +3,7 @@
 # the benchmarks and the GPU test binary from build/ (Release), the shared libraries they need that
 # the GPU machine lacks (Assimp and its dependencies, Open Image Denoise), xz-compressed so they
 # fit the 64 MiB a command may carry, and the GLVND packages (libEGL/libGL dispatch), which that
-# machine's NVIDIA driver install lacks (shared/docs/gpu-machine.md).
+# machine's NVIDIA driver install lacks (docs/dependencies.md, "The NVIDIA machine").
 #   tests/gpu_machine/pack.sh        then carry [".gpu"] and run tests/gpu_machine/run.sh there
 set -euo pipefail
 cd "$(dirname "$0")/../.."
