@@ -41,7 +41,7 @@ fi
 # Debian 12's own Mesa 22.3 runs both sides of every branch and every loop body at least once for
 # all 8 lanes of a SIMD group, whether or not a lane takes it; Mesa 25's llvmpipe jumps over code no
 # lane of the group needs. Measured on 22 scenes: 0.98x on the Cornell box, 1.4-3.8x on the other
-# 21 (docs/performance.md, session 12). The same packages Debian 12 installs, from Debian's own
+# 21 (docs/performance.md, "Why llvmpipe's defaults are what they are"). The same packages Debian 12 installs, from Debian's own
 # archive, signed with the same key. CAUSTIC_STOCK_MESA=1 keeps Debian 12's Mesa (everything works
 # on it, slower); a machine that is not Debian 12 keeps its own.
 mesa_packages=(libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libgbm1 mesa-libgallium)

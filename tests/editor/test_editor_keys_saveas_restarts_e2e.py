@@ -1,4 +1,4 @@
-"""The real editor under Xvfb with Mesa (issue 15, the bugs a new user hit): scripted sessions on
+"""The real editor under Xvfb with Mesa (the bugs a new user hits first): scripted sessions on
 the Cornell box. EditorDeleteKey: Del deletes the selection when the viewport or the outliner has
 the keyboard (keyboard navigation made ImGui's WantCaptureKeyboard always true, so it never did),
 and not when another panel does. EditorSaveAsElsewhere: the sky-spheres scene (which names
@@ -154,7 +154,7 @@ quit
 class EditorFallbackNotice(EditorSessionCase):
     """The integrator built for the scene fails to compile (a copy of the shaders broken where only
     the scene-specialised build reads them): the general integrator renders it, and the status bar
-    says so instead of only the terminal (session 22)."""
+    says so instead of only the terminal."""
 
     @classmethod
     def setUpClass(cls):
