@@ -19,6 +19,9 @@ CHECK_ROWS(GpuLight, GPU_LIGHT_ROWS)
 CHECK_ROWS(GpuLightNode, GPU_LIGHT_NODE_ROWS)
 CHECK_ROWS(GpuFrame, GPU_FRAME_ROWS)
 #undef CHECK_ROWS
+static_assert(offsetof(GpuMaterial, info) == 16 * GPU_MATERIAL_ROW_INFO &&
+                  offsetof(GpuMaterial, textures) == 16 * GPU_MATERIAL_ROW_TEXTURES,
+              "GPU_MATERIAL_ROW_INFO and GPU_MATERIAL_ROW_TEXTURES are not the rows of info and textures");
 static_assert(sizeof(GpuBvhNode) == sizeof(caustic::BvhNode));
 }  // namespace gpu
 

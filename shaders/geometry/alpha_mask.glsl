@@ -23,17 +23,17 @@
 #include "surface.glsl"
 
 // The material's info (x: MAT_*, y: MAT_FLAG_*, z: cutoff bits) and texture slots, without the
-// other six texels of loadMaterial.
+// other texels of loadMaterial (their rows: GPU_MATERIAL_ROW_* in shared/layout.h).
 uvec4 alphaMaskMaterialInfo(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    return FETCH_U4(materialTexels, 8u * i + 3u);
+    return FETCH_U4(materialTexels, GPU_ROW_COUNT(GPU_MATERIAL_ROWS) * i + GPU_MATERIAL_ROW_INFO);
 #else
     return materials[i].info;
 #endif
 }
 uint alphaMaskAlbedoTexture(uint i) {
 #ifdef CAUSTIC_FETCH_TEXELS
-    return FETCH_U4(materialTexels, 8u * i + 6u).x;
+    return FETCH_U4(materialTexels, GPU_ROW_COUNT(GPU_MATERIAL_ROWS) * i + GPU_MATERIAL_ROW_TEXTURES).x;
 #else
     return materials[i].textures.x;
 #endif

@@ -16,7 +16,7 @@ bool wideDescend(inout uint ref, vec3 o, vec3 invD, float tMax, out uvec3 far, o
     // The node's four texels (GpuWideBvhNode), its boxes decoded from bytes: bound = origin +
     // q * scale, exact product, so the decoded box is the one renderer/bvh_wide.cpp checked contains
     // the child's.
-    uint t0 = 4u * ref;
+    uint t0 = GPU_ROW_COUNT(GPU_WIDE_BVH_NODE_ROWS) * ref;
     uvec4 head = FETCH_U4(wideNodeTexels, t0), qXY = FETCH_U4(wideNodeTexels, t0 + 1u);
     uvec2 qZ = FETCH_U4(wideNodeTexels, t0 + 2u).xy;
     uvec4 child = FETCH_U4(wideNodeTexels, t0 + 3u);

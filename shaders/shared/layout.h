@@ -281,6 +281,10 @@ CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 #define GPU_MATERIAL_ROWS(V4, U4, V3U, UUUU) \
     V4(albedo) V4(emission) V4(params) U4(info) V4(eta) V4(k) U4(textures) V4(sheen)
 CAUSTIC_STRUCT(GpuMaterial) { GPU_DECLARE(GPU_MATERIAL_ROWS) };
+// The rows that traversal's alpha test reads alone (geometry/alpha_mask.glsl); renderer/gpu_scene.cpp
+// checks them against the list, so a row inserted before them fails the build.
+#define GPU_MATERIAL_ROW_INFO 3u
+#define GPU_MATERIAL_ROW_TEXTURES 6u
 
 // A texture in the texel buffer: its mip levels follow each other from `offset`, level l being
 // max(1, width >> l) x max(1, height >> l) texels, rows top to bottom.
