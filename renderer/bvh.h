@@ -76,7 +76,7 @@ inline constexpr std::uint32_t kBvhMaxLeafCount = (1u << 30) - 1u;  // what coun
 // entries per level. Deeper subtrees (only possible with pathological input: a binned SAH build of
 // a million-triangle mesh is 30 deep) are made into larger leaves. 32, not more: the GPU stack's
 // size (shaders/geometry/bvh.glsl, BVH_STACK_SIZE) follows from it, and on NVIDIA the integrator's
-// speed follows from the stack's size (docs/performance.md, "integrator profile").
+// speed follows from the stack's size (docs/performance.md, "The integrator profile (H100)").
 inline constexpr int kBvhMaxDepth = 32;
 
 struct BvhBuildOptions {

@@ -32,9 +32,9 @@ bool hasAlphaMask(const CompiledScene& c) {
 
 // The unspecialised program's one feature define: alpha masks are compiled in only for a scene
 // that has one. Their test sits in traversal's innermost loop, where code size costs every ray on
-// a GPU (docs/performance.md, "integrator profile"), so a scene without masks must not pay for it
-// where specialisation is off either (NVIDIA, by default). With 0 the code is still compiled (a
-// constant-false branch), so the general program still checks the whole source.
+// a GPU (docs/performance.md, "The integrator profile (H100)"), so a scene without masks must not
+// pay for it where specialisation is off either (NVIDIA, by default). With 0 the code is still
+// compiled (a constant-false branch), so the general program still checks the whole source.
 ShaderDefines generalDefines(bool alphaMask) { return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}}; }
 
 

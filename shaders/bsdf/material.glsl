@@ -18,7 +18,7 @@
 // The material with its albedo and roughness textures applied; coneWidth = the ray cone's width
 // at the hit divided by |cos| (world length). The slots are visited by one loop with one texture
 // lookup in it, rather than one lookup per slot: the integrator inlines everything, and three
-// inlined trilinear lookups cost registers on NVIDIA (docs/performance.md, "integrator profile").
+// inlined trilinear lookups cost registers on NVIDIA (docs/performance.md, "The integrator profile (H100)").
 // The normal map's value (slot y) is returned in `normalTexel` (tangent space, in [-1, 1]; z = 1
 // without a normal map) for shadingNormalAt.
 GpuMaterial materialAtSurface(GpuMaterial m, SurfacePoint s, float coneWidth, out vec3 normalTexel) {

@@ -145,7 +145,7 @@ bool intersectPrimitiveT(uint index, vec3 o, vec3 d, float tMax, out float t);
 // of local memory per invocation); one shared array made the integrator 3x faster on an H100.
 // Its size matters as much: entries are node indices only (4 bytes), not (node, entry distance)
 // pairs; halving the stack's bytes doubled the speed again, more than culling popped nodes that
-// start beyond the closest hit ever saved (docs/performance.md, "integrator profile").
+// start beyond the closest hit ever saved (docs/performance.md, "The integrator profile (H100)").
 uint g_bvhStack[BVH_STACK_SIZE];
 
 // The walks' statistics (CAUSTIC_WALK_STATS: a benchmark aid, never on by default; the entry
