@@ -77,6 +77,18 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
     case MaterialType::Dielectric:
         // A roughness map can make any point rough, so a textured dielectric is always rough.
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
+        // Beer-Lambert absorption inside, OpenPBR's transmission_color / transmission_depth (OpenPBR
+        // Surface 1.1, "Transmission": the medium's extinction is -ln(color) / depth per channel; no
+        // scattering here, so it is all absorption). Depth 0 (or a white colour): none, the flag stays
+        // clear and the material is what it was before these parameters existed.
+        if (m.transmissionDepth > 0.0f) {
+            const glm::vec3 c = glm::clamp(m.transmissionColor, glm::vec3(1e-6f), glm::vec3(1.0f));
+            const glm::vec3 sigmaA = -glm::log(c) / m.transmissionDepth;
+            if (glm::any(glm::greaterThan(sigmaA, glm::vec3(0.0f)))) {
+                g.k = glm::vec4(sigmaA, 0);
+                flags |= MAT_FLAG_ABSORBING;
+            }
+        }
         break;
     case MaterialType::Conductor: {
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_CONDUCTOR : MAT_ROUGH_CONDUCTOR;
