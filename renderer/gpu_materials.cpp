@@ -177,6 +177,14 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
                                       "roughness factor is used)");
         if (in.clearcoat > 0.0f || glm::any(glm::greaterThan(in.sheenColor, glm::vec3(0.0f))))
             unmapped->push_back(who + "clearcoat and sheen of a transmissive material are not mapped");
+        // KHR_materials_volume: the light that travels attenuationDistance inside keeps
+        // attenuationColor, which is OpenPBR's transmission_color at transmission_depth. The
+        // distance is in the file's world units, taken as scene units (an object's scale does not
+        // scale it). A black channel would be an infinite coefficient: at least 1e-4.
+        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f)))) {
+            m.transmissionColor = glm::clamp(in.attenuationColor, glm::vec3(1e-4f), glm::vec3(1.0f));
+            m.transmissionDepth = in.attenuationDistance;
+        }
     } else {
         // The layered surface, by the glTF-to-OpenPBR correspondence (OpenPBR Surface 1.1,
         // appendix "glTF PBR"): base colour, metalness (per texel with a metallic-roughness
@@ -202,6 +210,9 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
         m.sheenRoughness = std::clamp(in.sheenRoughness, 0.0f, 1.0f);
         // The roughness slot holds the baked texture (roughness in R, metalness in G).
         if (!in.metallicRoughnessTexture.empty()) m.roughnessTexture = in.metallicRoughnessTexture;
+        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f))))
+            unmapped->push_back(who + "KHR_materials_volume's attenuation without transmission is not mapped (the "
+                                      "surface material has no interior)");
         (void)mr;
     }
     if (!in.baseColorTexture.empty()) m.albedoTexture = in.baseColorTexture;
