@@ -77,6 +77,18 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
     case MaterialType::Dielectric:
         // A roughness map can make any point rough, so a textured dielectric is always rough.
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
+        // Beer-Lambert absorption inside, OpenPBR's transmission_color / transmission_depth (OpenPBR
+        // Surface 1.1, "Transmission": the medium's extinction is -ln(color) / depth per channel; no
+        // scattering here, so it is all absorption). Depth 0 (or a white colour): none, the flag stays
+        // clear and the material is what it was before these parameters existed.
+        if (m.transmissionDepth > 0.0f) {
+            const glm::vec3 c = glm::clamp(m.transmissionColor, glm::vec3(1e-6f), glm::vec3(1.0f));
+            const glm::vec3 sigmaA = -glm::log(c) / m.transmissionDepth;
+            if (glm::any(glm::greaterThan(sigmaA, glm::vec3(0.0f)))) {
+                g.k = glm::vec4(sigmaA, 0);
+                flags |= MAT_FLAG_ABSORBING;
+            }
+        }
         break;
     case MaterialType::Conductor: {
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_CONDUCTOR : MAT_ROUGH_CONDUCTOR;
@@ -165,6 +177,14 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
                                       "roughness factor is used)");
         if (in.clearcoat > 0.0f || glm::any(glm::greaterThan(in.sheenColor, glm::vec3(0.0f))))
             unmapped->push_back(who + "clearcoat and sheen of a transmissive material are not mapped");
+        // KHR_materials_volume: the light that travels attenuationDistance inside keeps
+        // attenuationColor, which is OpenPBR's transmission_color at transmission_depth. The
+        // distance is in the file's world units, taken as scene units (an object's scale does not
+        // scale it). A black channel would be an infinite coefficient: at least 1e-4.
+        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f)))) {
+            m.transmissionColor = glm::clamp(in.attenuationColor, glm::vec3(1e-4f), glm::vec3(1.0f));
+            m.transmissionDepth = in.attenuationDistance;
+        }
     } else {
         // The layered surface, by the glTF-to-OpenPBR correspondence (OpenPBR Surface 1.1,
         // appendix "glTF PBR"): base colour, metalness (per texel with a metallic-roughness
@@ -190,6 +210,9 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
         m.sheenRoughness = std::clamp(in.sheenRoughness, 0.0f, 1.0f);
         // The roughness slot holds the baked texture (roughness in R, metalness in G).
         if (!in.metallicRoughnessTexture.empty()) m.roughnessTexture = in.metallicRoughnessTexture;
+        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f))))
+            unmapped->push_back(who + "KHR_materials_volume's attenuation without transmission is not mapped (the "
+                                      "surface material has no interior)");
         (void)mr;
     }
     if (!in.baseColorTexture.empty()) m.albedoTexture = in.baseColorTexture;

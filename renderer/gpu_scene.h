@@ -149,7 +149,8 @@ bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScen
                   MeshCache* meshCache = nullptr, CompiledScene* reuse = nullptr);
 // A model file's material (glTF metallic-roughness terms and the material extensions the importer
 // read) as a caustic material: KHR_materials_transmission above 0.5 -> dielectric (ior, alpha =
-// roughness^2), everything else the layered surface (base colour, metallic, perceptual roughness,
+// roughness^2, KHR_materials_volume's attenuation colour and distance as transmission_color and
+// transmission_depth), everything else the layered surface (base colour, metallic, perceptual roughness,
 // ior, specular, clearcoat, sheen, emission; docs/scene-format.md lists the mapping); base colour,
 // normal (with its scale), emission and metallic-roughness textures carry over, the last in the
 // roughness slot (baked by bakeMetallicRoughness and wired by compileScene); alphaMode MASK and

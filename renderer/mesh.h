@@ -35,6 +35,8 @@ struct ImportedMaterial {
     std::string emissionTexture;
     float transmission = 0.0f;            // KHR_materials_transmission factor
     float ior = 1.5f;                     // KHR_materials_ior
+    glm::vec3 attenuationColor{1.0f};     // KHR_materials_volume: attenuationColor
+    float attenuationDistance = 0.0f;     //   attenuationDistance (world units); 0: infinite, no absorption
     bool doubleSided = false;
     float specular = 1.0f;                // KHR_materials_specular: specularFactor
     glm::vec3 specularColor{1.0f};        //   specularColorFactor

@@ -237,6 +237,8 @@ void applyGltfInfo(const std::string& path, const GltfInfo& info, MeshImportResu
         m.sheenColor = g.sheenColor;
         m.sheenRoughness = g.sheenRoughness;
         m.transmission = std::max(m.transmission, g.transmission);
+        m.attenuationColor = g.attenuationColor;
+        m.attenuationDistance = g.attenuationDistance;
         m.emission = g.emissiveFactor * g.emissiveStrength;
         m.setTextureWrap(TextureSlot::BaseColor, g.baseColor.wrapS, g.baseColor.wrapT);
         m.setTextureWrap(TextureSlot::MetallicRoughness, g.metallicRoughness.wrapS, g.metallicRoughness.wrapT);

@@ -40,7 +40,7 @@ namespace {
 
 // Update writeMesh/readMesh and writeMaterial/readMaterial when these change.
 static_assert(sizeof(Mesh) == 160, "a Mesh field was added: serialise it in mesh_import_child.cpp");
-static_assert(sizeof(ImportedMaterial) == 264,
+static_assert(sizeof(ImportedMaterial) == 280,
               "an ImportedMaterial field was added: serialise it in mesh_import_child.cpp");
 
 constexpr std::uint32_t kMagic = 0x31494d43;  // "CMI1"
@@ -121,6 +121,8 @@ void writeMaterial(Writer& w, const ImportedMaterial& m) {
     w.pod(m.alphaMode);
     w.pod(m.alphaCutoff);
     w.pod(m.wrap);
+    w.pod(m.attenuationColor);
+    w.pod(m.attenuationDistance);
 }
 
 bool readMaterial(Reader& r, ImportedMaterial& m) {
@@ -129,7 +131,7 @@ bool readMaterial(Reader& r, ImportedMaterial& m) {
            r.pod(m.emission) && r.str(m.emissionTexture) && r.pod(m.transmission) && r.pod(m.ior) && r.pod(m.doubleSided) &&
            r.pod(m.specular) && r.pod(m.specularColor) && r.pod(m.clearcoat) && r.pod(m.clearcoatRoughness) &&
            r.pod(m.sheenColor) && r.pod(m.sheenRoughness) && r.pod(m.alphaMode) && r.pod(m.alphaCutoff) &&
-           r.pod(m.wrap);
+           r.pod(m.wrap) && r.pod(m.attenuationColor) && r.pod(m.attenuationDistance);
 }
 
 void writeMesh(Writer& w, const Mesh& m) {

@@ -142,8 +142,17 @@ GltfMaterialInfo materialInfo(const Json& root, const Json& m) {
         out.transmission = unit(number(e, "transmissionFactor", 0.0f));
         if (member(e, "transmissionTexture").is_object()) out.ignored.push_back("KHR_materials_transmission transmissionTexture");
     }
-    if (const Json& e = member(ext, "KHR_materials_volume"); e.is_object())
-        out.ignored.push_back("KHR_materials_volume (thickness and attenuation: the glass is clear)");
+    if (const Json& e = member(ext, "KHR_materials_volume"); e.is_object()) {
+        // Attenuation is Beer-Lambert absorption inside (mapImportedMaterial: a dielectric's
+        // transmission_color / transmission_depth). The thickness (factor and texture) is a
+        // rasteriser's stand-in for the geometry a path tracer traces: nothing to map.
+        const float distance = number(e, "attenuationDistance", 0.0f);
+        if (std::isfinite(distance) && distance > 0.0f) {
+            out.attenuationDistance = distance;
+            out.attenuationColor = glm::clamp(colour(e, "attenuationColor", glm::vec3(1.0f)), glm::vec3(0.0f),
+                                              glm::vec3(1.0f));
+        }
+    }
     if (const Json& e = member(ext, "KHR_materials_emissive_strength"); e.is_object())
         out.emissiveStrength = std::max(0.0f, number(e, "emissiveStrength", 1.0f));
     return out;

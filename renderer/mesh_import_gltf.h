@@ -44,6 +44,8 @@ struct GltfMaterialInfo {
     glm::vec3 sheenColor{0.0f};
     float sheenRoughness = 0.0f;
     float transmission = 0.0f;
+    glm::vec3 attenuationColor{1.0f};  // KHR_materials_volume
+    float attenuationDistance = 0.0f;  // 0: absent or infinite (the extension's default)
     glm::vec3 emissiveFactor{0.0f};
     float emissiveStrength = 1.0f;
     std::vector<std::string> ignored;  // what the material has that is not mapped ("clearcoatTexture", ...)

@@ -90,9 +90,10 @@ std::string bakedInstanceTests(const CompiledScene& c) {
 
 ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c, bool bake) {
     std::uint32_t materials = 0, lights = 0, shapes = 0;
-    bool textures = false, emissionTextures = false;
+    bool textures = false, emissionTextures = false, absorption = false;
     for (const gpu::GpuMaterial& m : c.materials) {
         materials |= 1u << (m.info.x & 31u);
+        absorption = absorption || (m.info.y & MAT_FLAG_ABSORBING) != 0u;
         textures = textures || m.textures != glm::uvec4(0u);
         emissionTextures = emissionTextures || m.textures.w != 0u;
     }
@@ -120,6 +121,7 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
             {"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"},
             {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
+            {"CAUSTIC_ABSORPTION", absorption ? "1u" : "0u"},
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});

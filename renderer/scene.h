@@ -101,6 +101,10 @@ struct Material {
     float sigma = 0.5f;                // oren_nayar: facet slope deviation, radians [0, pi/2]
     float roughness = 0.0f;            // dielectric, conductor: GGX alpha [0, 1]; eon: r [0, 1] (default 0.5 set by type)
     float ior = 1.5f;                  // dielectric (default 1.5), transmission (default 1): n_inside / n_outside
+    // dielectric: Beer-Lambert absorption inside (OpenPBR's transmission_color / transmission_depth):
+    // light that travels transmissionDepth inside keeps transmissionColor; depth 0: no absorption.
+    glm::vec3 transmissionColor{1.0f}; // (0, 1] per channel
+    float transmissionDepth = 0.0f;    // scene units, >= 0
     bool energyCompensation = false;   // oren_nayar: global factor; conductor: multiple scattering
     Metal metal = Metal::Aluminium;    // conductor
     glm::vec3 eta{1.0f};               // conductor, metal == Custom: real part of the IOR, > 0

@@ -317,6 +317,23 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "energy_compensation", .label = "Multiple scattering", .kind = ParamKind::Bool,
          .member = &M::energyCompensation, .doc = "multiple-scattering compensation of rough GGX",
          .types = bits(T::Conductor)},
+        {.key = "transmission_color", .label = "Transmission colour", .kind = ParamKind::Colour,
+         .member = &M::transmissionColor, .range = [] {
+             Range r = greaterThan(0.0);
+             r.max = 1.0;
+             return r;
+         }(),
+         .doc = "OpenPBR's: the colour that light keeps after travelling `transmission_depth` inside (Beer-Lambert "
+                "absorption, sigma_a = -ln(colour) / depth per channel); needs `transmission_depth` > 0 unless it "
+                "is [1, 1, 1]. Closed, non-nested objects (docs/materials.md)",
+         .types = bits(T::Dielectric),
+         .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Absorption"},
+        {.key = "transmission_depth", .label = "Transmission depth", .kind = ParamKind::Float,
+         .member = &M::transmissionDepth, .range = atLeast(0), .unit = "m",
+         .doc = "OpenPBR's: the distance inside at which light has the colour `transmission_color`; 0: no "
+                "absorption (clear glass, today's behaviour)",
+         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
+         .speed = 0.01f},
         // surface (shaders/bsdf/surface.glsl), grouped as OpenPBR's panels are.
         {.key = "base_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::albedo,
          .range = between(0, 1), .doc = "`surface`: the diffuse albedo of the dielectric base, F0 of the metal",
@@ -544,6 +561,11 @@ std::optional<RuleViolation> checkRules(const RenderSettings&) { return std::nul
 
 std::optional<RuleViolation> checkRules(const Material& m) {
     if (m.name.empty()) return RuleViolation{"name", "must not be empty"};
+    // OpenPBR reads a colour at depth 0 as a surface tint; caustic's dielectric has `tint` for that,
+    // so a colour that would be ignored is refused rather than silently dropped.
+    if (m.type == MaterialType::Dielectric && m.transmissionDepth == 0.0f && m.transmissionColor != glm::vec3(1.0f))
+        return RuleViolation{"transmission_color",
+                             "needs transmission_depth > 0 (at depth 0 there is no absorption; `tint` tints the surface)"};
     return std::nullopt;
 }
 

@@ -9,6 +9,9 @@
 // costs one continuation ray and one shadow ray. Vertices whose material is purely specular skip
 // next event estimation (no light sample can have a non-zero BSDF value there).
 //
+// Absorption (CAUSTIC_ABSORPTION): the throughput is multiplied by exp(-sigma_a t) for each segment
+// that ends on the back face of an absorbing dielectric, i.e. that travelled inside it (pathShade).
+//
 // Glass splitting (frame.options.x & OPTION_GLASS_SPLIT; docs/design.md derives it): at a smooth
 // dielectric vertex the lobe not taken, when it leaves the medium, is traced too, by a probe ray
 // that only adds the emission it sees (with the lobe's weight, not over its probability); the
@@ -207,6 +210,18 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
 
     GpuMaterial mat = loadMaterial(hit.material);
     vec3 wo = -st.ray.d;
+
+    // Absorption inside a dielectric (MAT_FLAG_ABSORBING, Beer-Lambert: T = exp(-sigma_a t)). A ray
+    // that meets an absorbing dielectric from behind (the normal is the outward one) has travelled
+    // its interior over the whole segment, so the segment's transmittance goes into the throughput
+    // here, before anything at this vertex uses it: the emission seen here, next event estimation
+    // (whose shadow rays leave outwards: a dielectric blocks them), the continuation's weight, the
+    // glass-splitting probe's weight, Russian roulette, and through the throughput every later
+    // emission term (MIS-weighted or not). Valid for closed, non-nested objects and a camera
+    // outside them (docs/materials.md); compiled out where no material absorbs.
+    if (CAUSTIC_ABSORPTION != 0u && (HAS_MATERIAL(MAT_DIELECTRIC) || HAS_MATERIAL(MAT_ROUGH_DIELECTRIC)) &&
+        (mat.info.y & MAT_FLAG_ABSORBING) != 0u && dot(hit.ng, wo) < 0.0)
+        st.beta *= exp(-mat.k.rgb * hit.t);
 
     // Emission.
     vec3 Le = emittedTowards(hit, mat, wo);

@@ -44,6 +44,9 @@
 #ifndef CAUSTIC_ALPHA_MASK
 #define CAUSTIC_ALPHA_MASK 1u              // 0: no mesh has an alpha-masked material (geometry/alpha_mask.glsl)
 #endif
+#ifndef CAUSTIC_ABSORPTION
+#define CAUSTIC_ABSORPTION 1u              // 0: no dielectric absorbs inside (MAT_FLAG_ABSORBING; integrator/path.glsl)
+#endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)
 #endif

@@ -150,6 +150,8 @@ using uint = std::uint32_t;
 #define MAT_FLAG_METAL_TEXTURE 8u        // surface: the roughness texture's G channel is the metalness
 #define MAT_FLAG_ALPHA_MASK 16u          // cut-outs: rays pass where the albedo texture's alpha is below
                                          // uintBitsToFloat(info.z) (geometry/alpha_mask.glsl)
+#define MAT_FLAG_ABSORBING 32u           // dielectric: its interior absorbs, sigma_a = k.rgb (Beer-Lambert;
+                                         // integrator/path.glsl, CAUSTIC_ABSORPTION)
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 // The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
@@ -275,6 +277,8 @@ CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 //   params:   x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
 //   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
 //   eta, k:   conductors: rgb real and imaginary (extinction) parts of the complex IOR
+//             dielectrics with MAT_FLAG_ABSORBING: k.rgb the interior's absorption coefficient sigma_a
+//             (per scene unit; OpenPBR's -ln(transmission_color) / transmission_depth)
 //   textures: texture index + 1 (0: none): x albedo (linear RGB; A: the alpha of the cut-outs),
 //             y normal map, z roughness (R), w emission (linear RGB, times emission.rgb)
 //   sheen:    surface: rgb sheen colour (times its weight), w sheen roughness

@@ -1,10 +1,13 @@
 // Model files' materials (glTF metallic-roughness terms) mapped to caustic's.
 #include "renderer/gpu_scene.h"
 #include "renderer/mesh.h"
+#include "renderer/mesh_import.h"
+#include "tests/support/meshes.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 
 using namespace caustic;
 
@@ -149,4 +152,71 @@ TEST_CASE("glTF metallic-roughness textures: roughness from G, metalness from B,
     broken.pixels[4] = std::nanf("");
     CHECK_FALSE(bakeMetallicRoughness(broken, 1.0f, 1.0f, &baked, &error));
     CHECK(error.find("non-finite") != std::string::npos);
+}
+
+TEST_CASE("KHR_materials_volume's attenuation becomes a dielectric's absorption", "[cpu][materials][gltf]") {
+    // A glass whose light keeps [0.8, 0.5, 0.2] over 0.25 world units: OpenPBR's transmission_color at
+    // transmission_depth, which the glTF extension's attenuation colour and distance are.
+    std::vector<std::string> unmapped;
+    ImportedMaterial glass;
+    glass.name = "bottle";
+    glass.transmission = 1.0f;
+    glass.attenuationColor = glm::vec3(0.8f, 0.5f, 0.2f);
+    glass.attenuationDistance = 0.25f;
+    Material g = mapImportedMaterial(glass, &unmapped);
+    CHECK(g.type == MaterialType::Dielectric);
+    CHECK(g.transmissionColor == glm::vec3(0.8f, 0.5f, 0.2f));
+    CHECK(g.transmissionDepth == 0.25f);
+    CHECK(joined(unmapped).find("volume") == std::string::npos);
+    // A black channel: clamped to 1e-4 (a finite coefficient), as the loader would require.
+    glass.attenuationColor = glm::vec3(0.0f, 0.5f, 1.0f);
+    g = mapImportedMaterial(glass, &unmapped);
+    CHECK(g.transmissionColor == glm::vec3(1e-4f, 0.5f, 1.0f));
+    // No extension (distance 0: infinite) or a white colour: clear glass, as before.
+    glass.attenuationDistance = 0.0f;
+    CHECK(mapImportedMaterial(glass, &unmapped).transmissionDepth == 0.0f);
+    glass.attenuationDistance = 2.0f;
+    glass.attenuationColor = glm::vec3(1.0f);
+    CHECK(mapImportedMaterial(glass, &unmapped).transmissionDepth == 0.0f);
+    // Without transmission the surface material has no interior: reported.
+    ImportedMaterial opaque;
+    opaque.name = "opaque";
+    opaque.attenuationColor = glm::vec3(0.5f);
+    opaque.attenuationDistance = 1.0f;
+    unmapped.clear();
+    CHECK(mapImportedMaterial(opaque, &unmapped).type == MaterialType::Surface);
+    CHECK(joined(unmapped).find("material 'opaque': KHR_materials_volume") != std::string::npos);
+}
+
+TEST_CASE("a glTF file's KHR_materials_volume reaches the imported material through the import process",
+          "[cpu][materials][gltf]") {
+    test::TempDir dir;
+    const std::string file = dir.file("volume.gltf");
+    std::ofstream(file) << R"({"asset": {"version": "2.0"},
+      "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume"],
+      "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                     "min": [0, 0, 0], "max": [1, 1, 0]}],
+      "materials": [{"name": "amber", "extensions": {
+        "KHR_materials_transmission": {"transmissionFactor": 1},
+        "KHR_materials_volume": {"thicknessFactor": 0.1, "attenuationDistance": 0.5,
+                                 "attenuationColor": [0.9, 0.5, 0.1]}}}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+      "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})";
+    const MeshImportResult r = importMeshFile(file);
+    INFO(r.error);
+    REQUIRE(r.ok());
+    const ImportedMaterial* amber = nullptr;  // (Assimp may add its default material beside it)
+    for (const ImportedMaterial& im : r.materials)
+        if (im.name == "amber") amber = &im;
+    REQUIRE(amber != nullptr);
+    CHECK(amber->attenuationDistance == 0.5f);
+    CHECK(amber->attenuationColor == glm::vec3(0.9f, 0.5f, 0.1f));
+    for (const std::string& w : r.warnings) CHECK(w.find("KHR_materials_volume") == std::string::npos);
+    std::vector<std::string> unmapped;
+    const Material m = mapImportedMaterial(*amber, &unmapped);
+    CHECK(m.type == MaterialType::Dielectric);
+    CHECK(m.transmissionColor == glm::vec3(0.9f, 0.5f, 0.1f));
+    CHECK(m.transmissionDepth == 0.5f);
 }

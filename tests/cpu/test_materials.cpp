@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 using namespace caustic;
 
 namespace {
@@ -135,3 +137,66 @@ TEST_CASE("materials: textures are shared between materials and keep their size"
     CHECK(c.texels.size() == size_t(2 * (21 + 3 + 1)));
 }
 
+
+TEST_CASE("materials: dielectric absorption (OpenPBR transmission_color and transmission_depth)", "[materials][scene_io]") {
+    const Scene s = mustParse(R"({"version": 1, "materials": [
+      {"name": "amber", "type": "dielectric", "transmission_color": [0.8, 0.4, 0.1], "transmission_depth": 0.5},
+      {"name": "rough", "type": "dielectric", "roughness": 0.2, "transmission_color": [0.5, 1, 1], "transmission_depth": 2},
+      {"name": "clear", "type": "dielectric"},
+      {"name": "white at depth", "type": "dielectric", "transmission_depth": 3}
+    ]})");
+    CHECK(s.materials[0].transmissionColor == glm::vec3(0.8f, 0.4f, 0.1f));
+    CHECK(s.materials[0].transmissionDepth == 0.5f);
+    CHECK(s.materials[2].transmissionColor == glm::vec3(1.0f));  // the defaults: no absorption
+    CHECK(s.materials[2].transmissionDepth == 0.0f);
+    // Round trip; the keys are written only where they differ from the defaults, so files without
+    // absorption (and their hashes) are as before.
+    const std::string json = sceneToJson(s);
+    CHECK(mustParse(json).materials == s.materials);
+    CHECK(json.find("\"transmission_color\": [0.8, 0.4, 0.1]") != std::string::npos);
+    CHECK(json.find("\"transmission_depth\": 0.5") != std::string::npos);
+    const size_t clear = json.find("\"clear\"");
+    REQUIRE(clear != std::string::npos);
+    CHECK(json.find("transmission_", clear) > json.find("\"white at depth\""));
+
+    // sigma_a = -ln(colour) / depth per channel, in k.rgb, flagged; none for the others.
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, &c, &error));
+    CHECK(c.materials[0].info.x == MAT_DIELECTRIC);
+    CHECK(c.materials[0].info.y == MAT_FLAG_ABSORBING);
+    for (int i = 0; i < 3; ++i) {
+        const float expected = -std::log(glm::vec3(0.8f, 0.4f, 0.1f)[i]) / 0.5f;
+        CHECK(c.materials[0].k[i] == Approx(expected).epsilon(1e-6));
+    }
+    CHECK(c.materials[1].info.x == MAT_ROUGH_DIELECTRIC);
+    CHECK(c.materials[1].info.y == MAT_FLAG_ABSORBING);
+    CHECK(c.materials[1].k.x == Approx(std::log(2.0f) / 2.0f).epsilon(1e-6));
+    CHECK(c.materials[1].k.y == 0.0f);
+    CHECK(c.materials[2].info.y == 0u);  // clear glass: the GPU material of before, byte for byte
+    CHECK(c.materials[2].k == glm::vec4(0.0f));
+    CHECK(c.materials[3].info.y == 0u);  // white at any depth absorbs nothing
+    CHECK(c.materials[3].k == glm::vec4(0.0f));
+}
+
+TEST_CASE("materials: absorption parameters are checked", "[materials][scene_io]") {
+    auto errorOf = [](const std::string& material) {
+        SceneLoadResult r = parseScene(R"({"version": 1, "materials": [)" + material + "]}", "scenes/x.json");
+        return r.scene ? std::string() : r.error;
+    };
+    // The colour is in (0, 1]: 0 would be an infinite coefficient.
+    CHECK(errorOf(R"({"name": "g", "type": "dielectric", "transmission_color": [0, 0.5, 0.5], "transmission_depth": 1})")
+              .find("transmission_color") != std::string::npos);
+    CHECK(errorOf(R"({"name": "g", "type": "dielectric", "transmission_color": [1.2, 0.5, 0.5], "transmission_depth": 1})")
+              .find("transmission_color") != std::string::npos);
+    CHECK(errorOf(R"({"name": "g", "type": "dielectric", "transmission_depth": -1})").find("transmission_depth") !=
+          std::string::npos);
+    // A colour at depth 0 would be ignored: refused, naming the depth.
+    const std::string e = errorOf(R"({"name": "g", "type": "dielectric", "transmission_color": [0.5, 0.5, 0.5]})");
+    CHECK(e.find("transmission_color") != std::string::npos);
+    CHECK(e.find("transmission_depth") != std::string::npos);
+    // Only dielectrics take them.
+    CHECK(!errorOf(R"({"name": "g", "type": "diffuse", "transmission_depth": 1})").empty());
+    CHECK(errorOf(R"({"name": "g", "type": "dielectric", "transmission_color": [0.5, 0.5, 0.5], "transmission_depth": 1})")
+              .empty());
+}
