@@ -33,6 +33,21 @@ std::vector<std::string> wrapLabel(const std::string& label, std::size_t maxChar
     return out;
 }
 
+// Shortens `line` (whole UTF-8 code points from its end) until it and a trailing "..." fit in
+// `maxChars` characters, and appends the "...".
+void endWithEllipsis(std::string& line, std::size_t maxChars) {
+    auto codePoints = [](const std::string& t) {
+        std::size_t n = 0;
+        for (const char c : t) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+        return n;
+    };
+    while (!line.empty() && codePoints(line) + 3 > maxChars) {
+        while (!line.empty() && (static_cast<unsigned char>(line.back()) & 0xC0) == 0x80) line.pop_back();
+        if (!line.empty()) line.pop_back();  // the code point's lead byte
+    }
+    line += "...";
+}
+
 }  // namespace
 
 bool makeContactSheet(const std::vector<SheetCell>& cells, int columns, Sheet* sheet, std::string* error,
@@ -68,13 +83,32 @@ bool makeContactSheet(const std::vector<SheetCell>& cells, int columns, Sheet* s
     std::size_t maxLines = 1;
     for (const SheetCell& c : cells) {
         labels.push_back(wrapLabel(c.label, static_cast<std::size_t>(maxChars)));
-        maxLines = std::max(maxLines, labels.back().size());
+        // A label of more lines than kSheetMaxLabelLines keeps its first ones, the last of them
+        // ending in "..." (a sweep's label is a line or two; a longer one is not read under a cell).
+        std::vector<std::string>& lines = labels.back();
+        if (lines.size() > kSheetMaxLabelLines) {
+            lines.resize(kSheetMaxLabelLines);
+            endWithEllipsis(lines.back(), static_cast<std::size_t>(maxChars));
+        }
+        maxLines = std::max(maxLines, lines.size());
     }
     const int pad = 4 * scale;
     const int lineH = extent.height() + 2 * scale;
     const int labelH = static_cast<int>(maxLines) * lineH + pad;
-    sheet->width = columns * cellW + (columns + 1) * pad;
-    sheet->height = rows * (cellH + labelH) + (rows + 1) * pad;
+    // The sheet's size in 64 bits (cells within the limits can add up to more than an int holds),
+    // refused beyond kSheetMaxSide pixels a side or kSheetMaxBytes.
+    const std::int64_t width = std::int64_t(columns) * cellW + std::int64_t(columns + 1) * pad;
+    const std::int64_t height = std::int64_t(rows) * (std::int64_t(cellH) + labelH) + std::int64_t(rows + 1) * pad;
+    if (width > kSheetMaxSide || height > kSheetMaxSide || width * height * 3 > kSheetMaxBytes) {
+        *error = "contact sheet: " + std::to_string(cells.size()) + " cells of up to " + std::to_string(cellW) + " x " +
+                 std::to_string(cellH) + " pixels in " + std::to_string(columns) + " columns make a sheet of " +
+                 std::to_string(width) + " x " + std::to_string(height) + " pixels, more than the " +
+                 std::to_string(kSheetMaxSide) + " a side (or " + std::to_string(kSheetMaxBytes >> 20) +
+                 " MiB) a sheet may have: use more columns, smaller images or several sheets";
+        return false;
+    }
+    sheet->width = static_cast<int>(width);
+    sheet->height = static_cast<int>(height);
     sheet->rgb.assign(static_cast<size_t>(sheet->width) * sheet->height * 3, 24);  // dark grey
     // The sheet's pixels as an OpenImageIO image (no copy): render_text draws straight into them.
     OIIO::ImageBuf canvas(OIIO::ImageSpec(sheet->width, sheet->height, 3, OIIO::TypeDesc::UINT8), sheet->rgb.data());

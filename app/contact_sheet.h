@@ -9,6 +9,12 @@
 
 namespace caustic {
 
+// The largest sheet (pixels a side, and bytes of RGB): beyond, makeContactSheet refuses the layout.
+inline constexpr std::int64_t kSheetMaxSide = 65535;
+inline constexpr std::int64_t kSheetMaxBytes = std::int64_t(1) << 31;
+// A label keeps at most this many lines under its cell.
+inline constexpr std::size_t kSheetMaxLabelLines = 16;
+
 // The labels' font, from Debian's fonts-dejavu-core (setup.sh installs it).
 inline constexpr const char* kSheetFont = "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf";
 
@@ -25,8 +31,9 @@ struct Sheet {
 
 // Lays the cells out row by row, `columns` per row; each cell's label is printed under it
 // (several lines if it contains '\n' or is wider than the cell), scaled up for legibility on
-// large images, and never drawn outside its cell. False with a message when the font cannot be
-// loaded (a missing file names the Debian package).
+// large images, and never drawn outside its cell (at most kSheetMaxLabelLines lines, the last
+// ending in "..." when cut). False with a message when the font cannot be loaded (a missing file
+// names the Debian package) or when the sheet would exceed kSheetMaxSide or kSheetMaxBytes.
 bool makeContactSheet(const std::vector<SheetCell>& cells, int columns, Sheet* sheet, std::string* error,
                       const std::string& fontPath = kSheetFont);
 

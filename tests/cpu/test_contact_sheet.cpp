@@ -17,12 +17,12 @@ namespace {
 constexpr int kW = 64, kH = 48;
 constexpr std::array<std::array<std::uint8_t, 3>, 4> kColours = {{{200, 30, 30}, {30, 200, 30}, {30, 30, 200}, {200, 200, 30}}};
 
-// Four cells of one colour each, 2 x 2: the first three with the given labels, the fourth with 20
-// empty lines, so that every sheet made here has the same layout (no label here takes more).
+// Four cells of one colour each, 2 x 2: the first three with the given labels, the fourth with as
+// many empty lines as a label keeps (kSheetMaxLabelLines), so that every sheet made here has the same layout (no label here takes more).
 std::vector<SheetCell> cells(const std::array<std::string, 3>& labels) {
     std::vector<SheetCell> out;
     for (std::size_t i = 0; i < 4; ++i) {
-        SheetCell c{kW, kH, {}, i < 3 ? labels[i] : std::string(20, '\n')};
+        SheetCell c{kW, kH, {}, i < 3 ? labels[i] : std::string(kSheetMaxLabelLines, '\n')};
         for (int p = 0; p < kW * kH; ++p) c.rgb.insert(c.rgb.end(), kColours[i].begin(), kColours[i].end());
         out.push_back(std::move(c));
     }
@@ -133,4 +133,38 @@ TEST_CASE("contact sheet: a missing font is an error naming the file and the Deb
     CHECK(sheet.rgb.empty());
     // The font the program uses is there (setup.sh installs it).
     CHECK(makeContactSheet(cells({"a", "b", "c"}), 2, &sheet, &error));
+}
+
+TEST_CASE("contact sheet: a layout beyond the size limits is refused with its size, before anything is allocated",
+          "[sheet]") {
+    // Cells within the render limits whose sheet is taller than an int holds: one 1 x 65536 cell
+    // above 65,519 1 x 1 cells, one column (65,520 rows of 65,536 pixels and a label each).
+    std::vector<SheetCell> tall(65520, SheetCell{1, 1, {0, 0, 0}, "x"});
+    tall[0] = SheetCell{1, 65536, std::vector<std::uint8_t>(65536 * 3, 0), "tall"};
+    Sheet sheet;
+    std::string error;
+    CHECK_FALSE(makeContactSheet(tall, 1, &sheet, &error));
+    INFO(error);
+    CHECK(error.find("65520 cells of up to 1 x 65536 pixels in 1 columns") != std::string::npos);
+    CHECK(error.find("more than the 65535 a side") != std::string::npos);
+    CHECK(sheet.rgb.empty());
+    // One row of them instead is as wide as it is refused.
+    CHECK_FALSE(makeContactSheet(tall, 65520, &sheet, &error));
+    CHECK(sheet.rgb.empty());
+}
+
+TEST_CASE("contact sheet: a label of a megabyte keeps its first lines and ends in an ellipsis", "[sheet]") {
+    // Without the cut the label would take ~100,000 lines (a sheet too tall to draw); cut, the
+    // sheet is the one a label of kSheetMaxLabelLines lines makes, and it is drawn at once.
+    const Sheet huge = sheetOf(cells({std::string(1 << 20, 'w'), "", ""}), 2);
+    const Sheet full = sheetOf(cells({std::string(kSheetMaxLabelLines * 200, 'w'), "", ""}), 2);
+    const Sheet none = sheetOf(cells({"", "", ""}), 2);
+    CHECK(huge.height == none.height);
+    CHECK(huge.width == none.width);
+    // Its ink stays in its own cell, above the next row's images, and is that of the cut label.
+    int inked = 0;
+    const Box ink = difference(huge, none, &inked);
+    CHECK(inked > 100);
+    CHECK(ink.y1 <= imageBox(none, 2).y0);
+    CHECK(huge.rgb == full.rgb);
 }
