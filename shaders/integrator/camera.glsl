@@ -55,14 +55,18 @@ Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
     r.d = normalize(frame.camForward.xyz + ndc.x * frame.camRight.xyz + ndc.y * frame.camUp.xyz);
     float aperture = frame.camLens.x;
     if (aperture > 0.0) {
-        vec3 forward = frame.camForward.xyz;
-        vec3 focus = r.o + r.d * (frame.camLens.y / dot(r.d, forward));
+        // The ray through the lens point aims at the pinhole ray's point on the plane of focus,
+        // o + d s with s = focal / (d . forward): its direction is (d s - offset) / |...|, computed
+        // as d - offset / s, whose length stays near 1 (the far point's would overflow a float's
+        // square beyond a focal distance of ~1e19).
+        float s = frame.camLens.y / dot(r.d, frame.camForward.xyz);
         vec2 lens = frame.camInfo.x >= 3u ? samplePolygon(uLens, frame.camInfo.x, frame.camLens.w)
                                           : sampleConcentricDisk(uLens);
         lens.x /= frame.camLens.z;
         vec3 right = normalize(frame.camRight.xyz), up = normalize(frame.camUp.xyz);
-        r.o += aperture * (lens.x * right + lens.y * up);
-        r.d = normalize(focus - r.o);
+        vec3 offset = aperture * (lens.x * right + lens.y * up);
+        r.o += offset;
+        r.d = normalize(r.d - offset / s);
     }
     return r;
 }

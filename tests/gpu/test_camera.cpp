@@ -18,7 +18,7 @@ namespace {
 constexpr int kSize = 96;
 constexpr float kFov = 20.0f, kFocal = 5.0f, kDepth = 2.5f, kBall = 0.05f;
 
-Scene bokehScene(float aperture, float z, float ballRadius = kBall) {
+Scene bokehScene(float aperture, float z, float ballRadius = kBall, float focal = kFocal) {
     Scene s;
     s.render.width = s.render.height = kSize;
     s.render.maxDepth = 0;  // only what the camera sees directly
@@ -26,7 +26,7 @@ Scene bokehScene(float aperture, float z, float ballRadius = kBall) {
     s.camera.lookAt = glm::vec3(0.0f, 0.0f, -1.0f);
     s.camera.fovDegrees = kFov;
     s.camera.apertureRadius = aperture;
-    s.camera.focalDistance = kFocal;
+    s.camera.focalDistance = focal;
     s.materials.push_back({"glow", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(1.0f)});
     Object ball;
     ball.shape = Shape::Sphere;
@@ -101,6 +101,23 @@ TEST_CASE("thin lens: sharp on the plane of focus, circle of confusion off it", 
         Spot f = measure(test::renderFilm(*renderer, bokehScene(aperture, far), 256));
         const double expectedFar = aperture * std::abs(far - kFocal) / far * pixelsPerUnit();
         CHECK(2.0 * std::sqrt(f.varX - ownVariance(far)) == Approx(expectedFar).epsilon(0.05));
+    }
+    SECTION("focused beyond what a float's square holds (1e20, 1e30): the circle of focus at infinity") {
+        // The lens ray aims at a point ~focal away; its direction must not be normalised from that
+        // point's distance, whose square overflows a float above ~1.8e19 (the image was black).
+        // Focused at infinity, the radius in pixels is aperture / z * (size / 2) / tan(fov / 2)
+        // (a smaller aperture here, so that the disk stays inside the image).
+        const float small = 0.2f;
+        for (const float focal : {1e20f, 1e30f}) {
+            Spot s = measure(test::renderFilm(*renderer, bokehScene(small, kDepth, kBall, focal), 256));
+            const double expected = small / kDepth * (kSize / 2.0) / std::tan(glm::radians(kFov / 2.0));
+            const double ball = kBall / kDepth * (kSize / 2.0) / std::tan(glm::radians(kFov / 2.0));
+            const double measured = 2.0 * std::sqrt(s.varX - (ball * ball / 4.0 + 1.0 / 12.0));
+            INFO("focal " << focal << ": total " << s.total << ", radius expected " << expected << " px, measured "
+                          << measured);
+            REQUIRE(s.total > 0.0);
+            CHECK(measured == Approx(expected).epsilon(0.03));
+        }
     }
 }
 
