@@ -144,7 +144,10 @@ LightSample sampleLight(uint index, vec3 p, vec2 u) {
             if ((l.info.y & LIGHT_FLAG_LINEAR_ANGLE) == 0u) {
                 falloff = smoothstep(l.p1.w, l.p2.w, cosTheta);
             } else {
-                float theta = acos(clamp(cosTheta, -1.0, 1.0));
+                // The angle from its sine and cosine (atan2 is accurate at every angle; acos near
+                // cos = 1 loses the angle's low bits, and llvmpipe's acos was ~6e-5 rad off at 35
+                // degrees).
+                float theta = atan(length(cross(-s.wi, l.p1.xyz)), cosTheta);
                 falloff = theta <= l.p2.y ? 1.0 : clamp((l.p2.x - theta) / max(l.p2.x - l.p2.y, 1e-7), 0.0, 1.0);
             }
         }
