@@ -24,6 +24,12 @@ namespace {
 bool readRgb(const std::string& path, int* w, int* h, std::vector<double>* rgb, std::string* error) {
     ChannelImage img;
     if (!readChannelImage(path, &img, error)) return false;
+    for (const auto& [key, value] : img.metadata)
+        if (key == "caustic:part") {
+            *error = path + ": is a part of a split render (sums and counts, not an image): merge its parts first "
+                            "(caustic merge OUT PART...), then compare the merged image";
+            return false;
+        }
     int col[3] = {-1, -1, -1};
     for (size_t k = 0; k < img.names.size(); ++k)
         for (int c = 0; c < 3; ++c)

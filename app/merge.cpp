@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <set>
 
 namespace fs = std::filesystem;
@@ -130,8 +131,17 @@ int runMerge(const CliOptions& given) {
     // parts are added in that order); a pixel held by one part keeps its floats exactly (a crop
     // merges bit for bit). Each part's pixels are read and checked (checksum) only here.
     const size_t w = size_t(first.width), n = w * size_t(first.height);
-    std::vector<glm::dvec4> sum(n, glm::dvec4(0.0)), sumSq(n, glm::dvec4(0.0)), albedo(n, glm::dvec4(0.0)),
-        normal(n, glm::dvec4(0.0));
+    std::vector<glm::dvec4> sum, sumSq, albedo, normal;
+    try {
+        sum.assign(n, glm::dvec4(0.0));
+        sumSq.assign(n, glm::dvec4(0.0));
+        albedo.assign(n, glm::dvec4(0.0));
+        normal.assign(n, glm::dvec4(0.0));
+    } catch (const std::bad_alloc&) {
+        return commandFailed("merge: the " + std::to_string(first.width) + "x" + std::to_string(first.height) +
+                             " image's sums need " + std::to_string(n * 4 * sizeof(glm::dvec4) >> 20) +
+                             " MiB, more memory than there is (" + paths[0] + " declares that size)");
+    }
     std::vector<size_t> order(parts.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(),

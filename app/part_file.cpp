@@ -3,6 +3,7 @@
 #include "renderer/scene_io.h"
 
 #include <charconv>
+#include <cmath>
 #include <cinttypes>
 #include <cstdio>
 #include <map>
@@ -170,6 +171,19 @@ bool readPart(const std::string& path, Part* out, std::string* error, bool withP
         *error = path + ": damaged: its pixels do not match the checksum in its metadata";
         return false;
     }
+    // Sums caustic writes are finite (a sample that is not is dropped and counted instead), and the
+    // counts and sums of squares are not negative: anything else was made by something else.
+    for (size_t p = 0; p < n; ++p)
+        for (int c = 0; c < kChannelCount; ++c) {
+            const float v = pixels[p * kChannelCount + c];
+            const bool nonNegative = c <= 10 || c == 14;  // all but the normals' sums
+            if (!std::isfinite(v) || (nonNegative && v < 0.0f)) {
+                *error = path + ": pixel (" + std::to_string(i.crop.x0 + int(p % size_t(w))) + ", " +
+                         std::to_string(i.crop.y0 + int(p / size_t(w))) + ") channel " + kChannels[c] + " is " +
+                         std::to_string(v) + ", which no render writes: the part is damaged or not caustic's";
+                return false;
+            }
+        }
     Accumulators& s = out->sums;
     s.width = w;
     s.height = h;

@@ -8,10 +8,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <string_view>
 
 namespace caustic {
 namespace {
+// The most bytes of pixels one byte of an image file can hold (readChannelImage).
+constexpr double kMaxCompressionRatio = 1100.0;
+
 
 // data: `type` values, channels interleaved; fileType: what the file stores (EXR: half or float).
 // The file is encoded in memory (OpenImageIO's IOVecOutput proxy) and then written by
@@ -209,6 +213,20 @@ bool readChannelImage(const std::string& path, ChannelImage* out, std::string* e
         auto in = openChecked(path, error);
         if (!in) return false;
         const OIIO::ImageSpec& spec = in->spec();
+        // What the header declares against what the file can hold: no compression a reader knows
+        // (zlib's deflate at most 1032:1; RLE, PIZ, PXR24, B44 far less) packs more than
+        // kMaxCompressionRatio bytes of pixels into one byte of file. A larger declared size is a
+        // damaged or crafted header, refused before its pixels are allocated.
+        std::error_code sizeError;
+        const auto fileBytes = std::filesystem::file_size(path, sizeError);
+        const double declared = double(spec.width) * double(spec.height) * double(spec.pixel_bytes(true));
+        if (!sizeError && declared > kMaxCompressionRatio * (double(fileBytes) + 4096.0)) {
+            *error = path + ": its header declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                     " pixels of " + std::to_string(spec.nchannels) + " channels (" +
+                     std::to_string(static_cast<long long>(declared / (1 << 20))) + " MiB), more than a file of " +
+                     std::to_string(fileBytes) + " bytes can hold: the file is damaged or not what it says";
+            return false;
+        }
         out->width = spec.width;
         out->height = spec.height;
         out->names = spec.channelnames;

@@ -146,6 +146,11 @@ class SplitMerge(unittest.TestCase):
         refused([left, right, str(truncated)], str(truncated))
         whole = str(self.tmp / "whole" / "cornell-box.exr")
         refused([left, right, whole], "not a caustic part file", whole)
+        # compare reads images, not parts: a part (sums and counts in 15 channels) is refused by
+        # name rather than compared by its first three channels.
+        p = run("compare", rest, whole, check=False)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn(rest + ": is a part of a split render", p.stderr)
         refused([left, right, str(self.tmp / "missing.exr")], "missing.exr")
 
     def test_command_line_refusals(self):

@@ -13,6 +13,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 
 #include <filesystem>
@@ -209,4 +212,62 @@ TEST_CASE("images: the lean reader reads PNG, JPEG and HDR files as OpenImageIO 
     std::string error;
     CHECK_FALSE(readImageWithoutOpenImageIo(bogus, &img, &error));
     CHECK(error.find(bogus) != std::string::npos);
+}
+
+TEST_CASE("images: a header that declares more pixels than its file can hold is refused before they are read",
+          "[image]") {
+    // An 8 x 8 EXR of 15 float channels (a part file's), its data and display windows then patched
+    // to 16384 x 8192: 8 GiB of pixels declared by a file of a few kilobytes. The reader must
+    // refuse it from the header, naming the file and the size, not allocate the pixels.
+    test::TempDir dir;
+    const std::string path = (dir.path / "patched.exr").string();
+    std::vector<std::string> names;
+    for (int c = 0; c < 15; ++c) names.push_back("c" + std::to_string(c));
+    std::string error;
+    REQUIRE(writeExrChannels(path, 8, 8, names, std::vector<float>(8 * 8 * 15, 0.5f), {}, &error));
+    ChannelImage image;
+    REQUIRE(readChannelImage(path, &image, &error));  // as written, it reads
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    for (const std::string name : {"dataWindow", "displayWindow"}) {
+        const std::string attribute = name + std::string(1, '\0') + "box2i" + std::string(1, '\0');
+        const size_t at = bytes.find(attribute);
+        REQUIRE(at != std::string::npos);
+        const std::int32_t box[4] = {0, 0, 16383, 8191};
+        std::memcpy(&bytes[at + attribute.size() + 4], box, sizeof box);  // after the value's size
+    }
+    // The header ends after its attributes (name, type, size, value) with a 0 byte; then comes the
+    // offset table, one 64-bit file offset per chunk of 16 lines (ZIP): 1 for 8 lines, 512 for
+    // 8192. The table grows to 512 entries, every one pointing at the one chunk there is (which
+    // moves by the bytes inserted), so that the header and the table are whole.
+    size_t pos = 8;  // magic and version
+    while (bytes.at(pos) != '\0') {
+        pos = bytes.find('\0', pos) + 1;  // the name
+        pos = bytes.find('\0', pos) + 1;  // the type
+        std::int32_t size = 0;
+        std::memcpy(&size, &bytes.at(pos), 4);
+        pos += 4 + size_t(size);
+    }
+    const size_t table = pos + 1;
+    std::uint64_t chunk = 0;
+    std::memcpy(&chunk, &bytes.at(table), 8);
+    chunk += 511 * 8;
+    std::string offsets(512 * 8, '\0');
+    for (int k = 0; k < 512; ++k) std::memcpy(&offsets[size_t(k) * 8], &chunk, 8);
+    bytes = bytes.substr(0, table) + offsets + bytes.substr(table + 8);
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    for (const bool pixels : {false, true}) {
+        ChannelImage patched;
+        error.clear();
+        CHECK_FALSE(readChannelImage(path, &patched, &error, pixels));
+        INFO(error);
+        CHECK(error.rfind(path + ": its header declares 16384x8192 pixels of 15 channels", 0) == 0);
+        CHECK(patched.pixels.empty());
+    }
 }
