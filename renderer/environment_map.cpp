@@ -48,7 +48,14 @@ bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::strin
                      std::to_string(i / w) + ")";
             return false;
         }
-        rgb = glm::max(rgb, glm::vec3(0.0f));
+        // An environment emits no negative radiance (a negative constant one is refused too);
+        // Radiance HDR files cannot hold one, an EXR can.
+        if (rgb.r < 0.0f || rgb.g < 0.0f || rgb.b < 0.0f) {
+            *error = "environment image has a negative pixel at (" + std::to_string(i % w) + ", " +
+                     std::to_string(i / w) + "): (" + std::to_string(rgb.r) + ", " + std::to_string(rgb.g) + ", " +
+                     std::to_string(rgb.b) + "); radiance cannot be negative";
+            return false;
+        }
         m.texels[i] = glm::vec4(rgb, 1.0f);
         lum[i] = luminance(rgb);
     }

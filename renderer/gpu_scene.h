@@ -45,7 +45,7 @@ struct EnvironmentMap {
     glm::vec3 average{0.0f};             // mean radiance over the sphere (before intensity)
 };
 
-// Builds the tables from RGB(A) pixels; fails for an empty or non-finite image.
+// Builds the tables from RGB(A) pixels; fails for an empty, non-finite or negative image.
 bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error);
 
 struct CompiledScene {
@@ -107,7 +107,8 @@ RayHit intersectVisibleMeshes(const CompiledScene& c, const Ray& ray);
 enum class TextureEncoding { Srgb, Linear };
 
 // Appends the image and its mip chain (linear RGBA, 2x2 box filtered) to out->texels and its
-// descriptor to out->textures; fails for an empty, truncated or non-finite image.
+// descriptor to out->textures; fails for an empty, truncated or non-finite image, or one with a
+// value beyond the half-float range the GPU stores (65,504).
 // wrap: GpuTexture's TEXTURE_WRAP_* bits (repeat by default).
 bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error,
                 std::uint32_t wrap = 0);

@@ -199,6 +199,10 @@ bool readTextureImage(const ImageReader& reader, const FileTextures* files, cons
     return true;
 }
 
+namespace {
+constexpr float kMaxHalf = 65504.0f;  // the largest finite 16-bit half float
+}  // namespace
+
 bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene* out, std::string* error,
                 std::uint32_t wrap) {
     const int w = image.width, h = image.height, ch = image.channels;
@@ -223,6 +227,16 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
                 return false;
             }
         if (encoding == TextureEncoding::Srgb) c = glm::vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a);
+        // The GPU stores texels as 16-bit halves: a value beyond the largest (65,504) would become
+        // infinite there (an albedo texel black, an emission texel lost), so it is refused here.
+        for (int k = 0; k < 4; ++k)
+            if (std::abs(c[k]) > kMaxHalf) {
+                *error = "pixel (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) + ") holds " +
+                         std::to_string(c[k]) + ", beyond 65504, the largest value a texture stores (16-bit half "
+                         "floats); scale the image down (an emission texture's scale can go into the material's "
+                         "emission)";
+                return false;
+            }
         level[i] = c;
     }
     gpu::GpuTexture t{};
