@@ -104,7 +104,9 @@ bool alphaMaskKeeps(const CompiledScene& c, std::uint32_t instance, std::uint32_
 RayHit intersectVisibleMeshes(const CompiledScene& c, const Ray& ray);
 
 // How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
-enum class TextureEncoding { Srgb, Linear };
+// How a file's values become texels: sRGB-decoded, linear as they are, or linear with RGB clamped
+// to [0, 1] (an HDR albedo: a surface reflects at most what it receives).
+enum class TextureEncoding { Srgb, Linear, LinearReflectance };
 
 // Appends the image and its mip chain (linear RGBA, 2x2 box filtered) to out->texels and its
 // descriptor to out->textures; fails for an empty, truncated or non-finite image, or one with a

@@ -33,13 +33,22 @@ bool Builder::addTextures(const Material& m, const std::string& where, const std
             *error = context + file.string() + ": " + why;
             return false;
         }
+        if (enc == TextureEncoding::LinearReflectance) {
+            std::size_t above = 0;
+            const int ch = std::min(image.channels, 3);
+            for (std::size_t p = 0; p < image.pixels.size(); p += std::size_t(image.channels))
+                for (int k = 0; k < ch; ++k) above += image.pixels[p + std::size_t(k)] > 1.0f;
+            if (above > 0)
+                out.warnings.push_back(context + file.string() + ": " + std::to_string(above) +
+                                       " texel values above 1 clamped to 1 (an albedo reflects at most what it receives)");
+        }
         *slot = static_cast<std::uint32_t>(out.textures.size());
         textureIndex.emplace(cacheKey, *slot - 1);
         return true;
     };
     const std::string ext = std::filesystem::path(m.albedoTexture).extension().string();
     const bool hdr = ext == ".hdr" || ext == ".exr" || ext == ".HDR" || ext == ".EXR" || ext == ".pfm";
-    if (!texture(m.albedoTexture, "albedo_texture", hdr ? TextureEncoding::Linear : TextureEncoding::Srgb,
+    if (!texture(m.albedoTexture, "albedo_texture", hdr ? TextureEncoding::LinearReflectance : TextureEncoding::Srgb,
                  &g.textures.x) ||
         !texture(m.normalTexture, "normal_texture", TextureEncoding::Linear, &g.textures.y) ||
         !texture(m.roughnessTexture, "roughness_texture", TextureEncoding::Linear, &g.textures.z))

@@ -383,7 +383,8 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "albedo_texture", .label = "Albedo texture", .kind = ParamKind::File, .member = &M::albedoTexture,
          .doc = "image file (relative to the scene file) replacing `albedo` (diffuse types), `base_color` (`surface`) "
                 "or `tint` (the others); "
-                "8-bit files are decoded from sRGB, `.hdr` / `.exr` read as linear",
+                "8-bit files are decoded from sRGB, `.hdr` / `.exr` read as linear (values above 1 clamped to 1, with a "
+                "warning: an albedo reflects at most what it receives)",
          .omitted = [](const M& m) { return m.albedoTexture.empty(); }, .nonEmpty = true, .defaultText = "none",
          .section = "Textures"},
         {.key = "normal_texture", .label = "Normal texture", .kind = ParamKind::File, .member = &M::normalTexture,

@@ -237,6 +237,8 @@ bool addTexture(const ImageData& image, TextureEncoding encoding, CompiledScene*
                          "emission)";
                 return false;
             }
+        if (encoding == TextureEncoding::LinearReflectance)
+            c = glm::vec4(glm::clamp(glm::vec3(c), glm::vec3(0.0f), glm::vec3(1.0f)), c.a);
         level[i] = c;
     }
     gpu::GpuTexture t{};

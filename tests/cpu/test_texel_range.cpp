@@ -5,6 +5,7 @@
 #include "renderer/gpu_scene.h"
 
 #include <catch2/catch.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <string>
 
@@ -50,4 +51,17 @@ TEST_CASE("environment maps: a negative pixel is refused with its place, zero an
     CHECK(buildEnvironmentMap(image(0.0f, 2, 1), &map, &error));
     CHECK_FALSE(buildEnvironmentMap(image(-0.25f, 2, 1), &map, &error));
     CHECK(error.rfind("environment image has a negative pixel at (2, 1)", 0) == 0);
+}
+
+TEST_CASE("textures: an HDR albedo's texels above 1 are clamped to 1, other encodings keep them", "[textures]") {
+    // An albedo of 3 would reflect three times what it receives; as linear data (emission) 3 stays 3.
+    for (const TextureEncoding enc : {TextureEncoding::LinearReflectance, TextureEncoding::Linear}) {
+        CompiledScene c;
+        std::string error;
+        REQUIRE(addTexture(image(3.0f, 1, 2), enc, &c, &error));
+        const glm::uvec2 t = c.texels[2 * 4 + 1];  // level 0, pixel (1, 2)
+        const glm::vec2 rg = glm::unpackHalf2x16(t.x);
+        CHECK(rg.x == 0.5f);
+        CHECK(rg.y == (enc == TextureEncoding::LinearReflectance ? 1.0f : 3.0f));
+    }
 }
