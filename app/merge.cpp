@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <new>
 #include <set>
@@ -19,6 +20,19 @@
 namespace fs = std::filesystem;
 
 namespace caustic {
+namespace {
+
+// The memory free for a new allocation (MemAvailable in /proc/meminfo), or 0 when it is unknown.
+double availableMemoryBytes() {
+    std::ifstream in("/proc/meminfo");
+    std::string key, unit;
+    double value = 0.0;
+    while (in >> key >> value >> unit)
+        if (key == "MemAvailable:") return value * 1024.0;
+    return 0.0;
+}
+
+}  // namespace
 
 int commandFailed(const std::string& message, int code) {
     std::cerr << "caustic: error: " << message << "\n";
@@ -131,6 +145,24 @@ int runMerge(const CliOptions& given) {
     // parts are added in that order); a pixel held by one part keeps its floats exactly (a crop
     // merges bit for bit). Each part's pixels are read and checked (checksum) only here.
     const size_t w = size_t(first.width), n = w * size_t(first.height);
+    // The memory the merge needs, from the headers, against what the machine has free: the sums
+    // in double (4 x 32 bytes a pixel) and, for the largest part, its pixels read as floats twice
+    // (the file's 15 channels and the sums made of them).
+    {
+        std::size_t largest = 0, largestPart = 0;
+        for (size_t k = 0; k < parts.size(); ++k) {
+            const PixelRect& c = parts[k].info.crop;
+            const std::size_t px = std::size_t(c.x1 - c.x0) * std::size_t(c.y1 - c.y0);
+            if (px > largest) largest = px, largestPart = k;
+        }
+        const double need = double(n) * 4 * sizeof(glm::dvec4) + double(largest) * 2 * 15 * sizeof(float);
+        const double free = availableMemoryBytes();
+        if (free > 0 && need > free)
+            return commandFailed("merge: the " + std::to_string(first.width) + "x" + std::to_string(first.height) +
+                                 " image (as " + paths[0] + " declares) and its largest part " + paths[largestPart] +
+                                 " need " + std::to_string(static_cast<long long>(need / (1 << 20))) + " MiB; " +
+                                 std::to_string(static_cast<long long>(free / (1 << 20))) + " MiB are free");
+    }
     std::vector<glm::dvec4> sum, sumSq, albedo, normal;
     try {
         sum.assign(n, glm::dvec4(0.0));
