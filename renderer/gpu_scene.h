@@ -103,7 +103,6 @@ bool alphaMaskKeeps(const CompiledScene& c, std::uint32_t instance, std::uint32_
 // alpha cut-outs): what the editor's picking and focus overlay ask.
 RayHit intersectVisibleMeshes(const CompiledScene& c, const Ray& ray);
 
-// How a texture file's values are decoded: sRGB (albedo maps in 8-bit files) or as stored.
 // How a file's values become texels: sRGB-decoded, linear as they are, or linear with RGB clamped
 // to [0, 1] (an HDR albedo: a surface reflects at most what it receives).
 enum class TextureEncoding { Srgb, Linear, LinearReflectance };

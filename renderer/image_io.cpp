@@ -16,7 +16,6 @@ namespace {
 // The most bytes of pixels one byte of an image file can hold (readChannelImage).
 constexpr double kMaxCompressionRatio = 1100.0;
 
-
 // data: `type` values, channels interleaved; fileType: what the file stores (EXR: half or float).
 // The file is encoded in memory (OpenImageIO's IOVecOutput proxy) and then written by
 // writeFileAtomically, which checks every write, the fsync and the close: OpenImageIO's PNG and
