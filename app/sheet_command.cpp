@@ -6,6 +6,7 @@
 #include "app/contact_sheet.h"
 #include "renderer/file_util.h"
 #include "renderer/image_io.h"
+#include "renderer/scene_io.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,12 +24,16 @@ int runSheet(const CliOptions& o) {
     std::string error;
     const auto text = readTextFile(layoutPath, &error);
     if (!text) return commandFailed(error);
-    const nlohmann::json layout = nlohmann::json::parse(*text, nullptr, false);
-    if (layout.is_discarded() || !layout.is_object()) return commandFailed(layoutPath + ": not a JSON object");
+    // Read as strictly as a scene file (a duplicate key is an error, not the last one winning).
+    nlohmann::json layout;
+    if (!parseJsonStrict(*text, layoutPath, &layout, &error)) return commandFailed(error);
+    if (!layout.is_object()) return commandFailed(layoutPath + ": not a JSON object");
     const auto bad = [&](const std::string& where, const std::string& what) {
         return commandFailed(layoutPath + ": " + where + ": " + what);
     };
-    if (!layout.contains("output") || !layout["output"].is_string()) return bad("output", "expected a file name");
+    if (!layout.contains("output") || !layout["output"].is_string() || layout["output"].get<std::string>().empty() ||
+        layout["output"].get<std::string>().find('\0') != std::string::npos)
+        return bad("output", "expected a file name (not empty, no NUL character)");
     if (!layout.contains("columns") || !layout["columns"].is_number_integer() || layout["columns"].get<long long>() < 1 ||
         layout["columns"].get<long long>() > 4096)
         return bad("columns", "expected an integer in [1, 4096]");
@@ -44,6 +49,10 @@ int runSheet(const CliOptions& o) {
         const std::string where = "cells[" + std::to_string(i) + "]";
         if (!c.is_object() || !c.contains("image") || !c["image"].is_string()) return bad(where + ".image", "expected a file name");
         if (c.contains("label") && !c["label"].is_string()) return bad(where + ".label", "expected a string");
+        for (const auto& [key, value] : c.items())
+            if (key != "image" && key != "label") return bad(where + "." + key, "unknown key (a cell has image and label)");
+        if (c["image"].get<std::string>().find('\0') != std::string::npos)
+            return bad(where + ".image", "expected a file name (no NUL character)");
         ImageData img;
         if (!readImage(resolve(c["image"].get<std::string>()), &img, &error)) return commandFailed(error);
         if (img.channels < 3) return bad(where, c["image"].get<std::string>() + " is not an RGB image");

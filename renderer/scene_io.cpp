@@ -786,6 +786,31 @@ std::string shortened(const std::string& text) {
 
 }  // namespace
 
+bool parseJsonStrict(const std::string& jsonText, const std::string& fileForMessages, nlohmann::json* out,
+                     std::string* error) {
+    if (const std::size_t at = jsonTooDeepAt(jsonText, kMaxJsonDepth); at != std::string_view::npos) {
+        *error = oneLine(textPosition(fileForMessages, jsonText, at + 1) + ": " + tooDeepMessage());
+        return false;
+    }
+    PathTracker tracker;
+    try {
+        *out = Json::parse(jsonText, [&tracker](int, Json::parse_event_t event, Json& parsed) {
+            return tracker.onEvent(event, parsed);
+        });
+    } catch (const Json::parse_error& e) {
+        *error = syntaxError(fileForMessages, jsonText, e.byte, e.what());
+        return false;
+    } catch (const Json::out_of_range&) {
+        *error = formatError(fileForMessages, tracker.currentPath(), "number out of range (must be a finite number)");
+        return false;
+    }
+    if (tracker.duplicate()) {
+        *error = formatError(fileForMessages, *tracker.duplicate(), "duplicate key (each key may appear only once per object)");
+        return false;
+    }
+    return true;
+}
+
 SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages) {
     SceneLoadResult result;
     try {

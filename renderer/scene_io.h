@@ -8,6 +8,8 @@
 
 #include "renderer/scene.h"
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +41,12 @@ SceneLoadResult loadScene(const std::string& file, const std::vector<SceneOverri
 // Parses and validates scene JSON; fileForMessages only prefixes error messages (sourcePath stays
 // empty).
 SceneLoadResult parseScene(const std::string& jsonText, const std::string& fileForMessages);
+
+// Parses any JSON file of caustic's (a sheet layout, say) as strictly as a scene file: nested at
+// most as deep, a syntax error at "<file>:<line>:<column>", a duplicate key or a number out of
+// range at its JSON path. False with the message in *error.
+bool parseJsonStrict(const std::string& jsonText, const std::string& fileForMessages, nlohmann::json* out,
+                     std::string* error);
 
 // The scene as pretty JSON (2-space indent, numeric vectors on one line, trailing newline) in the
 // full explicit form: every field of the scene's types is written, so parseScene(sceneToJson(s))

@@ -207,6 +207,22 @@ class SplitMerge(unittest.TestCase):
         p = run("sheet", str(bad), check=False)
         self.assertEqual(p.returncode, 1)
         self.assertIn("cells[0].image", p.stderr)
+        # The layout is read as strictly as a scene: a duplicate key, an unknown cell key and a NUL
+        # in the output name are errors naming their place, and nothing is written.
+        image = str(self.tmp / "sweep" / "cornell-box-0.png")
+        cases = [('{"output": "x.png", "output": "y.png", "columns": 1, "cells": [{"image": %s}]}' % json.dumps(image),
+                  "output: duplicate key"),
+                 (json.dumps({"output": "x.png", "columns": 1, "cells": [{"image": image, "lable": "typo"}]}),
+                  "cells[0].lable: unknown key"),
+                 (json.dumps({"output": "x\u0000.png", "columns": 1, "cells": [{"image": image}]}),
+                  "output: expected a file name (not empty, no NUL character)")]
+        for text, needle in cases:
+            bad.write_text(text)
+            p = run("sheet", str(bad), check=False)
+            self.assertEqual(p.returncode, 1, p.stderr)
+            self.assertIn(str(bad) + ": " + needle, p.stderr)
+            self.assertFalse((self.tmp / "one" / "x.png").exists())
+            self.assertFalse((self.tmp / "one" / "y.png").exists())
 
     def test_compare_against_independent_metrics(self):
         noisy = self.tmp / "noisy"
