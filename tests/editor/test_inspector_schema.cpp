@@ -12,6 +12,7 @@
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/scene_io.h"
 #include "renderer/scene_schema.h"
+#include "tests/editor/headless_imgui.h"
 #include "tests/support/scenes.h"
 
 #include <catch2/catch.hpp>
@@ -28,17 +29,7 @@ using namespace caustic::editor;
 
 namespace {
 
-struct HeadlessImGui {
-    HeadlessImGui() {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(1280.0f, 800.0f);
-        io.IniFilename = nullptr;
-        unsigned char* pixels = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
-    }
-    ~HeadlessImGui() { ImGui::DestroyContext(); }
+struct HeadlessImGui : test::HeadlessImGui {
     // One frame of the inspector; returns what its widgets offered.
     std::vector<WidgetRecord> frame(EditorUi& ui) {
         std::vector<WidgetRecord> trace;

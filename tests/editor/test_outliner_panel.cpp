@@ -3,6 +3,7 @@
 // editor/model/scene_lights.h's, tested in test_scene_lights.cpp).
 #include "editor/ui/editor_ui.h"
 #include "tests/editor/cornell_state.h"
+#include "tests/editor/headless_imgui.h"
 
 #include <catch2/catch.hpp>
 #include <imgui.h>
@@ -12,13 +13,7 @@ using namespace caustic;
 using namespace caustic::editor;
 
 TEST_CASE("the outliner counts the Cornell box's emissive quad as its light", "[editor][outliner]") {
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(1280.0f, 800.0f);
-    io.IniFilename = nullptr;
-    unsigned char* pixels = nullptr;
-    int w = 0, h = 0;
-    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+    const test::HeadlessImGui imgui;
     {
         AppState app;
         app.state = test::openCornell();
@@ -36,5 +31,4 @@ TEST_CASE("the outliner counts the Cornell box's emissive quad as its light", "[
         CHECK(headerDrawn("Lights (1)"));
         CHECK_FALSE(headerDrawn("Lights (0)"));
     }
-    ImGui::DestroyContext();
 }

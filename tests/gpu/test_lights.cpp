@@ -200,10 +200,9 @@ TEST_CASE("spot lights: the falloff follows the analytic curve in the angle, to 
         std::string error;
         REQUIRE(renderer->setScene(s, &error));
         std::vector<glm::vec4> points(n);
-        std::vector<double> theta(n);
         for (int i = 0; i < n; ++i) {
-            theta[i] = glm::radians(40.0 * (i + 0.5) / n);
-            points[i] = glm::vec4(float(std::sin(theta[i])), float(-std::cos(theta[i])), 0.0f, 0.0f);
+            const double theta = glm::radians(40.0 * (i + 0.5) / n);
+            points[i] = glm::vec4(float(std::sin(theta)), float(-std::cos(theta)), 0.0f, 0.0f);
         }
         GLuint buffer = 0;
         glCreateBuffers(1, &buffer);
