@@ -2,6 +2,7 @@
 #include "renderer/gpu_scene.h"
 
 #include "renderer/camera.h"
+#include "renderer/scene_schema.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -42,6 +43,13 @@ std::vector<float> packTables(const CompiledScene& c) {
     return out;
 }
 
+static bool hasFogOrVolumes(const Scene& scene, const CompiledScene& compiled) {
+    const Environment& env = scene.environment;
+    if (env.mediumSigmaA != glm::vec3(0.0f) || env.mediumSigmaS != glm::vec3(0.0f)) return true;
+    return std::any_of(compiled.materials.begin(), compiled.materials.end(),
+                       [](const gpu::GpuMaterial& m) { return m.info.x == MAT_VOLUME; });
+}
+
 gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::uint32_t strategy) {
     gpu::GpuFrame f{};
     const Camera& c = scene.camera;
@@ -79,7 +87,14 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     f.sampling = glm::uvec4(r.sampler == SamplerType::Independent ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL, selection, rr,
                             compiled.lightTree.nodes.size());
     f.envSelect = glm::vec4(compiled.envImportance, 0, 0, 0);
-    f.options = glm::uvec4(r.glassSplit ? OPTION_GLASS_SPLIT : 0u, 0, 0, 0);
+    // Glass splitting's probe sees what lies beyond the glass with no medium on the way
+    // (integrator/path.glsl), so it is off where the scene has fog or a volume boundary.
+    const bool media = hasFogOrVolumes(scene, compiled);
+    f.options = glm::uvec4(r.glassSplit && !media ? OPTION_GLASS_SPLIT : 0u, 0, 0, 0);
+    const float g = std::clamp(env.mediumAnisotropy, -0.999f, 0.999f);
+    const glm::vec3 most(static_cast<float>(kMaxCoefficient));
+    f.mediumA = glm::vec4(glm::clamp(env.mediumSigmaA, glm::vec3(0.0f), most), g);
+    f.mediumS = glm::vec4(glm::clamp(env.mediumSigmaS, glm::vec3(0.0f), most), 0);
     // The ray offset's floor (geometry/intersect.glsl): the largest coordinate magnitude of the
     // scene and the camera, at most 1, so a scene of size 1 or more keeps the floor 1 and a
     // scene scaled down keeps its offsets in proportion (issue 12: the Cornell box at 1e-4 was 22%

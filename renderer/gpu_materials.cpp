@@ -45,6 +45,19 @@ std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m) {
 // than float precision resolves well (pbrt-v4's EffectivelySmooth uses the same threshold).
 constexpr float kSmoothAlpha = 1e-3f;
 
+// An interior medium's coefficients in the material's k and eta rows (shared/layout.h), each
+// channel at most kMaxCoefficient (a transmission_depth of 1e-38 would make it infinite); a
+// medium with no absorption and no scattering is vacuum and sets nothing.
+static void setMedium(gpu::GpuMaterial& g, std::uint32_t& flags, glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy) {
+    const glm::vec3 most(static_cast<float>(kMaxCoefficient));
+    sigmaA = glm::clamp(sigmaA, glm::vec3(0.0f), most);
+    sigmaS = glm::clamp(sigmaS, glm::vec3(0.0f), most);
+    if (sigmaA == glm::vec3(0.0f) && sigmaS == glm::vec3(0.0f)) return;
+    g.k = glm::vec4(sigmaA, 0);
+    g.eta = glm::vec4(sigmaS, std::clamp(anisotropy, -0.999f, 0.999f));
+    flags |= MAT_FLAG_MEDIUM;
+}
+
 gpu::GpuMaterial convertMaterial(const Material& m) {
     gpu::GpuMaterial g{};
     g.emission = glm::vec4(m.emission, m.normalScale);  // w: the normal map's scale (material.glsl)
@@ -77,18 +90,25 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
     case MaterialType::Dielectric:
         // A roughness map can make any point rough, so a textured dielectric is always rough.
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
-        // Beer-Lambert absorption inside, OpenPBR's transmission_color / transmission_depth (OpenPBR
-        // Surface 1.1, "Transmission": the medium's extinction is -ln(color) / depth per channel; no
-        // scattering here, so it is all absorption). Depth 0 (or a white colour): none, the flag stays
-        // clear and the material is what it was before these parameters existed.
+        // The interior medium, OpenPBR Surface 1.1's ("Transmission"): extinction sigma_t =
+        // -ln(transmission_color) / transmission_depth, scattering sigma_s = transmission_scatter /
+        // depth, absorption sigma_a = sigma_t - sigma_s raised by a grey amount where a channel
+        // would be negative (the extinction is then sigma_a + sigma_s). Depth 0 (or a white colour
+        // without scatter): none, the flag stays clear and the glass is clear.
         if (m.transmissionDepth > 0.0f) {
             const glm::vec3 c = glm::clamp(m.transmissionColor, glm::vec3(1e-6f), glm::vec3(1.0f));
-            const glm::vec3 sigmaA = -glm::log(c) / m.transmissionDepth;
-            if (glm::any(glm::greaterThan(sigmaA, glm::vec3(0.0f)))) {
-                g.k = glm::vec4(sigmaA, 0);
-                flags |= MAT_FLAG_ABSORBING;
-            }
+            const glm::vec3 sigmaT = -glm::log(c) / m.transmissionDepth;
+            const glm::vec3 sigmaS = glm::max(m.transmissionScatter, glm::vec3(0.0f)) / m.transmissionDepth;
+            glm::vec3 sigmaA = sigmaT - sigmaS;
+            const float lowest = std::min({sigmaA.x, sigmaA.y, sigmaA.z});
+            if (lowest < 0.0f) sigmaA -= lowest;
+            setMedium(g, flags, sigmaA, sigmaS, m.scatterAnisotropy);
         }
+        break;
+    case MaterialType::Volume:
+        // An index-matched boundary: no surface, only the medium inside (integrator/medium.glsl).
+        type = MAT_VOLUME;
+        setMedium(g, flags, m.sigmaA, m.sigmaS, m.scatterAnisotropy);
         break;
     case MaterialType::Conductor: {
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_CONDUCTOR : MAT_ROUGH_CONDUCTOR;

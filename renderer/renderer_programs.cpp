@@ -30,12 +30,31 @@ bool hasAlphaMask(const CompiledScene& c) {
                        [](const gpu::GpuInstance& i) { return (i.flags & PRIM_FLAG_ALPHA_MASK) != 0u; });
 }
 
-// The unspecialised program's one feature define: alpha masks are compiled in only for a scene
-// that has one. Their test sits in traversal's innermost loop, where code size costs every ray on
+// What the scene's media need of the integrator (CAUSTIC_MEDIA, MEDIA_* bits;
+// integrator/medium.glsl): 0 without any, so that a scene without media runs the code it ran
+// before they existed, specialised or not.
+std::uint32_t mediaBits(const gpu::GpuFrame& frame, const CompiledScene& c) {
+    std::uint32_t bits = 0;
+    auto add = [&](glm::vec3 sigmaA, glm::vec3 sigmaS) {
+        if (sigmaA != glm::vec3(0.0f) || sigmaS != glm::vec3(0.0f)) bits |= MEDIA_ABSORBING;
+        if (sigmaS != glm::vec3(0.0f)) bits |= MEDIA_SCATTERING;
+    };
+    add(glm::vec3(frame.mediumA), glm::vec3(frame.mediumS));
+    for (const gpu::GpuMaterial& m : c.materials) {
+        if ((m.info.y & MAT_FLAG_MEDIUM) != 0u) add(glm::vec3(m.k), glm::vec3(m.eta));
+        if (m.info.x == MAT_VOLUME) bits |= MEDIA_BOUNDARIES | MEDIA_ABSORBING;
+    }
+    return bits;
+}
+
+// The unspecialised program's feature defines: alpha masks and media are compiled in only for a
+// scene that has them. Their test sits in traversal's innermost loop, where code size costs every ray on
 // a GPU (docs/performance.md, "The integrator profile (H100)"), so a scene without masks must not
 // pay for it where specialisation is off either (NVIDIA, by default). With 0 the code is still
 // compiled (a constant-false branch), so the general program still checks the whole source.
-ShaderDefines generalDefines(bool alphaMask) { return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}}; }
+ShaderDefines generalDefines(bool alphaMask, std::uint32_t media) {
+    return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}, {"CAUSTIC_MEDIA", std::to_string(media) + "u"}};
+}
 
 
 // Baked geometry (bake = true; geometry/bvh.glsl): records as constants of the program, each
@@ -90,10 +109,9 @@ std::string bakedInstanceTests(const CompiledScene& c) {
 
 ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c, bool bake) {
     std::uint32_t materials = 0, lights = 0, shapes = 0;
-    bool textures = false, emissionTextures = false, absorption = false;
+    bool textures = false, emissionTextures = false;
     for (const gpu::GpuMaterial& m : c.materials) {
         materials |= 1u << (m.info.x & 31u);
-        absorption = absorption || (m.info.y & MAT_FLAG_ABSORBING) != 0u;
         textures = textures || m.textures != glm::uvec4(0u);
         emissionTextures = emissionTextures || m.textures.w != 0u;
     }
@@ -121,14 +139,15 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_TEXTURES", textures ? "1u" : "0u"},
             {"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"},
             {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
-            {"CAUSTIC_ABSORPTION", absorption ? "1u" : "0u"},
+            {"CAUSTIC_MEDIA", std::to_string(mediaBits(frame, c)) + "u"},
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
     // A baked top level: at most 32 entries, of them at most 16 instances (traceScenePair keeps
     // both of a step's rays' instance candidates in one 32-bit mask), and a path step's
     // continuation and shadow rays walked together (integrator/path.glsl, CAUSTIC_PAIRED_TRACE).
-    if (bake && !bruteForce && !c.instances.empty() && c.instances.size() <= 16 &&
+    // (Not with media: a medium's shadow rays cross boundaries and carry a transmittance.)
+    if (bake && !bruteForce && !c.instances.empty() && c.instances.size() <= 16 && mediaBits(frame, c) == 0u &&
         c.primitives.size() + c.instances.size() <= BVH_BRUTE_FORCE_MAX) {
         defines.push_back({"CAUSTIC_BAKED_TOP_LEVEL", bakedPrimitiveTests(c) + bakedInstanceTests(c)});
         defines.push_back({"CAUSTIC_PAIRED_TRACE", "1"});
@@ -145,7 +164,8 @@ ShaderDefines Renderer::featureDefines() const {
 unsigned Renderer::generalProgram(std::string* error) {
     if (!m_general) {
         ShaderDefines defines = m_config.defines();
-        for (const auto& d : generalDefines(false)) defines.push_back(d);
+        for (const auto& d : generalDefines(false, MEDIA_ABSORBING | MEDIA_SCATTERING | MEDIA_BOUNDARIES))
+            defines.push_back(d);
         m_general = buildProgram("integrator/path.comp", defines, error);
     }
     return m_general;
@@ -163,7 +183,9 @@ bool Renderer::selectProgram(std::string* error) {
     // is no program (m_program 0) and dispatches render nothing until one builds.
     std::string why;
     const bool built = m_specialize ? useProgram(featureDefines(), &why)
-                                    : useProgram(generalDefines(hasAlphaMask(m_compiled)), &why);
+                                    : useProgram(generalDefines(hasAlphaMask(m_compiled),
+                                                                mediaBits(makeFrame(m_scene, m_compiled, m_strategy), m_compiled)),
+                                                 &why);
     if (built) {
         m_programFellBack = false;
         return true;

@@ -82,7 +82,7 @@ struct RenderSettings {
 };
 
 // The material models (docs/materials.md; shaders/bsdf/ has one file per model).
-enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor, Surface };
+enum class MaterialType { Diffuse, OrenNayar, Eon, Mirror, Transmission, Dielectric, Conductor, Surface, Volume };
 
 // Conductor presets: complex IOR (eta, k) at R, G, B (see gpu_materials.cpp conductorPreset for the
 // values and their sources); Custom takes Material::eta and Material::k.
@@ -105,6 +105,16 @@ struct Material {
     // light that travels transmissionDepth inside keeps transmissionColor; depth 0: no absorption.
     glm::vec3 transmissionColor{1.0f}; // (0, 1] per channel
     float transmissionDepth = 0.0f;    // scene units, >= 0
+    // dielectric: OpenPBR's transmission_scatter, the scattering coefficient times the depth
+    // (sigma_s = transmissionScatter / transmissionDepth; renderer/gpu_materials.cpp).
+    glm::vec3 transmissionScatter{0.0f};
+    // volume (an index-matched boundary: docs/materials.md, "Media"): the interior medium's
+    // absorption and scattering coefficients per scene unit.
+    glm::vec3 sigmaA{0.0f};
+    glm::vec3 sigmaS{0.0f};
+    // dielectric (transmission_scatter_anisotropy) and volume (anisotropy): the interior medium's
+    // Henyey-Greenstein g, (-1, 1).
+    float scatterAnisotropy = 0.0f;
     bool energyCompensation = false;   // oren_nayar: global factor; conductor: multiple scattering
     Metal metal = Metal::Aluminium;    // conductor
     glm::vec3 eta{1.0f};               // conductor, metal == Custom: real part of the IOR, > 0
@@ -202,6 +212,11 @@ struct Environment {
     std::string file;                  // map: an equirectangular HDR image (relative to the scene file)
     float rotation = 0.0f;             // map: degrees about +y (right-handed)
     float intensity = 1.0f;            // scales the whole environment, >= 0
+    // The scene's medium (fog): it fills everything outside the objects, the camera included.
+    // Absorption and scattering coefficients per scene unit, Henyey-Greenstein g; zero: vacuum.
+    glm::vec3 mediumSigmaA{0.0f};
+    glm::vec3 mediumSigmaS{0.0f};
+    float mediumAnisotropy = 0.0f;
     bool operator==(const Environment&) const = default;
 };
 

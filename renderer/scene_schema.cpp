@@ -138,7 +138,8 @@ std::span<const EnumChoice> enumChoices(MaterialType) {
                                        {4, "transmission", "transmission"},
                                        {5, "dielectric", "dielectric (glass)"},
                                        {6, "conductor", "conductor (metal)"},
-                                       {7, "surface", "surface (layered, OpenPBR-style)"}};
+                                       {7, "surface", "surface (layered, OpenPBR-style)"},
+                                       {8, "volume", "volume (medium boundary)"}};
     return k;
 }
 std::span<const EnumChoice> enumChoices(Metal) {
@@ -334,6 +335,29 @@ std::span<const Param<Material>> schemaOf<Material>() {
                 "absorption (clear glass, today's behaviour)",
          .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
          .speed = 0.01f},
+        {.key = "transmission_scatter", .label = "Transmission scatter", .kind = ParamKind::Colour,
+         .member = &M::transmissionScatter, .range = between(0, 1),
+         .doc = "OpenPBR's: the interior's scattering coefficient times `transmission_depth` (sigma_s = scatter / "
+                "depth; the absorption is what is left of -ln(`transmission_color`) / depth, raised by a grey amount "
+                "where it would be negative); needs `transmission_depth` > 0",
+         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionScatter == glm::vec3(0.0f); }},
+        {.key = "transmission_scatter_anisotropy", .label = "Scatter anisotropy", .kind = ParamKind::Float,
+         .member = &M::scatterAnisotropy, .range = openInterval(-1, 1),
+         .doc = "OpenPBR's: the interior's Henyey-Greenstein g (> 0 forward, < 0 backward scattering)",
+         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
+         .slider = true},
+        {.key = "sigma_a", .label = "Absorption", .kind = ParamKind::Vector, .member = &M::sigmaA,
+         .range = between(0, kMaxCoefficient), .unit = "1/m",
+         .doc = "`volume`: the interior medium's absorption coefficient per R, G, B (per scene unit)",
+         .types = bits(T::Volume), .speed = 0.01f, .section = "Medium"},
+        {.key = "sigma_s", .label = "Scattering", .kind = ParamKind::Vector, .member = &M::sigmaS,
+         .range = between(0, kMaxCoefficient), .unit = "1/m",
+         .doc = "`volume`: the interior medium's scattering coefficient per R, G, B (per scene unit)",
+         .types = bits(T::Volume), .speed = 0.01f},
+        {.key = "anisotropy", .label = "Anisotropy", .kind = ParamKind::Float, .member = &M::scatterAnisotropy,
+         .range = openInterval(-1, 1),
+         .doc = "`volume`: the Henyey-Greenstein g of its scattering (> 0 forward, < 0 backward, 0 isotropic)",
+         .types = bits(T::Volume), .slider = true},
         // surface (shaders/bsdf/surface.glsl), grouped as OpenPBR's panels are.
         {.key = "base_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::albedo,
          .range = between(0, 1), .doc = "`surface`: the diffuse albedo of the dielectric base, F0 of the metal",
@@ -528,6 +552,19 @@ std::span<const Param<Environment>> schemaOf<Environment>() {
          .doc = "scales the whole environment; times the radiance (or the sky's brighter colour, or the map's "
                 "brightest texel) at most 1e12",
          .types = bits(T::Constant, T::Sky, T::Map), .speed = 0.01f},
+        {.key = "medium_sigma_a", .label = "Absorption", .kind = ParamKind::Vector, .member = &E::mediumSigmaA,
+         .range = between(0, kMaxCoefficient), .unit = "1/m",
+         .doc = "the scene's medium (fog, filling everything outside the objects, the camera included): absorption "
+                "coefficient per R, G, B (per scene unit). With any medium here the environment is seen only "
+                "through it (an infinite fog hides it: bound fog by a `volume` object instead, docs/materials.md)",
+         .omitted = [](const E& e) { return e.mediumSigmaA == glm::vec3(0.0f); }, .speed = 0.001f, .section = "Fog"},
+        {.key = "medium_sigma_s", .label = "Scattering", .kind = ParamKind::Vector, .member = &E::mediumSigmaS,
+         .range = between(0, kMaxCoefficient), .unit = "1/m",
+         .doc = "the scene's medium: scattering coefficient per R, G, B (per scene unit)",
+         .omitted = [](const E& e) { return e.mediumSigmaS == glm::vec3(0.0f); }, .speed = 0.001f},
+        {.key = "medium_anisotropy", .label = "Anisotropy", .kind = ParamKind::Float, .member = &E::mediumAnisotropy,
+         .range = openInterval(-1, 1), .doc = "the scene's medium: Henyey-Greenstein g (> 0 forward scattering)",
+         .omitted = [](const E& e) { return e.mediumAnisotropy == 0.0f; }, .slider = true},
     };
     return k;
 }
@@ -567,6 +604,12 @@ std::optional<RuleViolation> checkRules(const Material& m) {
     if (m.type == MaterialType::Dielectric && m.transmissionDepth == 0.0f && m.transmissionColor != glm::vec3(1.0f))
         return RuleViolation{"transmission_color",
                              "needs transmission_depth > 0 (at depth 0 there is no absorption; `tint` tints the surface)"};
+    if (m.type == MaterialType::Dielectric && m.transmissionDepth == 0.0f && m.transmissionScatter != glm::vec3(0.0f))
+        return RuleViolation{"transmission_scatter", "needs transmission_depth > 0 (it is a coefficient times the depth)"};
+    if (m.type == MaterialType::Volume && m.emission != glm::vec3(0.0f))
+        return RuleViolation{"emission", "a volume has no surface to emit from (its boundary is invisible)"};
+    if (m.type == MaterialType::Volume && !m.emissionTexture.empty())
+        return RuleViolation{"emission_texture", "a volume has no surface to emit from (its boundary is invisible)"};
     return std::nullopt;
 }
 

@@ -82,6 +82,9 @@ constexpr Range nonZeroValue() {
 //    already reflects all but 4e-6 of the light.
 inline constexpr double kMaxCoordinate = 1e18;
 inline constexpr double kMaxRadiance = 1e12;
+// A medium's absorption or scattering coefficient (per scene unit) at most 1e9: times any distance
+// the scene can hold (3.5e18) it stays finite in float, and a medium that dense is opaque anyway.
+inline constexpr double kMaxCoefficient = 1e9;
 constexpr Range coordinate() { return between(-kMaxCoordinate, kMaxCoordinate); }
 
 // ---------------------------------------------------------------------------------------------

@@ -120,6 +120,7 @@ std::string_view materialTypeArtistName(MaterialType type) {
         case MaterialType::Dielectric: return "Glass, water, gems";
         case MaterialType::Conductor: return "Metal";
         case MaterialType::Surface: return "Plastic, paint";
+        case MaterialType::Volume: return "Fog, smoke (a medium)";
     }
     return "?";
 }

@@ -9,8 +9,11 @@
 // costs one continuation ray and one shadow ray. Vertices whose material is purely specular skip
 // next event estimation (no light sample can have a non-zero BSDF value there).
 //
-// Absorption (CAUSTIC_ABSORPTION): the throughput is multiplied by exp(-sigma_a t) for each segment
-// that ends on the back face of an absorbing dielectric, i.e. that travelled inside it (pathShade).
+// Media (CAUSTIC_MEDIA; integrator/medium.glsl): the path carries the medium it is in; each segment
+// it traces through a medium that scatters may end at a medium vertex (pathMediumVertex: next event
+// estimation with the shadow ray's transmittance, then phase-function sampling), and otherwise
+// multiplies the throughput by the segment's transmittance over its probability; refraction into
+// or out of an object, and crossing a MAT_VOLUME boundary, change the medium.
 //
 // Glass splitting (frame.options.x & OPTION_GLASS_SPLIT; docs/design.md derives it): at a smooth
 // dielectric vertex the lobe not taken, when it leaves the medium, is traced too, by a probe ray
@@ -42,6 +45,7 @@
 #include "../bsdf/material.glsl"
 #include "../lights/lights.glsl"
 #include "../lights/light_select.glsl"
+#include "medium.glsl"
 
 struct PathAov {
     vec3 albedo;
@@ -125,6 +129,10 @@ struct PathState {
     Ray shadowRay;
     float shadowTMax;
     vec3 shadowL;
+    // Media (CAUSTIC_MEDIA): the medium the path is in (integrator/medium.glsl), and how many
+    // segments it has traced through media (the free-flight samples' slots).
+    uint medium;
+    uint segments;
 };
 
 PathState pathBegin(Ray ray) {
@@ -153,6 +161,8 @@ PathState pathBegin(Ray ray) {
     st.shadowRay = ray;
     st.shadowTMax = 0.0;
     st.shadowL = vec3(0.0);
+    st.medium = 0u;
+    st.segments = 0u;
     return st;
 }
 
@@ -170,6 +180,66 @@ vec3 lightSampleRadiance(vec3 beta, vec3 f, float cosWi, LightSample ls, float p
     float pl = pmf * ls.pdf;
     float w = (ls.isDelta || !misOn) ? 1.0 : powerHeuristic(pl, pdfBsdf);
     return beta * f * abs(cosWi) * ls.Li * (w / pl);
+}
+
+// The most segments a path traces through media (boundaries crossed and scattering events); a path
+// that reaches it ends (a guard against a ray caught between boundaries; docs/materials.md).
+#define MEDIUM_MAX_PATH_SEGMENTS 1024u
+
+// A medium vertex at distance t along st.ray in medium md (integrator/medium.glsl): the AOVs if
+// none were recorded (the medium's single-scattering albedo, a zero normal), next event estimation
+// (the phase function for f, no cosine; the shadow ray's transmittance), then the continuation by
+// phase-function sampling, whose weight f / pdf is 1, and Russian roulette. True when the path has
+// ended.
+bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t) {
+    uint bounces = st.bounces;
+    bool useLights = frame.counts.w != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
+    bool misOn = frame.counts.w == STRATEGY_MIS;
+    vec3 p = st.ray.o + t * st.ray.d;
+    vec3 d = normalize(st.ray.d);
+    st.pathLength += t;
+    if (!st.aovDone) {
+        st.aovDone = true;
+        vec3 sigmaT = md.sigmaA + md.sigmaS;
+        st.aov.albedo = md.sigmaS / max(sigmaT, vec3(1e-30));
+        st.aov.normal = vec3(0.0);
+    }
+    if (bounces >= frame.counts.z) return true;
+    uint li;
+    float pmf;
+    if (useLights && selectLight(sample1D(smp, bounceSlot(bounces, SLOT_LIGHT_SELECT)), p, vec3(0.0), true, li, pmf)) {
+        LightSample ls = sampleLight(li, p, sample2D(smp, bounceSlot(bounces, SLOT_LIGHT)));
+        if (ls.pdf > 0.0 && maxComponent(ls.Li) > 0.0) {
+            float ph = hgPhase(dot(d, ls.wi), md.g);
+            Ray shadow;
+            float shadowTMax = FLT_MAX;
+            if (ls.dist >= FLT_MAX) {
+                shadow.o = p;
+                shadow.d = ls.wi;
+            } else {
+                shadow = segmentRay(p, vec3(0.0), p + ls.dist * ls.wi, ls.nl);
+                shadowTMax = 1.0;
+            }
+            vec3 tr = shadowTransmittance(shadow, shadowTMax, st.medium);
+            if (maxComponent(tr) > 0.0) st.L += tr * lightSampleRadiance(st.beta, vec3(ph), 1.0, ls, pmf, ph, misOn);
+        }
+    }
+    float pdf;
+    vec3 wi = hgSample(d, md.g, sample2D(smp, bounceSlot(bounces, SLOT_BSDF_DIR)), pdf);
+    st.countEmitted = false;
+    st.emitScale = 1.0;
+    st.prevBsdfPdf = pdf;
+    st.prevP = p;
+    st.prevN = vec3(0.0);
+    st.prevTwoSided = true;
+    st.ray.o = p;
+    st.ray.d = wi;
+    float q;
+    if (russianRouletteEnds(bounces, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q))
+        return true;
+    st.beta /= q;
+    st.bounces = bounces + 1u;
+    return false;
 }
 
 // What a path step does with what its trace found (found, hit: st.ray's closest hit): the
@@ -193,6 +263,27 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         st.ray = st.pending;
         return false;
     }
+    // Media: the segment just traced ran through the path's medium. It may scatter before its end
+    // (a medium vertex), else its transmittance over the probability of passing goes into the
+    // throughput before anything at its end uses it. A MAT_VOLUME boundary at its end is crossed:
+    // the medium changes and the same ray goes on, no scattering event.
+    if (CAUSTIC_MEDIA != 0u) {
+        Medium md = mediumAt(st.medium);
+        float t;
+        vec3 weight;
+        bool scatters = mediumSampleDistance(md, found ? hit.t : FLT_MAX, st.beta, smp, mediumSlot(st.segments), t, weight);
+        st.segments += 1u;
+        st.beta *= weight;
+        if (maxComponent(st.beta) <= 0.0) return true;
+        if (scatters) return pathMediumVertex(st, smp, md, t);
+        if (HAS_MEDIA(MEDIA_BOUNDARIES) && found && loadMaterial(hit.material).info.x == MAT_VOLUME) {
+            if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return true;
+            st.medium = mediumBeyond(hit.material, hit.ng, st.ray.d);
+            st.pathLength += hit.t;
+            st.ray.o = offsetRayOrigin(hit.p, hit.ng, st.ray.d);
+            return false;
+        }
+    }
     if (!found) {
         uint envIndex = frame.dispatch.y;
         if (HAS_ANY_ENVIRONMENT && frame.envInfo.x != ENV_NONE) {
@@ -210,18 +301,6 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
 
     GpuMaterial mat = loadMaterial(hit.material);
     vec3 wo = -st.ray.d;
-
-    // Absorption inside a dielectric (MAT_FLAG_ABSORBING, Beer-Lambert: T = exp(-sigma_a t)). A ray
-    // that meets an absorbing dielectric from behind (the normal is the outward one) has travelled
-    // its interior over the whole segment, so the segment's transmittance goes into the throughput
-    // here, before anything at this vertex uses it: the emission seen here, next event estimation
-    // (whose shadow rays leave outwards: a dielectric blocks them), the continuation's weight, the
-    // glass-splitting probe's weight, Russian roulette, and through the throughput every later
-    // emission term (MIS-weighted or not). Valid for closed, non-nested objects and a camera
-    // outside them (docs/materials.md); compiled out where no material absorbs.
-    if (CAUSTIC_ABSORPTION != 0u && (HAS_MATERIAL(MAT_DIELECTRIC) || HAS_MATERIAL(MAT_ROUGH_DIELECTRIC)) &&
-        (mat.info.y & MAT_FLAG_ABSORBING) != 0u && dot(hit.ng, wo) < 0.0)
-        st.beta *= exp(-mat.k.rgb * hit.t);
 
     // Emission.
     vec3 Le = emittedTowards(hit, mat, wo);
@@ -294,10 +373,19 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
                 st.shadowTMax = shadowTMax;
                 st.shadowL = lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
 #else
-                // (computed after the trace: nothing more lives across it, which NVIDIA's
-                // register count rewards)
-                if (!sceneOccluded(shadow, shadowTMax))
+                if (CAUSTIC_MEDIA != 0u) {
+                    // The shadow ray leaves into the medium on its side of the surface.
+                    uint shadowMedium = st.medium;
+                    if ((dot(hit.ng, ls.wi) > 0.0) != (ngWo > 0.0) && boundsInterior(mat))
+                        shadowMedium = mediumBeyond(hit.material, hit.ng, ls.wi);
+                    vec3 tr = shadowTransmittance(shadow, shadowTMax, shadowMedium);
+                    if (maxComponent(tr) > 0.0)
+                        st.L += tr * lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
+                } else if (!sceneOccluded(shadow, shadowTMax)) {
+                    // (computed after the trace: nothing more lives across it, which NVIDIA's
+                    // register count rewards)
                     st.L += lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
+                }
 #endif
             }
         }
@@ -340,6 +428,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
             float eta = mat.params.y;
             st.etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
+            if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) st.medium = mediumBeyond(hit.material, hit.ng, wiW);
         }
         st.ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         st.ray.d = wiW;

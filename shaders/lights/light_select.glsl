@@ -68,6 +68,8 @@ float lightNodeImportance(uint i, vec3 p, vec3 n, bool twoSided) {
     cosI = clamp(cosI, -1.0, 1.0);
     float sinI = safeSqrt(1.0 - cosI * cosI);
     float cosIP = cosSubClamped(sinI, cosI, sinU, cosU);
+    // A medium vertex (a zero normal; integrator/medium.glsl) receives from every direction.
+    if (HAS_MEDIA(MEDIA_SCATTERING) && n == vec3(0.0)) cosIP = 1.0;
     if (cosIP <= 0.0) return 0.0;
     return intensity * cosP * cosIP / max(d2, r2);
 }

@@ -44,8 +44,8 @@
 #ifndef CAUSTIC_ALPHA_MASK
 #define CAUSTIC_ALPHA_MASK 1u              // 0: no mesh has an alpha-masked material (geometry/alpha_mask.glsl)
 #endif
-#ifndef CAUSTIC_ABSORPTION
-#define CAUSTIC_ABSORPTION 1u              // 0: no dielectric absorbs inside (MAT_FLAG_ABSORBING; integrator/path.glsl)
+#ifndef CAUSTIC_MEDIA
+#define CAUSTIC_MEDIA 7u                   // bits MEDIA_*: what the scene's media need (integrator/medium.glsl)
 #endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)
@@ -63,6 +63,7 @@
 #define HAS_ANY_ENVIRONMENT ((CAUSTIC_ENVIRONMENTS & ~(1u << ENV_NONE)) != 0u)
 #define HAS_SAMPLER(t) ((CAUSTIC_SAMPLERS & (1u << (t))) != 0u)
 #define HAS_LIGHT_SELECTION(t) ((CAUSTIC_LIGHT_SELECTIONS & (1u << (t))) != 0u)
+#define HAS_MEDIA(bits) ((CAUSTIC_MEDIA & (bits)) != 0u)
 // Whether kind `t` is the only one of its mask (a test of the run-time value can go).
 #define ONLY_KIND(mask, t) ((mask) == (1u << (t)))
 

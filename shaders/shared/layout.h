@@ -141,6 +141,7 @@ using uint = std::uint32_t;
 #define MAT_CONDUCTOR 7u            // smooth conductor (delta, complex Fresnel)
 #define MAT_ROUGH_CONDUCTOR 8u      // GGX microfacet conductor
 #define MAT_SURFACE 9u              // layered surface: sheen over coat over metal / specular + diffuse (surface.glsl)
+#define MAT_VOLUME 10u              // no surface: an index-matched boundary of the medium inside (integrator/medium.glsl)
 
 // Material flags (GpuMaterial::info.y).
 #define MAT_FLAG_ENERGY_COMPENSATION 1u  // Oren-Nayar: the global factor; rough conductor: multiple scattering
@@ -150,8 +151,13 @@ using uint = std::uint32_t;
 #define MAT_FLAG_METAL_TEXTURE 8u        // surface: the roughness texture's G channel is the metalness
 #define MAT_FLAG_ALPHA_MASK 16u          // cut-outs: rays pass where the albedo texture's alpha is below
                                          // uintBitsToFloat(info.z) (geometry/alpha_mask.glsl)
-#define MAT_FLAG_ABSORBING 32u           // dielectric: its interior absorbs, sigma_a = k.rgb (Beer-Lambert;
-                                         // integrator/path.glsl, CAUSTIC_ABSORPTION)
+#define MAT_FLAG_MEDIUM 32u              // dielectric, volume: its interior is a medium, sigma_a = k.rgb,
+                                         // sigma_s = eta.rgb, Henyey-Greenstein g = eta.w (integrator/medium.glsl)
+
+// What the scene's media need of the integrator (CAUSTIC_MEDIA, bits; scene/features.glsl).
+#define MEDIA_ABSORBING 1u          // some medium (a material's interior or the scene's) absorbs or scatters
+#define MEDIA_SCATTERING 2u         // some medium scatters: free-flight sampling, medium vertices
+#define MEDIA_BOUNDARIES 4u         // some material is MAT_VOLUME: rays and shadow rays cross its surfaces
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 // The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
@@ -277,8 +283,10 @@ CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 //   params:   x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
 //   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
 //   eta, k:   conductors: rgb real and imaginary (extinction) parts of the complex IOR
-//             dielectrics with MAT_FLAG_ABSORBING: k.rgb the interior's absorption coefficient sigma_a
-//             (per scene unit; OpenPBR's -ln(transmission_color) / transmission_depth)
+//             dielectrics and volumes with MAT_FLAG_MEDIUM: the interior medium's coefficients per
+//             scene unit, k.rgb absorption sigma_a, eta.rgb scattering sigma_s, eta.w the
+//             Henyey-Greenstein anisotropy g (renderer/gpu_materials.cpp derives them from OpenPBR's
+//             transmission_color / transmission_depth / transmission_scatter)
 //   textures: texture index + 1 (0: none): x albedo (linear RGB; A: the alpha of the cut-outs),
 //             y normal map, z roughness (R), w emission (linear RGB, times emission.rgb)
 //   sheen:    surface: rgb sheen colour (times its weight), w sheen roughness
@@ -354,6 +362,8 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 //     magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
 //   options: x: OPTION_* bits (integrator options); y, z: the origin of the crop the
 //     accumulation images hold (path.comp); w: unused
+//   mediumA, mediumS: the scene's medium (the one outside every object, where the camera is):
+//     rgb absorption sigma_a and w the Henyey-Greenstein g; rgb scattering sigma_s, w unused
 //   envGuide: the environment map's guide tables in the tables buffer (environment.glsl,
 //     envFindInterval): x: offset of the row CDF's (2^z + 1 entries), y: offset
 //     of the column CDFs' (one of 2^w + 1 entries per row), z, w: log2 of their
@@ -361,7 +371,7 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 #define GPU_FRAME_ROWS(V4, U4, V3U, UUUU) \
     V4(camPosition) V4(camRight) V4(camUp) V4(camForward) U4(image) U4(counts) U4(dispatch) \
     U4(envInfo) V4(envRadiance) V4(envHorizon) V4(envZenith) V4(envMap) V4(camLens) U4(camInfo) \
-    U4(geometry) U4(tables) U4(sampling) V4(envSelect) V4(rayOffset) U4(options) U4(envGuide)
+    U4(geometry) U4(tables) U4(sampling) V4(envSelect) V4(rayOffset) U4(options) U4(envGuide) V4(mediumA) V4(mediumS)
 CAUSTIC_STRUCT(GpuFrame) { GPU_DECLARE(GPU_FRAME_ROWS) };
 
 #ifdef __cplusplus

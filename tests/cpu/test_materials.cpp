@@ -164,13 +164,13 @@ TEST_CASE("materials: dielectric absorption (OpenPBR transmission_color and tran
     std::string error;
     REQUIRE(compileScene(s, &c, &error));
     CHECK(c.materials[0].info.x == MAT_DIELECTRIC);
-    CHECK(c.materials[0].info.y == MAT_FLAG_ABSORBING);
+    CHECK(c.materials[0].info.y == MAT_FLAG_MEDIUM);
     for (int i = 0; i < 3; ++i) {
         const float expected = -std::log(glm::vec3(0.8f, 0.4f, 0.1f)[i]) / 0.5f;
         CHECK(c.materials[0].k[i] == Approx(expected).epsilon(1e-6));
     }
     CHECK(c.materials[1].info.x == MAT_ROUGH_DIELECTRIC);
-    CHECK(c.materials[1].info.y == MAT_FLAG_ABSORBING);
+    CHECK(c.materials[1].info.y == MAT_FLAG_MEDIUM);
     CHECK(c.materials[1].k.x == Approx(std::log(2.0f) / 2.0f).epsilon(1e-6));
     CHECK(c.materials[1].k.y == 0.0f);
     CHECK(c.materials[2].info.y == 0u);  // clear glass: the GPU material of before, byte for byte
@@ -198,5 +198,83 @@ TEST_CASE("materials: absorption parameters are checked", "[materials][scene_io]
     // Only dielectrics take them.
     CHECK(!errorOf(R"({"name": "g", "type": "diffuse", "transmission_depth": 1})").empty());
     CHECK(errorOf(R"({"name": "g", "type": "dielectric", "transmission_color": [0.5, 0.5, 0.5], "transmission_depth": 1})")
+              .empty());
+}
+
+TEST_CASE("materials: media convert as OpenPBR and the schema say, and round-trip", "[materials][media][scene_io]") {
+    const Scene s = mustParse(R"({"version": 1, "materials": [
+      {"name": "milky", "type": "dielectric", "transmission_color": [0.5, 0.6, 0.7], "transmission_depth": 0.5,
+       "transmission_scatter": [0.4, 0.9, 0.1], "transmission_scatter_anisotropy": 0.3},
+      {"name": "smoke", "type": "volume", "sigma_a": [0.1, 0.2, 0.3], "sigma_s": [1, 2, 3], "anisotropy": -0.5},
+      {"name": "vacuum", "type": "volume"}],
+      "environment": {"type": "none", "medium_sigma_a": [0.01, 0.02, 0.03], "medium_sigma_s": [0.1, 0.1, 0.1],
+                      "medium_anisotropy": 0.7}})");
+    CHECK(s.materials[1].type == MaterialType::Volume);
+    CHECK(s.environment.mediumSigmaS == glm::vec3(0.1f));
+    const std::string json = sceneToJson(s);
+    const Scene back = mustParse(json);
+    CHECK(back.materials == s.materials);
+    CHECK(back.environment == s.environment);
+    // Nothing written for the defaults: a scene without media is the file of before.
+    CHECK(sceneToJson(mustParse(R"({"version": 1})")).find("medium") == std::string::npos);
+
+    CompiledScene c;
+    std::string error;
+    REQUIRE(compileScene(s, &c, &error));
+    // OpenPBR: sigma_t = -ln(T) / d, sigma_s = S / d, sigma_a = sigma_t - sigma_s raised by the most
+    // negative channel: (0.693, 0.511, 0.357) - (0.4, 0.9, 0.1) = (0.293, -0.389, 0.257), + 0.389.
+    const glm::dvec3 st = -glm::log(glm::dvec3(0.5, 0.6, 0.7)), S(0.4, 0.9, 0.1);
+    glm::dvec3 sa = st - S;
+    sa -= std::min({sa.x, sa.y, sa.z});
+    CHECK(c.materials[0].info.y == MAT_FLAG_MEDIUM);
+    for (int i = 0; i < 3; ++i) {
+        CHECK(c.materials[0].k[i] == Approx(sa[i] / 0.5).margin(1e-5));
+        CHECK(c.materials[0].eta[i] == Approx(S[i] / 0.5).epsilon(1e-6));
+    }
+    CHECK(c.materials[0].k.y == Approx(0.0).margin(1e-6));  // the shifted channel
+    CHECK(c.materials[0].eta.w == 0.3f);
+    CHECK(c.materials[1].info.x == MAT_VOLUME);
+    CHECK(c.materials[1].info.y == MAT_FLAG_MEDIUM);
+    CHECK(glm::vec3(c.materials[1].k) == glm::vec3(0.1f, 0.2f, 0.3f));
+    CHECK(c.materials[1].eta == glm::vec4(1.0f, 2.0f, 3.0f, -0.5f));
+    CHECK(c.materials[2].info == glm::uvec4(MAT_VOLUME, 0u, 0u, 0u));  // vacuum: no medium flag
+    // The scene's fog in the frame, and glass splitting off with it.
+    Scene split = s;
+    split.render.glassSplit = true;
+    const gpu::GpuFrame f = makeFrame(split, c, STRATEGY_MIS);
+    CHECK(f.mediumA == glm::vec4(0.01f, 0.02f, 0.03f, 0.7f));
+    CHECK(glm::vec3(f.mediumS) == glm::vec3(0.1f));
+    CHECK((f.options.x & OPTION_GLASS_SPLIT) == 0u);
+    Scene clear;
+    CompiledScene cc;
+    REQUIRE(compileScene(clear, &cc, &error));
+    CHECK((makeFrame(clear, cc, STRATEGY_MIS).options.x & OPTION_GLASS_SPLIT) != 0u);
+}
+
+TEST_CASE("materials: media parameters are checked", "[materials][media][scene_io]") {
+    auto errorOf = [](const std::string& text) {
+        SceneLoadResult r = parseScene(text, "scenes/x.json");
+        return r.scene ? std::string() : r.error;
+    };
+    auto material = [&](const std::string& m) { return errorOf(R"({"version": 1, "materials": [)" + m + "]}"); };
+    // Scatter is a coefficient times the depth: refused at depth 0, naming both.
+    std::string e = material(R"({"name": "g", "type": "dielectric", "transmission_scatter": [0.5, 0.5, 0.5]})");
+    CHECK(e.find("materials[0].transmission_scatter") != std::string::npos);
+    CHECK(e.find("transmission_depth") != std::string::npos);
+    // A volume has no surface to emit from.
+    e = material(R"({"name": "v", "type": "volume", "emission": [1, 1, 1]})");
+    CHECK(e.find("materials[0].emission") != std::string::npos);
+    CHECK(e.find("volume") != std::string::npos);
+    // Ranges: coefficients >= 0 and at most 1e9, anisotropy in (-1, 1).
+    CHECK(material(R"({"name": "v", "type": "volume", "sigma_s": [-1, 0, 0]})").find("sigma_s") != std::string::npos);
+    CHECK(material(R"({"name": "v", "type": "volume", "sigma_a": [1e10, 0, 0]})").find("sigma_a") != std::string::npos);
+    CHECK(material(R"({"name": "v", "type": "volume", "anisotropy": 1})").find("anisotropy") != std::string::npos);
+    CHECK(material(R"({"name": "g", "type": "dielectric", "transmission_depth": 1, "transmission_scatter_anisotropy": -1})")
+              .find("transmission_scatter_anisotropy") != std::string::npos);
+    CHECK(errorOf(R"({"version": 1, "environment": {"medium_sigma_s": [0, -0.1, 0]}})").find("environment.medium_sigma_s") !=
+          std::string::npos);
+    // Only the types that hold a medium take its keys.
+    CHECK(material(R"({"name": "d", "type": "diffuse", "sigma_s": [1, 1, 1]})").find("sigma_s") != std::string::npos);
+    CHECK(material(R"({"name": "v", "type": "volume", "sigma_a": [0.1, 0.1, 0.1], "sigma_s": [1, 1, 1], "anisotropy": 0.5})")
               .empty());
 }

@@ -462,7 +462,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"negative emission", scene(R"("materials": [{"name": "w", "emission": [0, -1, 0]}])"),
          "materials[0].emission[1]", "must be >= 0, got -1"},
         {"unknown material type", scene(R"("materials": [{"name": "w", "type": "glass"}])"),
-         "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor, surface)"},
+         "materials[0].type", "unknown value 'glass' (allowed: diffuse, oren_nayar, eon, mirror, transmission, dielectric, conductor, surface, volume)"},
         {"unknown material key", scene(R"("materials": [{"name": "w", "roughness": 0.5}])"),
          "materials[0].roughness", "unknown key for a 'diffuse' material (allowed: name, type, albedo, emission, albedo_texture, normal_texture, "
          "normal_scale, roughness_texture, emission_texture, alpha_mode, alpha_cutoff)"},
@@ -543,7 +543,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"unknown environment type", scene(R"("environment": {"type": "hdri"})"), "environment.type",
          "unknown value 'hdri' (allowed: none, constant, sky, map)"},
         {"key of another environment type", scene(R"("environment": {"type": "sky", "radiance": [1, 1, 1]})"),
-         "environment.radiance", "unknown key for a 'sky' environment (allowed: type, preset, horizon, zenith, intensity)"},
+         "environment.radiance", "unknown key for a 'sky' environment (allowed: type, preset, horizon, zenith, intensity, medium_sigma_a, medium_sigma_s, medium_anisotropy)"},
         {"unknown sky preset", scene(R"("environment": {"type": "sky", "preset": "dusk"})"), "environment.preset",
          "unknown value 'dusk' (allowed: default, original)"},
         {"sky preset as number", scene(R"("environment": {"type": "sky", "preset": 1})"), "environment.preset",

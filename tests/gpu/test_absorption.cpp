@@ -1,6 +1,6 @@
-// Absorption inside dielectrics (OpenPBR's transmission_color / transmission_depth; the integrator
-// applies exp(-sigma_a t) to each segment that ends on an absorbing dielectric's back face,
-// shaders/integrator/path.glsl). Against closed forms: an index-matched slab and sphere, where
+// Absorption inside dielectrics (OpenPBR's transmission_color / transmission_depth: an interior
+// medium that only absorbs, whose segments' transmittance exp(-sigma_a t) goes into the path's
+// throughput; shaders/integrator/medium.glsl). Against closed forms: an index-matched slab and sphere, where
 // every path is deterministic, and a glass slab with its Fresnel multiple reflections.
 #include "tests/gpu/gl_fixture.h"
 
@@ -83,7 +83,7 @@ TEST_CASE("absorption: an index-matched slab transmits exp(-sigma_a d) exactly, 
         const double d = 2.0 * halfThickness;
         const glm::dvec3 expected = glm::exp(-sigmaA() * d);
         Film film = test::renderFilm(*renderer, throughGlass(absorbingGlass(1.0f, 0.0f, true), Shape::Box, halfThickness), 4);
-        CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_ABSORPTION") == "1u");
+        CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "1u");  // MEDIA_ABSORBING
         INFO("d " << d << " expected " << expected.x << " " << expected.y << " " << expected.z);
         for (const glm::vec3& p : film.mean)
             for (int c = 0; c < 3; ++c) {
@@ -93,7 +93,7 @@ TEST_CASE("absorption: an index-matched slab transmits exp(-sigma_a d) exactly, 
     }
     // The same slab without absorption: 1, and the feature compiled out.
     Film clear = test::renderFilm(*renderer, throughGlass(absorbingGlass(1.0f, 0.0f, false), Shape::Box, 0.25f), 4);
-    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_ABSORPTION") == "0u");
+    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "0u");
     for (const glm::vec3& p : clear.mean) REQUIRE(std::abs(p.g - 1.0f) < 1e-5f);
 }
 

@@ -1,0 +1,166 @@
+// Participating media: homogeneous media with an absorption coefficient sigma_a and a scattering
+// coefficient sigma_s per RGB channel (per scene unit) and a Henyey-Greenstein phase function.
+//
+// Where media are. A path carries the medium it is in (PathState::medium): 0 is the scene's (the
+// environment's fog, GpuFrame::mediumA/S; vacuum when both are zero), m > 0 the interior of the
+// object whose material is m - 1. A material with MAT_FLAG_MEDIUM holds its interior's
+// coefficients (shared/layout.h); any other interior is vacuum. The surfaces that bound an interior
+// are those of dielectrics with a reflection lobe (smooth and rough glass) and of MAT_VOLUME (an
+// index-matched boundary: no surface at all, rays and shadow rays cross it unchanged). A ray that
+// crosses such a surface against its normal enters that object's interior; one that crosses it
+// along the normal leaves it, into the scene's medium. So objects with media must be closed and
+// must not overlap or nest, and the camera must be outside every object (docs/materials.md,
+// "Media").
+//
+// Free flight (mediumSampleDistance): the distance to the next scattering event is sampled from
+// one channel's exponential, the channel chosen with probability proportional to the path's
+// throughput in it, and the throughput is weighted by the one-sample balance heuristic over the
+// channels: the pdf divided by is sum_c p_c sigma_t,c T_c(t), the mixture of the three strategies
+// (the "spectral MIS" of Mitsuba 3's volpath; Miller, Georgiev and Jarosz 2019, "A Null-Scattering
+// Path Integral Formulation of Light Transport", sec. 6). A channel's weight is then at most
+// sigma_s,c / (p_c sigma_t,c) times its throughput, so a chromatic medium makes no fireflies, and a
+// grey one gives exactly the albedo sigma_s / sigma_t at every scattering event. A medium that
+// only absorbs draws no random number: the segment's transmittance goes into the throughput.
+//
+// Medium vertices (integrator/path.glsl, pathMediumVertex) do next event estimation with the
+// transmittance along the shadow ray (shadowTransmittance: through MAT_VOLUME boundaries, zero
+// at any other surface), combined with phase-function sampling by the power heuristic on the
+// directional pdfs (both strategies estimate the transmittance without bias, so the weights need
+// not include it; Mitsuba 3's volpath does the same).
+#ifndef INTEGRATOR_MEDIUM_GLSL
+#define INTEGRATOR_MEDIUM_GLSL
+#include "../lib/math.glsl"
+#include "../lib/sampler.glsl"
+#include "../geometry/intersect.glsl"
+#include "../bsdf/material.glsl"
+
+struct Medium {
+    vec3 sigmaA;
+    vec3 sigmaS;
+    float g;
+};
+
+// The medium with index m (see the header).
+Medium mediumAt(uint m) {
+    Medium md;
+    if (m == 0u) {
+        md.sigmaA = frame.mediumA.rgb;
+        md.sigmaS = frame.mediumS.rgb;
+        md.g = frame.mediumA.w;
+        return md;
+    }
+    GpuMaterial mat = loadMaterial(m - 1u);
+    bool has = (mat.info.y & MAT_FLAG_MEDIUM) != 0u;
+    md.sigmaA = has ? mat.k.rgb : vec3(0.0);
+    md.sigmaS = has ? mat.eta.rgb : vec3(0.0);
+    md.g = has ? mat.eta.w : 0.0;
+    return md;
+}
+
+bool mediumScatters(Medium md) { return HAS_MEDIA(MEDIA_SCATTERING) && maxComponent(md.sigmaS) > 0.0; }
+
+// exp(-sigma_t d); d may be FLT_MAX (an infinite segment: 0 where sigma_t > 0, 1 where it is 0).
+vec3 mediumTransmittance(Medium md, float d) { return exp(-(md.sigmaA + md.sigmaS) * d); }
+
+// Whether the surfaces of material `mat` bound an interior (see the header).
+bool boundsInterior(GpuMaterial mat) {
+    uint type = mat.info.x;
+    if (HAS_MEDIA(MEDIA_BOUNDARIES) && type == MAT_VOLUME) return true;
+    return (type == MAT_DIELECTRIC || type == MAT_ROUGH_DIELECTRIC) && (mat.info.y & MAT_FLAG_NO_REFLECTION) == 0u;
+}
+
+// The medium beyond a bounding surface of material index `material` (front normal ng) that a ray
+// of direction d crosses.
+uint mediumBeyond(uint material, vec3 ng, vec3 d) { return dot(ng, d) < 0.0 ? material + 1u : 0u; }
+
+// The sampler slot of the k-th free-flight sample of a path: a range of its own, above every
+// bounce's (lib/sampler.glsl hashes slots, so any unused number is a fresh dimension), because a
+// bounce may run through several segments (one per boundary crossed).
+uint mediumSlot(uint k) { return 0x00100000u + k; }
+
+// Free-flight sampling over a segment of length tMax (FLT_MAX: unbounded) of the medium md (see
+// the header). True when the path scatters at t < tMax; else t = tMax. `weight` multiplies the
+// throughput either way. A medium that does not scatter draws nothing.
+bool mediumSampleDistance(Medium md, float tMax, vec3 beta, inout Sampler smp, uint slot, out float t, out vec3 weight) {
+    vec3 sigmaT = md.sigmaA + md.sigmaS;
+    t = tMax;
+    if (!mediumScatters(md)) {
+        weight = exp(-sigmaT * tMax);
+        return false;
+    }
+    vec2 u = sample2D(smp, slot);
+    float sum = beta.r + beta.g + beta.b;
+    vec3 pc = sum > 0.0 ? beta / sum : vec3(1.0 / 3.0);
+    float sc = u.x < pc.r ? sigmaT.r : (u.x < pc.r + pc.g ? sigmaT.g : sigmaT.b);
+    float ts = sc > 0.0 ? -log(1.0 - u.y) / sc : FLT_MAX;
+    if (ts < tMax) {
+        t = ts;
+        vec3 tr = exp(-sigmaT * ts);
+        float pdf = dot(pc, sigmaT * tr);
+        weight = pdf > 0.0 ? md.sigmaS * tr / pdf : vec3(0.0);
+        return true;
+    }
+    vec3 tr = exp(-sigmaT * tMax);
+    float pass = dot(pc, tr);
+    weight = pass > 0.0 ? tr / pass : vec3(0.0);
+    return false;
+}
+
+// The Henyey-Greenstein phase function of the cosine between the directions of travel before and
+// after scattering (g > 0: forward scattering), per steradian; it integrates to 1 over the sphere.
+float hgPhase(float cosTheta, float g) {
+    float denom = 1.0 + g * g - 2.0 * g * cosTheta;
+    return INV_4PI * (1.0 - g * g) / (denom * sqrt(max(denom, 1e-12)));
+}
+
+// A direction after scattering from direction of travel d, distributed as hgPhase (its pdf in
+// *pdf): the cosine by inverting the CDF of the cosine, (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2)
+// / (2 g), uniform in the azimuth.
+vec3 hgSample(vec3 d, float g, vec2 u, out float pdf) {
+    float cosTheta;
+    if (abs(g) < 1e-3) {
+        cosTheta = 2.0 * u.x - 1.0;
+    } else {
+        float s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u.x);
+        cosTheta = clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+    }
+    float sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
+    float phi = 2.0 * PI * u.y;
+    pdf = hgPhase(cosTheta, g);
+    return toWorld(frameFromNormal(d), vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta));
+}
+
+// The most boundaries a shadow ray crosses; beyond them it counts as blocked (docs/materials.md).
+#define MEDIUM_MAX_SHADOW_CROSSINGS 16
+
+// The transmittance of shadow ray r over t in (0, tMax) that starts in `medium`: 0 when it meets a
+// surface other than a MAT_VOLUME boundary, else the product of exp(-sigma_t d) over the pieces
+// between the boundaries it crosses (the medium changing at each).
+vec3 shadowTransmittance(Ray r, float tMax, uint medium) {
+    float scale = length(r.d);
+    if (!HAS_MEDIA(MEDIA_BOUNDARIES)) {
+        if (sceneOccluded(r, tMax)) return vec3(0.0);
+        return mediumTransmittance(mediumAt(medium), tMax < FLT_MAX ? tMax * scale : FLT_MAX);
+    }
+    vec3 tr = vec3(1.0);
+    bool segment = tMax < FLT_MAX;  // a segment ray: it ends at `target` (t = 1 of r.d unnormalised)
+    vec3 target = r.o + r.d * (segment ? tMax : 0.0);
+    for (int i = 0; i <= MEDIUM_MAX_SHADOW_CROSSINGS; ++i) {
+        Hit h;
+        bool found = sceneIntersect(r, tMax, h);
+        float len = found ? h.t * scale : (segment ? tMax * scale : FLT_MAX);
+        tr *= mediumTransmittance(mediumAt(medium), len);
+        if (!found) return tr;
+        if (loadMaterial(h.material).info.x != MAT_VOLUME || maxComponent(tr) <= 0.0) return vec3(0.0);
+        medium = mediumBeyond(h.material, h.ng, r.d);
+        r.o = offsetRayOrigin(h.p, h.ng, r.d);
+        if (segment) {
+            r.d = target - r.o;
+            scale = length(r.d);
+            if (dot(r.d, target - h.p) <= 0.0) return tr;  // the boundary lies at the target
+        }
+    }
+    return vec3(0.0);
+}
+
+#endif
