@@ -90,7 +90,11 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     // Glass splitting's probe sees what lies beyond the glass with no medium on the way
     // (integrator/path.glsl), so it is off where the scene has fog or a volume boundary.
     const bool media = hasFogOrVolumes(scene, compiled);
-    f.options = glm::uvec4(r.glassSplit && !media ? OPTION_GLASS_SPLIT : 0u, 0, 0, 0);
+    // w: the point and spot lights, which equiangular sampling in media aims at (integrator/medium.glsl).
+    const auto deltaLights = std::count_if(compiled.lights.begin(), compiled.lights.end(), [](const gpu::GpuLight& l) {
+        return l.info.x == LIGHT_POINT || l.info.x == LIGHT_SPOT;
+    });
+    f.options = glm::uvec4(r.glassSplit && !media ? OPTION_GLASS_SPLIT : 0u, 0, 0, std::uint32_t(deltaLights));
     const float g = std::clamp(env.mediumAnisotropy, -0.999f, 0.999f);
     const glm::vec3 most(static_cast<float>(kMaxCoefficient));
     f.mediumA = glm::vec4(glm::clamp(env.mediumSigmaA, glm::vec3(0.0f), most), g);

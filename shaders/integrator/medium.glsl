@@ -78,6 +78,18 @@ uint mediumBeyond(uint material, vec3 ng, vec3 d) { return dot(ng, d) < 0.0 ? ma
 // bounce may run through several segments (one per boundary crossed).
 uint mediumSlot(uint k) { return 0x00100000u + k; }
 
+// The probability of sampling each channel's free flight for a path of throughput beta.
+vec3 channelPmf(vec3 beta) {
+    float sum = beta.r + beta.g + beta.b;
+    return sum > 0.0 ? beta / sum : vec3(1.0 / 3.0);
+}
+
+// The density of free-flight sampling's distance t (before the segment's end) for throughput beta.
+float freeFlightPdf(Medium md, vec3 beta, float t) {
+    vec3 sigmaT = md.sigmaA + md.sigmaS;
+    return dot(channelPmf(beta), sigmaT * exp(-sigmaT * t));
+}
+
 // Free-flight sampling over a segment of length tMax (FLT_MAX: unbounded) of the medium md (see
 // the header). True when the path scatters at t < tMax; else t = tMax. `weight` multiplies the
 // throughput either way. A medium that does not scatter draws nothing.
@@ -89,8 +101,7 @@ bool mediumSampleDistance(Medium md, float tMax, vec3 beta, inout Sampler smp, u
         return false;
     }
     vec2 u = sample2D(smp, slot);
-    float sum = beta.r + beta.g + beta.b;
-    vec3 pc = sum > 0.0 ? beta / sum : vec3(1.0 / 3.0);
+    vec3 pc = channelPmf(beta);
     float sc = u.x < pc.r ? sigmaT.r : (u.x < pc.r + pc.g ? sigmaT.g : sigmaT.b);
     float ts = sc > 0.0 ? -log(1.0 - u.y) / sc : FLT_MAX;
     if (ts < tMax) {
@@ -129,6 +140,59 @@ vec3 hgSample(vec3 d, float g, vec2 u, out float pdf) {
     pdf = hgPhase(cosTheta, g);
     return toWorld(frameFromNormal(d), vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta));
 }
+
+// Equiangular sampling (Kulla and Fajardo 2012, "Importance Sampling Techniques for Path Tracing in
+// Participating Media"): a distance along the segment o + t d, t in [0, tMax), with density
+// proportional to 1 / (distance to the point c)^2, the inverse-square falloff of a point light at c:
+// with delta = dot(c - o, d) and D the distance from c to the line, t = delta + D tan(theta),
+// theta uniform between atan(-delta / D) and atan((tMax - delta) / D), and
+//   pdf(t) = D / ((theta_b - theta_a) (D^2 + (t - delta)^2)).
+// Free flight alone puts medium vertices near a point or spot light too rarely for the 1 / r^2 they
+// receive (fireflies, an estimator of unbounded variance); the integrator adds an equiangular
+// sample towards one of them per segment and weighs the two by MIS (path.glsl).
+float equiangularPdf(vec3 o, vec3 d, float tMax, vec3 c, float t) {
+    float delta = dot(c - o, d);
+    float D = length(c - (o + delta * d));
+    if (!(D > 1e-6 * max(1.0, abs(delta)))) return 0.0;  // the light on the line: never sampled
+    float thetaA = atan(-delta / D), thetaB = atan((min(tMax, 1e30) - delta) / D);
+    float x = t - delta;
+    return D / ((thetaB - thetaA) * (D * D + x * x));
+}
+
+// A distance by equiangular sampling (above); false where the light lies on the segment's line.
+bool equiangularSample(vec3 o, vec3 d, float tMax, vec3 c, float u, out float t, out float pdf) {
+    float delta = dot(c - o, d);
+    float D = length(c - (o + delta * d));
+    t = 0.0;
+    pdf = 0.0;
+    if (!(D > 1e-6 * max(1.0, abs(delta)))) return false;
+    float thetaA = atan(-delta / D), thetaB = atan((min(tMax, 1e30) - delta) / D);
+    t = delta + D * tan(mix(thetaA, thetaB, u));
+    if (!(t >= 0.0 && t < tMax)) return false;
+    float x = t - delta;
+    pdf = D / ((thetaB - thetaA) * (D * D + x * x));
+    return pdf > 0.0;
+}
+
+// The number of point and spot lights (GpuFrame::options.w), the lights equiangular sampling
+// aims at, each chosen with probability 1 / that.
+uint deltaLightCount() { return HAS_LIGHT(LIGHT_POINT) || HAS_LIGHT(LIGHT_SPOT) ? frame.options.w : 0u; }
+
+// The k-th point or spot light in the light list.
+uint deltaLight(uint k) {
+    uint n = frame.counts.y;
+    for (uint i = 0u; i < n; ++i) {
+        uint type = loadLight(i).info.x;
+        if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+            if (k == 0u) return i;
+            --k;
+        }
+    }
+    return 0u;
+}
+
+// The equiangular sampler's slot for the path's k-th segment (a range of its own, as mediumSlot).
+uint equiangularSlot(uint k) { return 0x00200000u + k; }
 
 // The most boundaries a shadow ray crosses; beyond them it counts as blocked (docs/materials.md).
 #define MEDIUM_MAX_SHADOW_CROSSINGS 16

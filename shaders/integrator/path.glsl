@@ -191,7 +191,9 @@ vec3 lightSampleRadiance(vec3 beta, vec3 f, float cosWi, LightSample ls, float p
 // (the phase function for f, no cosine; the shadow ray's transmittance), then the continuation by
 // phase-function sampling, whose weight f / pdf is 1, and Russian roulette. True when the path has
 // ended.
-bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t) {
+// betaIn and tMax: the throughput the distance t was sampled with and the segment's length (for the
+// MIS weight against equiangular sampling, equiangularDirect).
+bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t, vec3 betaIn, float tMax) {
     uint bounces = st.bounces;
     bool useLights = frame.counts.w != STRATEGY_BSDF_ONLY && frame.counts.y > 0u;
     bool misOn = frame.counts.w == STRATEGY_MIS;
@@ -221,6 +223,11 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t)
                 shadowTMax = 1.0;
             }
             vec3 tr = shadowTransmittance(shadow, shadowTMax, st.medium);
+            // A point or spot light: the equiangular strategy could have found it here too.
+            uint n = deltaLightCount();
+            if (ls.isDelta && n > 0u)
+                tr *= powerHeuristic(pmf * freeFlightPdf(md, betaIn, t),
+                                     equiangularPdf(st.ray.o, d, tMax, loadLight(li).p0.xyz, t) / float(n));
             if (maxComponent(tr) > 0.0) st.L += tr * lightSampleRadiance(st.beta, vec3(ph), 1.0, ls, pmf, ph, misOn);
         }
     }
@@ -240,6 +247,28 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t)
     st.beta /= q;
     st.bounces = bounces + 1u;
     return false;
+}
+
+// Direct light from one point or spot light (chosen uniformly) at a distance along the segment
+// (ray, [0, tMax)) sampled equiangularly towards it (integrator/medium.glsl), weighted by the
+// power heuristic against free-flight sampling with next event estimation choosing the same light
+// (pathMediumVertex weighs that one the other way). beta: the throughput entering the segment.
+vec3 equiangularDirect(vec3 beta, Ray ray, float tMax, Medium md, uint medium, inout Sampler smp, uint slot) {
+    uint n = deltaLightCount();
+    if (n == 0u) return vec3(0.0);
+    vec2 u = sample2D(smp, slot);
+    uint li = deltaLight(min(uint(u.x * float(n)), n - 1u));
+    vec3 c = loadLight(li).p0.xyz;
+    float t, pdfEq;
+    if (!equiangularSample(ray.o, ray.d, tMax, c, u.y, t, pdfEq)) return vec3(0.0);
+    vec3 x = ray.o + t * ray.d;
+    LightSample ls = sampleLight(li, x, vec2(0.5));
+    if (!(ls.pdf > 0.0) || maxComponent(ls.Li) <= 0.0) return vec3(0.0);
+    float pChoose = 1.0 / float(n);
+    float w = powerHeuristic(pChoose * pdfEq, lightSelectPmf(li, x, vec3(0.0), true) * freeFlightPdf(md, beta, t));
+    vec3 tr = shadowTransmittance(segmentRay(x, vec3(0.0), c, vec3(0.0)), 1.0, medium);
+    vec3 sigmaT = md.sigmaA + md.sigmaS;
+    return beta * md.sigmaS * exp(-sigmaT * t) * tr * ls.Li * hgPhase(dot(ray.d, ls.wi), md.g) * (w / (pChoose * pdfEq));
 }
 
 // What a path step does with what its trace found (found, hit: st.ray's closest hit): the
@@ -269,13 +298,18 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     // the medium changes and the same ray goes on, no scattering event.
     if (CAUSTIC_MEDIA != 0u) {
         Medium md = mediumAt(st.medium);
+        float tMax = found ? hit.t : FLT_MAX;
         float t;
-        vec3 weight;
-        bool scatters = mediumSampleDistance(md, found ? hit.t : FLT_MAX, st.beta, smp, mediumSlot(st.segments), t, weight);
+        vec3 weight, betaIn = st.beta;
+        bool scatters = mediumSampleDistance(md, tMax, st.beta, smp, mediumSlot(st.segments), t, weight);
+        // Point and spot lights: an equiangular sample along the segment (the scattering event it
+        // stands for is this bounce's, so only below the maximum depth).
+        if (useLights && mediumScatters(md) && bounces < maxDepth)
+            st.L += equiangularDirect(betaIn, st.ray, tMax, md, st.medium, smp, equiangularSlot(st.segments));
         st.segments += 1u;
         st.beta *= weight;
         if (maxComponent(st.beta) <= 0.0) return true;
-        if (scatters) return pathMediumVertex(st, smp, md, t);
+        if (scatters) return pathMediumVertex(st, smp, md, t, betaIn, tMax);
         if (HAS_MEDIA(MEDIA_BOUNDARIES) && found && loadMaterial(hit.material).info.x == MAT_VOLUME) {
             if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return true;
             st.medium = mediumBeyond(hit.material, hit.ng, st.ray.d);

@@ -361,7 +361,8 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 //   rayOffset: x: the scale below which ray offsets stop shrinking with the hit's
 //     magnitude (geometry/intersect.glsl, offsetRayOrigin); y, z, w: unused
 //   options: x: OPTION_* bits (integrator options); y, z: the origin of the crop the
-//     accumulation images hold (path.comp); w: unused
+//     accumulation images hold (path.comp); w: the number of point and spot lights (the lights
+//     equiangular sampling in media aims at, integrator/medium.glsl)
 //   mediumA, mediumS: the scene's medium (the one outside every object, where the camera is):
 //     rgb absorption sigma_a and w the Henyey-Greenstein g; rgb scattering sigma_s, w unused
 //   envGuide: the environment map's guide tables in the tables buffer (environment.glsl,
