@@ -139,7 +139,9 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
         flags |= MAT_FLAG_ALPHA_MASK;
         cutoff = std::bit_cast<std::uint32_t>(std::max(m.alphaCutoff, 0.0f));
     }
-    g.info = glm::uvec4(type, flags, cutoff, 0);
+    // w: the nesting priority (dielectrics and volumes; integrator/medium.glsl).
+    const bool nests = m.type == MaterialType::Dielectric || m.type == MaterialType::Volume;
+    g.info = glm::uvec4(type, flags, cutoff, nests ? std::uint32_t(std::clamp(m.priority, 0, 1000)) : 0u);
     return g;
 }
 

@@ -43,6 +43,7 @@ std::uint32_t mediaBits(const gpu::GpuFrame& frame, const CompiledScene& c) {
     for (const gpu::GpuMaterial& m : c.materials) {
         if ((m.info.y & MAT_FLAG_MEDIUM) != 0u) add(glm::vec3(m.k), glm::vec3(m.eta));
         if (m.info.x == MAT_VOLUME) bits |= MEDIA_BOUNDARIES | MEDIA_ABSORBING;
+        if (m.info.w != 0u) bits |= MEDIA_NESTED;
     }
     return bits;
 }
@@ -164,7 +165,7 @@ ShaderDefines Renderer::featureDefines() const {
 unsigned Renderer::generalProgram(std::string* error) {
     if (!m_general) {
         ShaderDefines defines = m_config.defines();
-        for (const auto& d : generalDefines(false, MEDIA_ABSORBING | MEDIA_SCATTERING | MEDIA_BOUNDARIES))
+        for (const auto& d : generalDefines(false, MEDIA_ABSORBING | MEDIA_SCATTERING | MEDIA_BOUNDARIES | MEDIA_NESTED))
             defines.push_back(d);
         m_general = buildProgram("integrator/path.comp", defines, error);
     }

@@ -115,6 +115,9 @@ struct Material {
     // dielectric (transmission_scatter_anisotropy) and volume (anisotropy): the interior medium's
     // Henyey-Greenstein g, (-1, 1).
     float scatterAnisotropy = 0.0f;
+    // dielectric, volume: where interiors overlap, the one of the higher priority is what is there
+    // (nested dielectrics, Schmidt and Budge 2002; integrator/medium.glsl); >= 0.
+    int priority = 0;
     bool energyCompensation = false;   // oren_nayar: global factor; conductor: multiple scattering
     Metal metal = Metal::Aluminium;    // conductor
     glm::vec3 eta{1.0f};               // conductor, metal == Custom: real part of the IOR, > 0

@@ -346,6 +346,14 @@ std::span<const Param<Material>> schemaOf<Material>() {
          .doc = "OpenPBR's: the interior's Henyey-Greenstein g (> 0 forward, < 0 backward scattering)",
          .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
          .slider = true},
+        {.key = "priority", .label = "Priority", .kind = ParamKind::Int, .member = &M::priority,
+         .range = between(0, 1000),
+         .doc = "nested dielectrics (Schmidt and Budge 2002): where objects overlap, the interior of the higher "
+                "priority is what is there, and a surface inside it is no interface; `ior` is then the material's "
+                "own, taken relative to the dielectric around it (a glass of water: the glass above the water, the "
+                "water slightly larger than the glass's inside; docs/materials.md, \"Media\")",
+         .types = bits(T::Dielectric, T::Volume), .omitted = [](const M& m) { return m.priority == 0; },
+         .speed = 0.1f},
         {.key = "sigma_a", .label = "Absorption", .kind = ParamKind::Vector, .member = &M::sigmaA,
          .range = between(0, kMaxCoefficient), .unit = "1/m",
          .doc = "`volume`: the interior medium's absorption coefficient per R, G, B (per scene unit)",

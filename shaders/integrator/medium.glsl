@@ -1,16 +1,24 @@
 // Participating media: homogeneous media with an absorption coefficient sigma_a and a scattering
 // coefficient sigma_s per RGB channel (per scene unit) and a Henyey-Greenstein phase function.
 //
-// Where media are. A path carries the medium it is in (PathState::medium): 0 is the scene's (the
-// environment's fog, GpuFrame::mediumA/S; vacuum when both are zero), m > 0 the interior of the
-// object whose material is m - 1. A material with MAT_FLAG_MEDIUM holds its interior's
-// coefficients (shared/layout.h); any other interior is vacuum. The surfaces that bound an interior
-// are those of dielectrics with a reflection lobe (smooth and rough glass) and of MAT_VOLUME (an
-// index-matched boundary: no surface at all, rays and shadow rays cross it unchanged). A ray that
-// crosses such a surface against its normal enters that object's interior; one that crosses it
-// along the normal leaves it, into the scene's medium. So objects with media must be closed and
-// must not overlap or nest, and the camera must be outside every object (docs/materials.md,
-// "Media").
+// Where media are. A medium is named by an entry: 0 is the scene's (the environment's fog,
+// GpuFrame::mediumA/S; vacuum when both are zero), m > 0 the interior of the object whose material
+// is m - 1. A material with MAT_FLAG_MEDIUM holds its interior's coefficients (shared/layout.h);
+// any other interior is vacuum. The surfaces that bound an interior are those of dielectrics with a
+// reflection lobe (smooth and rough glass) and of MAT_VOLUME (an index-matched boundary: no surface
+// at all, rays and shadow rays cross it unchanged).
+//
+// Nesting (Schmidt and Budge 2002, "Simple Nested Dielectrics in Ray Traced Images"): a path
+// carries the interiors it is in, a stack of up to four entries in the order entered
+// (PathState::stack). A ray that crosses a bounding surface against its normal enters that
+// interior (pushed), along it leaves it (removed). Where interiors overlap, the one of the highest
+// priority (GpuMaterial::info.w; the latest entered among equals) is what is there: its medium
+// scatters, and a dielectric surface inside it is a false interface (interfaceIsFalse), crossed
+// like a volume's. At a true interface the dielectric's IOR is taken relative to the medium beyond
+// it (outsideIor: the next dielectric on the stack, volumes skipped, else 1), so a glass of water
+// is modelled as a glass and a slightly larger volume of water of lower priority, and the glass
+// and water meet at eta = 1.33 / 1.5 without an interface surface of their own. The camera starts
+// outside every object (docs/materials.md, "Media").
 //
 // Free flight (mediumSampleDistance): the distance to the next scattering event is sampled from
 // one channel's exponential, the channel chosen with probability proportional to the path's
@@ -40,7 +48,7 @@ struct Medium {
     float g;
 };
 
-// The medium with index m (see the header).
+// The medium of entry m (see the header).
 Medium mediumAt(uint m) {
     Medium md;
     if (m == 0u) {
@@ -69,9 +77,69 @@ bool boundsInterior(GpuMaterial mat) {
     return (type == MAT_DIELECTRIC || type == MAT_ROUGH_DIELECTRIC) && (mat.info.y & MAT_FLAG_NO_REFLECTION) == 0u;
 }
 
-// The medium beyond a bounding surface of material index `material` (front normal ng) that a ray
-// of direction d crosses.
-uint mediumBeyond(uint material, vec3 ng, vec3 d) { return dot(ng, d) < 0.0 ? material + 1u : 0u; }
+// The stack of interiors (see the header): entries in the order entered, 0 for an empty slot.
+int mediumPriority(uint entry) { return int(loadMaterial(entry - 1u).info.w); }
+
+// The entry whose interior is where the path is: the highest priority, the latest among equals; 0
+// (the scene's medium) for an empty stack. `skipVolumes`: the highest that is not MAT_VOLUME (whose
+// IOR is that of what surrounds it).
+uint stackTopOf(uvec4 s, bool skipVolumes) {
+    uint top = 0u;
+    int best = -1;
+    for (int i = 0; i < 4; ++i) {
+        uint e = s[i];
+        if (e == 0u) break;
+        GpuMaterial m = loadMaterial(e - 1u);
+        if (skipVolumes && m.info.x == MAT_VOLUME) continue;
+        int p = int(m.info.w);
+        if (p >= best) {
+            best = p;
+            top = e;
+        }
+    }
+    return top;
+}
+uint stackTop(uvec4 s) { return stackTopOf(s, false); }
+
+uvec4 stackPush(uvec4 s, uint e) {
+    if (s.w != 0u) s = uvec4(s.yzw, 0u);  // full: the oldest entry goes (docs/materials.md)
+    if (s.x == 0u) s.x = e;
+    else if (s.y == 0u) s.y = e;
+    else if (s.z == 0u) s.z = e;
+    else s.w = e;
+    return s;
+}
+
+// The stack without the latest occurrence of e (unchanged when e is not in it).
+uvec4 stackRemove(uvec4 s, uint e) {
+    if (s.w == e) return uvec4(s.xyz, 0u);
+    if (s.z == e) return uvec4(s.xy, s.w, 0u);
+    if (s.y == e) return uvec4(s.x, s.zw, 0u);
+    if (s.x == e) return uvec4(s.yzw, 0u);
+    return s;
+}
+
+// The stack after a ray of direction d crosses a bounding surface of material index `material`
+// (front normal ng): entering against the normal, leaving along it.
+uvec4 stackCross(uvec4 s, uint material, vec3 ng, vec3 d) {
+    return dot(ng, d) < 0.0 ? stackPush(s, material + 1u) : stackRemove(s, material + 1u);
+}
+
+// Whether a dielectric's surface that a ray with stack s meets is a false interface: entering an
+// interior that one already around outranks, or leaving one that another holds the space of.
+bool interfaceIsFalse(uvec4 s, uint material, vec3 ng, vec3 d) {
+    uint e = material + 1u;
+    uint top = stackTop(s);
+    if (dot(ng, d) < 0.0) return top != 0u && mediumPriority(top) > mediumPriority(e);
+    return top != e && stackRemove(s, e) != s;
+}
+
+// The IOR beyond a true interface of material index `material` for a ray with stack s: the
+// dielectric whose interior surrounds it there (volumes skipped), else 1 (the scene's medium).
+float outsideIor(uvec4 s, uint material) {
+    uint e = stackTopOf(stackRemove(s, material + 1u), true);
+    return e == 0u ? 1.0 : loadMaterial(e - 1u).params.y;
+}
 
 // The sampler slot of the k-th free-flight sample of a path: a range of its own, above every
 // bounce's (lib/sampler.glsl hashes slots, so any unused number is a fresh dimension), because a
@@ -197,14 +265,15 @@ uint equiangularSlot(uint k) { return 0x00200000u + k; }
 // The most boundaries a shadow ray crosses; beyond them it counts as blocked (docs/materials.md).
 #define MEDIUM_MAX_SHADOW_CROSSINGS 16
 
-// The transmittance of shadow ray r over t in (0, tMax) that starts in `medium`: 0 when it meets a
-// surface other than a MAT_VOLUME boundary, else the product of exp(-sigma_t d) over the pieces
-// between the boundaries it crosses (the medium changing at each).
-vec3 shadowTransmittance(Ray r, float tMax, uint medium) {
+// The transmittance of shadow ray r over t in (0, tMax) that starts with the stack of interiors
+// `stack`: 0 when it meets a surface other than a MAT_VOLUME boundary or a false interface, else
+// the product of exp(-sigma_t d) over the pieces between the boundaries it crosses (the medium
+// changing at each).
+vec3 shadowTransmittance(Ray r, float tMax, uvec4 stack) {
     float scale = length(r.d);
-    if (!HAS_MEDIA(MEDIA_BOUNDARIES)) {
+    if (!HAS_MEDIA(MEDIA_BOUNDARIES | MEDIA_NESTED)) {
         if (sceneOccluded(r, tMax)) return vec3(0.0);
-        return mediumTransmittance(mediumAt(medium), tMax < FLT_MAX ? tMax * scale : FLT_MAX);
+        return mediumTransmittance(mediumAt(stackTop(stack)), tMax < FLT_MAX ? tMax * scale : FLT_MAX);
     }
     vec3 tr = vec3(1.0);
     bool segment = tMax < FLT_MAX;  // a segment ray: it ends at `target` (t = 1 of r.d unnormalised)
@@ -213,10 +282,13 @@ vec3 shadowTransmittance(Ray r, float tMax, uint medium) {
         Hit h;
         bool found = sceneIntersect(r, tMax, h);
         float len = found ? h.t * scale : (segment ? tMax * scale : FLT_MAX);
-        tr *= mediumTransmittance(mediumAt(medium), len);
+        tr *= mediumTransmittance(mediumAt(stackTop(stack)), len);
         if (!found) return tr;
-        if (loadMaterial(h.material).info.x != MAT_VOLUME || maxComponent(tr) <= 0.0) return vec3(0.0);
-        medium = mediumBeyond(h.material, h.ng, r.d);
+        GpuMaterial m = loadMaterial(h.material);
+        bool crossed = (HAS_MEDIA(MEDIA_BOUNDARIES) && m.info.x == MAT_VOLUME) ||
+                       (boundsInterior(m) && interfaceIsFalse(stack, h.material, h.ng, r.d));
+        if (!crossed || maxComponent(tr) <= 0.0) return vec3(0.0);
+        stack = stackCross(stack, h.material, h.ng, r.d);
         r.o = offsetRayOrigin(h.p, h.ng, r.d);
         if (segment) {
             r.d = target - r.o;

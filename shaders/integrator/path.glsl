@@ -9,11 +9,12 @@
 // costs one continuation ray and one shadow ray. Vertices whose material is purely specular skip
 // next event estimation (no light sample can have a non-zero BSDF value there).
 //
-// Media (CAUSTIC_MEDIA; integrator/medium.glsl): the path carries the medium it is in; each segment
-// it traces through a medium that scatters may end at a medium vertex (pathMediumVertex: next event
-// estimation with the shadow ray's transmittance, then phase-function sampling), and otherwise
-// multiplies the throughput by the segment's transmittance over its probability; refraction into
-// or out of an object, and crossing a MAT_VOLUME boundary, change the medium.
+// Media (CAUSTIC_MEDIA; integrator/medium.glsl): the path carries the interiors it is in (a stack,
+// nested by priority); each segment it traces through a medium that scatters may end at a medium
+// vertex (pathMediumVertex: next event estimation with the shadow ray's transmittance, then
+// phase-function sampling), and otherwise multiplies the throughput by the segment's transmittance
+// over its probability; refraction into or out of an object, and crossing a MAT_VOLUME boundary or
+// a false interface, change the stack; a true interface's IOR is relative to the medium beyond it.
 //
 // Glass splitting (frame.options.x & OPTION_GLASS_SPLIT; docs/design.md derives it): at a smooth
 // dielectric vertex the lobe not taken, when it leaves the medium, is traced too, by a probe ray
@@ -129,9 +130,10 @@ struct PathState {
     Ray shadowRay;
     float shadowTMax;
     vec3 shadowL;
-    // Media (CAUSTIC_MEDIA): the medium the path is in (integrator/medium.glsl), and how many
-    // segments it has traced through media (the free-flight samples' slots).
-    uint medium;
+    // Media (CAUSTIC_MEDIA): the interiors the path is in (integrator/medium.glsl; its medium is
+    // stackTop's), and how many segments it has traced through media (the free-flight samples'
+    // slots).
+    uvec4 stack;
     uint segments;
 };
 
@@ -161,7 +163,7 @@ PathState pathBegin(Ray ray) {
     st.shadowRay = ray;
     st.shadowTMax = 0.0;
     st.shadowL = vec3(0.0);
-    st.medium = 0u;
+    st.stack = uvec4(0u);
     st.segments = 0u;
     return st;
 }
@@ -222,7 +224,7 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t,
                 shadow = segmentRay(p, vec3(0.0), p + ls.dist * ls.wi, ls.nl);
                 shadowTMax = 1.0;
             }
-            vec3 tr = shadowTransmittance(shadow, shadowTMax, st.medium);
+            vec3 tr = shadowTransmittance(shadow, shadowTMax, st.stack);
             // A point or spot light: the equiangular strategy could have found it here too.
             uint n = deltaLightCount();
             if (ls.isDelta && n > 0u)
@@ -253,7 +255,7 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t,
 // (ray, [0, tMax)) sampled equiangularly towards it (integrator/medium.glsl), weighted by the
 // power heuristic against free-flight sampling with next event estimation choosing the same light
 // (pathMediumVertex weighs that one the other way). beta: the throughput entering the segment.
-vec3 equiangularDirect(vec3 beta, Ray ray, float tMax, Medium md, uint medium, inout Sampler smp, uint slot) {
+vec3 equiangularDirect(vec3 beta, Ray ray, float tMax, Medium md, uvec4 stack, inout Sampler smp, uint slot) {
     uint n = deltaLightCount();
     if (n == 0u) return vec3(0.0);
     vec2 u = sample2D(smp, slot);
@@ -266,7 +268,7 @@ vec3 equiangularDirect(vec3 beta, Ray ray, float tMax, Medium md, uint medium, i
     if (!(ls.pdf > 0.0) || maxComponent(ls.Li) <= 0.0) return vec3(0.0);
     float pChoose = 1.0 / float(n);
     float w = powerHeuristic(pChoose * pdfEq, lightSelectPmf(li, x, vec3(0.0), true) * freeFlightPdf(md, beta, t));
-    vec3 tr = shadowTransmittance(segmentRay(x, vec3(0.0), c, vec3(0.0)), 1.0, medium);
+    vec3 tr = shadowTransmittance(segmentRay(x, vec3(0.0), c, vec3(0.0)), 1.0, stack);
     vec3 sigmaT = md.sigmaA + md.sigmaS;
     return beta * md.sigmaS * exp(-sigmaT * t) * tr * ls.Li * hgPhase(dot(ray.d, ls.wi), md.g) * (w / (pChoose * pdfEq));
 }
@@ -294,10 +296,10 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     }
     // Media: the segment just traced ran through the path's medium. It may scatter before its end
     // (a medium vertex), else its transmittance over the probability of passing goes into the
-    // throughput before anything at its end uses it. A MAT_VOLUME boundary at its end is crossed:
-    // the medium changes and the same ray goes on, no scattering event.
+    // throughput before anything at its end uses it. A MAT_VOLUME boundary or a false interface at
+    // its end is crossed: the stack changes and the same ray goes on, no scattering event.
     if (CAUSTIC_MEDIA != 0u) {
-        Medium md = mediumAt(st.medium);
+        Medium md = mediumAt(stackTop(st.stack));
         float tMax = found ? hit.t : FLT_MAX;
         float t;
         vec3 weight, betaIn = st.beta;
@@ -305,14 +307,17 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         // Point and spot lights: an equiangular sample along the segment (the scattering event it
         // stands for is this bounce's, so only below the maximum depth).
         if (useLights && mediumScatters(md) && bounces < maxDepth)
-            st.L += equiangularDirect(betaIn, st.ray, tMax, md, st.medium, smp, equiangularSlot(st.segments));
+            st.L += equiangularDirect(betaIn, st.ray, tMax, md, st.stack, smp, equiangularSlot(st.segments));
         st.segments += 1u;
         st.beta *= weight;
         if (maxComponent(st.beta) <= 0.0) return true;
         if (scatters) return pathMediumVertex(st, smp, md, t, betaIn, tMax);
-        if (HAS_MEDIA(MEDIA_BOUNDARIES) && found && loadMaterial(hit.material).info.x == MAT_VOLUME) {
+        GpuMaterial boundary;
+        if (found) boundary = loadMaterial(hit.material);
+        if (found && ((HAS_MEDIA(MEDIA_BOUNDARIES) && boundary.info.x == MAT_VOLUME) ||
+                      (boundsInterior(boundary) && interfaceIsFalse(st.stack, hit.material, hit.ng, st.ray.d)))) {
             if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return true;
-            st.medium = mediumBeyond(hit.material, hit.ng, st.ray.d);
+            st.stack = stackCross(st.stack, hit.material, hit.ng, st.ray.d);
             st.pathLength += hit.t;
             st.ray.o = offsetRayOrigin(hit.p, hit.ng, st.ray.d);
             return false;
@@ -335,6 +340,8 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
 
     GpuMaterial mat = loadMaterial(hit.material);
     vec3 wo = -st.ray.d;
+    // A true interface of nested interiors: the IOR relative to the medium beyond it.
+    if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) mat.params.y /= outsideIor(st.stack, hit.material);
 
     // Emission.
     vec3 Le = emittedTowards(hit, mat, wo);
@@ -408,11 +415,11 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
                 st.shadowL = lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
 #else
                 if (CAUSTIC_MEDIA != 0u) {
-                    // The shadow ray leaves into the medium on its side of the surface.
-                    uint shadowMedium = st.medium;
+                    // The shadow ray leaves into the interiors on its side of the surface.
+                    uvec4 shadowStack = st.stack;
                     if ((dot(hit.ng, ls.wi) > 0.0) != (ngWo > 0.0) && boundsInterior(mat))
-                        shadowMedium = mediumBeyond(hit.material, hit.ng, ls.wi);
-                    vec3 tr = shadowTransmittance(shadow, shadowTMax, shadowMedium);
+                        shadowStack = stackCross(st.stack, hit.material, hit.ng, ls.wi);
+                    vec3 tr = shadowTransmittance(shadow, shadowTMax, shadowStack);
                     if (maxComponent(tr) > 0.0)
                         st.L += tr * lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
                 } else if (!sceneOccluded(shadow, shadowTMax)) {
@@ -441,6 +448,9 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     // is traced even when the continuation is refused or ended by Russian roulette.
     st.emitScale = 1.0;
     vec3 probeDir = vec3(0.0);
+    // With nested interiors, only where leaving this object leaves every interior (the probe sees
+    // what lies beyond with nothing on the way).
+    if (CAUSTIC_MEDIA != 0u) split = split && stackRemove(st.stack, hit.material + 1u) == uvec4(0u);
     if (HAS_MATERIAL(MAT_DIELECTRIC) && split && mat.info.x == MAT_DIELECTRIC) {
         if (bs.wi.z > 0.0) st.emitScale = bs.pdf;
         BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
@@ -462,7 +472,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
             float eta = mat.params.y;
             st.etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
-            if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) st.medium = mediumBeyond(hit.material, hit.ng, wiW);
+            if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) st.stack = stackCross(st.stack, hit.material, hit.ng, wiW);
         }
         st.ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         st.ray.d = wiW;

@@ -158,6 +158,7 @@ using uint = std::uint32_t;
 #define MEDIA_ABSORBING 1u          // some medium (a material's interior or the scene's) absorbs or scatters
 #define MEDIA_SCATTERING 2u         // some medium scatters: free-flight sampling, medium vertices
 #define MEDIA_BOUNDARIES 4u         // some material is MAT_VOLUME: rays and shadow rays cross its surfaces
+#define MEDIA_NESTED 8u             // some dielectric or volume has a nesting priority (GpuMaterial::info.w)
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 // The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
@@ -281,7 +282,8 @@ CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 //   emission: rgb emitted radiance (both faces unless the primitive is PRIM_FLAG_ONE_SIDED_EMITTER),
 //             w: the normal map's scale (x and y of its tangent-space normal)
 //   params:   x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
-//   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits)
+//   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits),
+//             w: dielectrics and volumes: the nesting priority (integrator/medium.glsl)
 //   eta, k:   conductors: rgb real and imaginary (extinction) parts of the complex IOR
 //             dielectrics and volumes with MAT_FLAG_MEDIUM: the interior medium's coefficients per
 //             scene unit, k.rgb absorption sigma_a, eta.rgb scattering sigma_s, eta.w the

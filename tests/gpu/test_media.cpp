@@ -530,6 +530,108 @@ TEST_CASE("media: MIS, light sampling alone and phase sampling alone agree in fo
     CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "7u");
 }
 
+namespace {
+
+// Two coloured emitters side by side behind the origin and a dim sky, for refraction to show: a
+// wrong IOR anywhere in a glass object in front moves the colours' boundary.
+Scene refractionStage() {
+    Scene s;
+    s.render.width = s.render.height = 32;
+    s.render.maxDepth = 32;
+    s.render.seed = 9;
+    s.materials.push_back({"black", MaterialType::Diffuse, glm::vec3(0.0f), glm::vec3(0.0f)});
+    for (int side = 0; side < 2; ++side) {
+        Object e;
+        e.name = side == 0 ? "left" : "right";
+        e.shape = Shape::Quad;
+        e.material = "black";
+        e.emission = side == 0 ? glm::vec3(2.0f, 0.4f, 0.1f) : glm::vec3(0.1f, 0.5f, 2.0f);
+        e.transform.translate = glm::vec3(side == 0 ? -1.5f : 1.5f, 0.3f, -3.0f);
+        e.transform.scale = glm::vec3(1.5f, 3.0f, 1.0f);
+        s.objects.push_back(e);
+    }
+    s.environment.type = EnvironmentType::Constant;
+    s.environment.radiance = glm::vec3(0.2f);
+    s.camera.position = glm::vec3(0.0f, 0.0f, 5.0f);
+    s.camera.lookAt = glm::vec3(0.0f);
+    s.camera.fovDegrees = 28.0f;
+    return s;
+}
+
+Material glassMaterial(const std::string& name, float ior, int priority) {
+    Material m;
+    m.name = name;
+    m.type = MaterialType::Dielectric;
+    m.ior = ior;
+    m.priority = priority;
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("media: nested dielectrics by priority equal the scene built with explicit interfaces",
+          "[gpu][media][nested]") {
+    // Water (1.33) inside a glass ball (1.5). By priority: a glass sphere of radius 1 and a water
+    // sphere of radius 0.85 of higher priority, each with its own (absolute) IOR; the integrator
+    // takes the water's surface relative to the glass around it. Explicitly: the glass sphere and
+    // an inner interface of relative IOR 1.33 / 1.5, no priorities (the relative-IOR model of a
+    // scene without nesting). The two must be the same image, block by block.
+    auto renderer = test::makeRenderer();
+    Scene byPriority = refractionStage();
+    byPriority.materials.push_back(glassMaterial("glass", 1.5f, 0));
+    byPriority.materials.push_back(glassMaterial("water", 1.33f, 1));
+    byPriority.objects.push_back(test::sphereAt("glass", glm::vec3(0.0f), 1.0f));
+    byPriority.objects.push_back(test::sphereAt("water", glm::vec3(0.0f), 0.85f));
+    Scene explicitInterfaces = refractionStage();
+    explicitInterfaces.materials.push_back(glassMaterial("glass", 1.5f, 0));
+    explicitInterfaces.materials.push_back(glassMaterial("glass to water", 1.33f / 1.5f, 0));
+    explicitInterfaces.objects.push_back(test::sphereAt("glass", glm::vec3(0.0f), 1.0f));
+    explicitInterfaces.objects.push_back(test::sphereAt("glass to water", glm::vec3(0.0f), 0.85f));
+    const Film a = test::renderFilm(*renderer, byPriority, 256);
+    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "8u");  // MEDIA_NESTED
+    const Film b = test::renderFilm(*renderer, explicitInterfaces, 256);
+    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "0u");
+    test::checkSameMean(a, b);
+    test::checkBlocksAgree(a, b, "priority vs explicit interfaces");
+    // The test's own power: water given the glass's IOR (no inner interface at all) is visibly
+    // another image.
+    Scene noWater = refractionStage();
+    noWater.materials.push_back(glassMaterial("glass", 1.5f, 0));
+    noWater.objects.push_back(test::sphereAt("glass", glm::vec3(0.0f), 1.0f));
+    const Film c = test::renderFilm(*renderer, noWater, 256);
+    int differ = 0;
+    for (size_t i = 0; i < a.mean.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch)
+            if (std::abs(a.mean[i][ch] - c.mean[i][ch]) > 6.0 * std::sqrt(a.varianceOfMean[i][ch] + c.varianceOfMean[i][ch]))
+                ++differ;
+    INFO(differ << " of " << 3 * a.mean.size() << " pixel channels differ by more than 6 standard errors");
+    CHECK(differ > int(a.mean.size()) / 10);
+}
+
+TEST_CASE("media: a lower-priority object inside a higher one is not there (false interfaces)",
+          "[gpu][media][nested]") {
+    // A water sphere of priority 1 inside a glass sphere of priority 2: where both are, the glass
+    // is, so the water's surface is a false interface crossed unchanged by rays and shadow rays,
+    // and the image is the glass sphere's alone. With a scattering interior in the water, it would
+    // scatter only outside the glass: here it lies wholly inside, so nothing scatters either.
+    auto renderer = test::makeRenderer();
+    Scene glassOnly = refractionStage();
+    glassOnly.materials.push_back(glassMaterial("glass", 1.5f, 2));
+    glassOnly.objects.push_back(test::sphereAt("glass", glm::vec3(0.0f), 1.0f));
+    Scene both = glassOnly;
+    Material water = glassMaterial("water", 1.33f, 1);
+    water.transmissionDepth = 0.2f;
+    water.transmissionColor = glm::vec3(0.2f, 0.5f, 0.9f);
+    water.transmissionScatter = glm::vec3(0.3f);
+    both.materials.push_back(water);
+    both.objects.push_back(test::sphereAt("water", glm::vec3(0.1f, 0.0f, 0.0f), 0.8f));
+    const Film a = test::renderFilm(*renderer, glassOnly, 256);
+    const Film b = test::renderFilm(*renderer, both, 256);
+    CHECK(defineOf(renderer->featureDefines(), "CAUSTIC_MEDIA") == "11u");  // absorbing, scattering, nested
+    test::checkSameMean(a, b);
+    test::checkBlocksAgree(a, b, "glass vs glass with a lower-priority water inside");
+}
+
 TEST_CASE("media: a scene without media compiles them out, specialised or not", "[gpu][media]") {
     auto renderer = test::makeRenderer();
     std::string error;
