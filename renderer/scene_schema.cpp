@@ -325,14 +325,14 @@ std::span<const Param<Material>> schemaOf<Material>() {
              return r;
          }(),
          .doc = "OpenPBR's: the colour that light keeps after travelling `transmission_depth` inside (Beer-Lambert "
-                "absorption, sigma_a = -ln(colour) / depth per channel); needs `transmission_depth` > 0 unless it "
-                "is [1, 1, 1]. Closed, non-nested objects (docs/materials.md)",
+                "extinction, sigma_t = -ln(colour) / depth per channel); needs `transmission_depth` > 0 unless it "
+                "is [1, 1, 1]. Closed objects; overlapping ones nest by `priority` (docs/materials.md, \"Media\")",
          .types = bits(T::Dielectric),
-         .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Absorption"},
+         .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Transmission"},
         {.key = "transmission_depth", .label = "Transmission depth", .kind = ParamKind::Float,
          .member = &M::transmissionDepth, .range = atLeast(0), .unit = "m",
-         .doc = "OpenPBR's: the distance inside at which light has the colour `transmission_color`; 0: no "
-                "absorption (clear glass, today's behaviour)",
+         .doc = "OpenPBR's: the distance inside at which light that has not scattered has the colour "
+                "`transmission_color`; 0: no medium inside (clear glass)",
          .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
          .speed = 0.01f},
         {.key = "transmission_scatter", .label = "Transmission scatter", .kind = ParamKind::Colour,

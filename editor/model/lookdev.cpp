@@ -26,6 +26,27 @@ Material glass(const char* name, float ior, float alpha, glm::vec3 tint = glm::v
     return m;
 }
 
+// A dielectric with an interior medium, in OpenPBR's terms: the colour kept after `depth` scene
+// units, the scattering coefficient times the depth, its anisotropy.
+Material tinted(const char* name, float ior, float alpha, glm::vec3 colour, float depth, glm::vec3 scatter = glm::vec3(0.0f),
+                float anisotropy = 0.0f) {
+    Material m = glass(name, ior, alpha);
+    m.transmissionColor = colour;
+    m.transmissionDepth = depth;
+    m.transmissionScatter = scatter;
+    m.scatterAnisotropy = anisotropy;
+    return m;
+}
+
+Material volume(const char* name, glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy) {
+    Material m = materialDefaults(MaterialType::Volume);
+    m.name = name;
+    m.sigmaA = sigmaA;
+    m.sigmaS = sigmaS;
+    m.scatterAnisotropy = anisotropy;
+    return m;
+}
+
 Material surface(const char* name, glm::vec3 base, float roughness) {
     Material m = materialDefaults(MaterialType::Surface);
     m.name = name;
@@ -58,7 +79,12 @@ std::span<const LibraryMaterial> materialLibrary() {
         l.push_back({"Glass", glass("glass", 1.5f, 0.0f)});
         l.push_back({"Glass", glass("rough glass", 1.5f, 0.15f)});
         l.push_back({"Glass", glass("frosted glass", 1.5f, 0.45f)});
-        l.push_back({"Glass", glass("green bottle glass", 1.52f, 0.0f, {0.55f, 0.85f, 0.6f})});
+        // Coloured by absorption inside (the colour deepens with thickness), for objects of about a
+        // scene unit.
+        l.push_back({"Glass", tinted("green bottle glass", 1.52f, 0.0f, {0.3f, 0.7f, 0.35f}, 0.5f)});
+        l.push_back({"Glass", tinted("amber glass", 1.52f, 0.0f, {0.8f, 0.45f, 0.1f}, 0.5f)});
+        l.push_back({"Glass", tinted("honey", 1.49f, 0.0f, {0.85f, 0.5f, 0.08f}, 0.3f, {0.03f, 0.02f, 0.01f})});
+        l.push_back({"Glass", tinted("milky glass", 1.5f, 0.05f, {0.55f, 0.6f, 0.7f}, 0.3f, {0.45f, 0.45f, 0.45f}, 0.2f)});
         l.push_back({"Glass", glass("water", 1.333f, 0.0f)});
         l.push_back({"Glass", glass("diamond", 2.42f, 0.0f)});
         // Plastics and coatings: the layered surface (a dielectric specular over a diffuse base).
@@ -93,6 +119,9 @@ std::span<const LibraryMaterial> materialLibrary() {
             plaster.sigma = 0.5f;
             l.push_back({"Matte", plaster});
         }
+        // Media: volumes (a shape that only bounds its medium), coefficients per scene unit.
+        l.push_back({"Media", volume("fog", glm::vec3(0.02f), glm::vec3(0.45f), 0.5f)});
+        l.push_back({"Media", volume("smoke", {0.4f, 0.42f, 0.45f}, glm::vec3(2.0f), 0.3f)});
         {
             Material mirror = materialDefaults(MaterialType::Mirror);
             mirror.name = "mirror";
