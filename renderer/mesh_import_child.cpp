@@ -235,7 +235,7 @@ MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds) 
         std::signal(SIGPIPE, SIG_IGN);   // a parent that went away makes write fail, not kill
         // A crash must end the child plainly: the parent's handlers (a test framework's report,
         // a program's crash handler, the temporary-file cleanup) are not the child's business.
-        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTERM, SIGINT, SIGHUP})
+        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTERM, SIGINT, SIGHUP, SIGQUIT})
             std::signal(sig, SIG_DFL);
         bool written = false;
         try {
