@@ -176,6 +176,8 @@ std::string serializeImport(const MeshImportResult& r) {
     for (const EmbeddedImage& e : r.embedded) {
         w.str(e.name);
         w.str(e.bytes);
+        w.pod(std::int32_t(e.width));
+        w.pod(std::int32_t(e.height));
     }
     w.pod(kMagic);
     return std::move(w.out);
@@ -199,10 +201,14 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     result.materials.resize(n);
     for (ImportedMaterial& m : result.materials)
         if (!readMaterial(r, m)) return false;
-    if (!r.count(n, 2 * sizeof(std::uint64_t))) return false;
+    if (!r.count(n, 2 * sizeof(std::uint64_t) + 2 * sizeof(std::int32_t))) return false;
     result.embedded.resize(n);
-    for (EmbeddedImage& e : result.embedded)
-        if (!r.str(e.name) || !r.str(e.bytes)) return false;
+    for (EmbeddedImage& e : result.embedded) {
+        std::int32_t width = 0, height = 0;
+        if (!r.str(e.name) || !r.str(e.bytes) || !r.pod(width) || !r.pod(height)) return false;
+        e.width = width;
+        e.height = height;
+    }
     if (!r.pod(end) || end != kMagic || r.at != bytes.size()) return false;
     *out = std::move(result);
     return true;
