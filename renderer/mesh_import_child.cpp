@@ -38,10 +38,13 @@
 namespace caustic {
 namespace {
 
-// Update writeMesh/readMesh and writeMaterial/readMaterial when these change.
+// Update writeMesh/readMesh, writeMaterial/readMaterial and the embedded images' fields when these
+// change.
 static_assert(sizeof(Mesh) == 160, "a Mesh field was added: serialise it in mesh_import_child.cpp");
 static_assert(sizeof(ImportedMaterial) == 280,
               "an ImportedMaterial field was added: serialise it in mesh_import_child.cpp");
+static_assert(sizeof(EmbeddedImage) == 2 * sizeof(std::string) + 2 * sizeof(int),
+              "an EmbeddedImage field was added: serialise it in serializeImport/deserializeImport");
 
 constexpr std::uint32_t kMagic = 0x31494d43;  // "CMI1"
 
