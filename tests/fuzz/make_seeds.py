@@ -5,7 +5,7 @@ renderer/hdr_file.cpp reads), and tiny uncompressed TGA, BMP and PPM images (for
 reads that Debian's assimp-testmodels has no small example of); of the part-file harness
 (tests/fuzz/seeds/part/): uncompressed OpenEXR part files, valid ones and crafted ones (a NaN sum
 under a correct checksum, a header declaring far more pixels than the file holds, a missing
-channel, a foreign format tag); and of the sheet harness (tests/fuzz/seeds/sheet/): layouts.
+channel, a foreign format tag, an image size and a render time no render writes); and of the sheet harness (tests/fuzz/seeds/sheet/): layouts.
 Deterministic; run it again to regenerate them after changing it."""
 import os
 import struct
@@ -233,6 +233,9 @@ write("part/negative-count.exr", part(2, 1, (0, 2, 0, 1), (0, 4),
                                       value=lambda x, y, n: -1.0 if n == "sum.A" else part_value(x, y, n)))
 write("part/missing-channel.exr", part(2, 1, (0, 2, 0, 1), (0, 4), channels=PART_CHANNELS[:-1]))
 write("part/foreign-format.exr", part(2, 1, (0, 2, 0, 1), (0, 4), overrides=[("caustic:part", "caustic-part-0")]))
+# Metadata no render writes: an image larger than any render, a render time that is not a number.
+write("part/image-size.exr", part(20000, 4, (0, 2, 0, 1), (0, 4)))
+write("part/seconds-nan.exr", part(2, 1, (0, 2, 0, 1), (0, 4), overrides=[("caustic:render_seconds", "nan")]))
 # The header declares 16384 x 8192 pixels; the file holds one scanline of two.
 write("part/huge-header.exr", part(16384, 8192, (0, 2, 0, 1), (0, 4), data_window=(0, 0, 16383, 8191)))
 
