@@ -131,8 +131,9 @@ bool readPart(const std::string& path, Part* out, std::string* error, bool withP
     };
     std::string a, b, xs, ys, x0, x1, y0, y1;
     if (!parseNumber(seed, &i.seed)) return bad("caustic:seed", seed);
+    // No render is larger than kMaxRenderSide a side (the scene's limit), so no part of one is.
     if (!split(size, 'x', &a, &b) || !parseNumber(a, &i.width) || !parseNumber(b, &i.height) || i.width <= 0 ||
-        i.height <= 0)
+        i.height <= 0 || i.width > kMaxRenderSide || i.height > kMaxRenderSide)
         return bad("caustic:image_size", size);
     if (!split(range, ':', &a, &b) || !parseNumber(a, &i.sample0) || !parseNumber(b, &i.sample1) ||
         i.sample0 >= i.sample1)
@@ -143,7 +144,9 @@ bool readPart(const std::string& path, Part* out, std::string* error, bool withP
         i.crop.y0 >= i.crop.y1 || i.crop.x1 > i.width || i.crop.y1 > i.height)
         return bad("caustic:crop", crop);
     if (!parseNumber(dropped, &i.dropped)) return bad("caustic:dropped", dropped);
-    i.seconds = std::atof(seconds.c_str());
+    // A number of seconds, as writePart writes it ("0.250000"): not "nan", "inf", negative or text.
+    if (!parseNumber(seconds, &i.seconds) || !std::isfinite(i.seconds) || i.seconds < 0.0)
+        return bad("caustic:render_seconds", seconds);
     const int w = i.crop.x1 - i.crop.x0, h = i.crop.y1 - i.crop.y0;
     if (image.width != w || image.height != h) {
         *error = path + ": holds " + std::to_string(image.width) + "x" + std::to_string(image.height) +

@@ -71,7 +71,7 @@ std::string tempPathBeside(const std::string& finalPath) {
            std::to_string(counter.fetch_add(1)) + extension;
 }
 
-// ---- Removing temporary files on SIGINT / SIGTERM / SIGHUP ------------------------------------
+// ---- Removing temporary files on SIGINT / SIGTERM / SIGHUP / SIGQUIT ---------------------------
 //
 // A fixed table of names: the handler may only touch memory that is never reallocated, and only
 // call async-signal-safe functions (unlink, sigaction, raise). A slot is claimed with a
@@ -86,14 +86,15 @@ struct TempSlot {
 };
 TempSlot g_tempSlots[kMaxTempFiles];
 
-constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP};
-struct sigaction g_previous[3];
+constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+constexpr int kCleanupSignalCount = sizeof(kCleanupSignals) / sizeof(kCleanupSignals[0]);
+struct sigaction g_previous[kCleanupSignalCount];
 
 void removeTempFilesOnSignal(int sig) {
     const int savedErrno = errno;
     for (TempSlot& slot : g_tempSlots)
         if (slot.state.load(std::memory_order_acquire) == 2) ::unlink(slot.path);
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < kCleanupSignalCount; ++i) {
         if (kCleanupSignals[i] != sig) continue;
         const struct sigaction& prev = g_previous[i];
         if (prev.sa_flags & SA_SIGINFO) break;  // a three-argument handler is not chained: default action
@@ -101,7 +102,7 @@ void removeTempFilesOnSignal(int sig) {
         if (prev.sa_handler != SIG_DFL) { prev.sa_handler(sig); errno = savedErrno; return; }
         break;
     }
-    // The signal's default action (terminate), as if no handler had been installed.
+    // The signal's default action (terminate; SIGQUIT also dumps core), as if no handler had been installed.
     struct sigaction dfl {};
     dfl.sa_handler = SIG_DFL;
     sigemptyset(&dfl.sa_mask);
@@ -116,7 +117,7 @@ void removeTempFilesOnSignal(int sig) {
 void installTempFileCleanup() {
     static std::mutex mutex;
     const std::lock_guard<std::mutex> lock(mutex);
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < kCleanupSignalCount; ++i) {
         struct sigaction current {};
         if (::sigaction(kCleanupSignals[i], nullptr, &current) != 0) continue;
         const bool simple = !(current.sa_flags & SA_SIGINFO);

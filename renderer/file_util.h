@@ -26,13 +26,13 @@ bool commitTempFile(const std::string& tmp, const std::string& finalPath, std::s
 // then renames it over path. On any failure the temporary is removed, path keeps its old
 // contents and *error is set ("<path>: cannot write: writing the temporary file '...' failed: No
 // space left on device"). While the temporary exists it is registered with the signal cleanup
-// below, so SIGINT/SIGTERM/SIGHUP do not leave it behind.
+// below, so SIGINT/SIGTERM/SIGHUP/SIGQUIT do not leave it behind.
 bool writeFileAtomically(const std::string& path, const char* data, std::size_t size, std::string* error);
 inline bool writeFileAtomically(const std::string& path, const std::string& contents, std::string* error) {
     return writeFileAtomically(path, contents.data(), contents.size(), error);
 }
 
-// Temporary files removed if the process is ended by SIGINT, SIGTERM or SIGHUP. The handler
+// Temporary files removed if the process is ended by SIGINT, SIGTERM, SIGHUP or SIGQUIT. The handler
 // (installed when a name is registered, unless the signal is ignored; chaining to the handler it
 // replaced) only calls unlink() on the registered names, then calls that handler or lets the
 // signal take its default effect (async-signal-safe). At most

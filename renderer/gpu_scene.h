@@ -133,6 +133,10 @@ bool readTextureImage(const ImageReader& reader, const FileTextures* files, cons
 // told apart by their signatures) into 8-bit values as floats in [0, 1] (16-bit PNGs in 16 bits),
 // without colour conversion. Errors start with `what` (the file and the texture).
 bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error);
+// An embedded image of raw texels (EmbeddedImage::raw()) as 8-bit RGBA values as floats in [0, 1];
+// refused (the message starting with `what`) beyond the image limits or when its bytes do not
+// match its size.
+bool rawTexelImage(const EmbeddedImage& e, const std::string& what, ImageData* out, std::string* error);
 // An image file read without OpenImageIO (the lean binaries: caustic-bench, the GPU machine's
 // build): PNG and JPEG told by their signatures, decoded as decodeImageBytes does; anything else
 // read as a Radiance HDR file (renderer/hdr_file.h). Errors name the file.

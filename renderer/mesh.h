@@ -57,11 +57,16 @@ struct ImportedMaterial {
     }
 };
 
-// An image file embedded in a model file, as its bytes (PNG or JPEG; renderer/textures.cpp
-// decodeImageBytes decodes it).
+// An image embedded in a model file. Either a compressed image file as its bytes (PNG or JPEG;
+// renderer/textures.cpp decodeImageBytes decodes it; width and height 0), or raw texels (Assimp's
+// aiTexture with mHeight != 0, as MDL files store their skins): width x height texels of 8-bit
+// R, G, B, A (reordered from Assimp's b, g, r, a), row 0 first. Raw texels beyond the image limits
+// (renderer/image.h) keep their declared size and no bytes; the texture reader refuses them.
 struct EmbeddedImage {
     std::string name;                     // what the file calls it ("" when it has no name)
     std::string bytes;
+    int width = 0, height = 0;            // > 0: raw RGBA8 texels
+    bool raw() const { return width > 0 && height > 0; }
 };
 
 struct Mesh {

@@ -1,4 +1,5 @@
 #include "renderer/mesh_import.h"
+#include "renderer/image.h"
 #include "renderer/mesh_import_gltf.h"
 
 #include <assimp/GltfMaterial.h>
@@ -65,15 +66,18 @@ bool finiteMat(const glm::mat4& m) {
     return true;
 }
 
-std::string texturePath(const aiMaterial* mat, aiTextureType type, const fs::path& dir,
-                        bool* embedded) {
+// A material's texture: "*N" for the file's embedded image N, else a path beside the model. A
+// name that matches an embedded image's name (Half-Life MDL skins: "Material.bmp"; FBX with
+// embedded media) is that image, as Assimp's aiScene::GetEmbeddedTexture resolves it.
+std::string texturePath(const aiMaterial* mat, aiTextureType type, const fs::path& dir, const aiScene* scene) {
     aiString s;
     if (mat->GetTextureCount(type) == 0 || mat->GetTexture(type, 0, &s) != AI_SUCCESS) return {};
     std::string p = s.C_Str();
     if (p.empty()) return {};
-    if (p[0] == '*') {
-        *embedded = true;
-        return p;
+    if (p[0] == '*') return p;
+    if (scene->mTextures && scene->mNumTextures > 0) {
+        const int index = scene->GetEmbeddedTextureAndIndex(p.c_str()).second;
+        if (index >= 0) return "*" + std::to_string(index);
     }
     fs::path tp(p);
     if (tp.is_relative()) tp = dir / tp;
@@ -82,7 +86,7 @@ std::string texturePath(const aiMaterial* mat, aiTextureType type, const fs::pat
 
 bool finitePositive(float v) { return std::isfinite(v) && v >= 0.0f; }
 
-ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, bool* embedded,
+ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, const aiScene* scene,
                                  bool* approximated, bool* otherTextures) {
     ImportedMaterial m;
     aiString name;
@@ -131,23 +135,23 @@ ImportedMaterial convertMaterial(const aiMaterial* mat, const fs::path& dir, boo
     int twoSided = 0;
     if (mat->Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) m.doubleSided = twoSided != 0;
 
-    m.baseColorTexture = texturePath(mat, aiTextureType_BASE_COLOR, dir, embedded);
-    if (m.baseColorTexture.empty()) m.baseColorTexture = texturePath(mat, aiTextureType_DIFFUSE, dir, embedded);
+    m.baseColorTexture = texturePath(mat, aiTextureType_BASE_COLOR, dir, scene);
+    if (m.baseColorTexture.empty()) m.baseColorTexture = texturePath(mat, aiTextureType_DIFFUSE, dir, scene);
     // glTF's packed metallic-roughness texture: Assimp 5.2 files it under UNKNOWN (the
     // AI_MATKEY_GLTF_PBRMETALLICROUGHNESS_METALLICROUGHNESS_TEXTURE key) and, for some files,
     // under METALNESS / DIFFUSE_ROUGHNESS.
-    m.metallicRoughnessTexture = texturePath(mat, aiTextureType_UNKNOWN, dir, embedded);
+    m.metallicRoughnessTexture = texturePath(mat, aiTextureType_UNKNOWN, dir, scene);
     if (m.metallicRoughnessTexture.empty())
-        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_METALNESS, dir, embedded);
+        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_METALNESS, dir, scene);
     if (m.metallicRoughnessTexture.empty())
-        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_DIFFUSE_ROUGHNESS, dir, embedded);
-    m.normalTexture = texturePath(mat, aiTextureType_NORMALS, dir, embedded);
+        m.metallicRoughnessTexture = texturePath(mat, aiTextureType_DIFFUSE_ROUGHNESS, dir, scene);
+    m.normalTexture = texturePath(mat, aiTextureType_NORMALS, dir, scene);
     if (m.normalTexture.empty()) {
         // OBJ files often put the normal map under "bump"; Assimp calls that HEIGHT.
-        m.normalTexture = texturePath(mat, aiTextureType_HEIGHT, dir, embedded);
+        m.normalTexture = texturePath(mat, aiTextureType_HEIGHT, dir, scene);
     }
     if (mat->Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), f) == AI_SUCCESS) m.normalScale = f;
-    m.emissionTexture = texturePath(mat, aiTextureType_EMISSIVE, dir, embedded);
+    m.emissionTexture = texturePath(mat, aiTextureType_EMISSIVE, dir, scene);
     if (!m.emissionTexture.empty() && m.emission == glm::vec3(0.0f)) m.emission = glm::vec3(1.0f);
 
     for (aiTextureType t : {aiTextureType_SPECULAR, aiTextureType_AMBIENT, aiTextureType_SHININESS,
@@ -538,24 +542,39 @@ MeshImportResult importImpl(const std::string& path) {
     }
 
     const fs::path dir = fs::path(path).parent_path();
-    bool embedded = false, approximated = false, otherTextures = false;
+    bool approximated = false, otherTextures = false;
     for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
         if (scene->mMaterials && scene->mMaterials[i])
-            r.materials.push_back(convertMaterial(scene->mMaterials[i], dir, &embedded, &approximated, &otherTextures));
+            r.materials.push_back(convertMaterial(scene->mMaterials[i], dir, scene, &approximated, &otherTextures));
         else
             r.materials.push_back(ImportedMaterial{});
     }
 
-    // The embedded images ("*N" paths): compressed files (PNG, JPEG) as their bytes.
-    bool uncompressed = false;
+    // The embedded images ("*N" paths): compressed files (PNG, JPEG) as their bytes, raw texels
+    // (mHeight != 0: mWidth x mHeight aiTexels, b, g, r, a) as RGBA8 (mesh.h EmbeddedImage).
     for (unsigned i = 0; scene->mTextures && i < scene->mNumTextures; ++i) {
         EmbeddedImage e;
         const aiTexture* t = scene->mTextures[i];
-        if (t && t->mHeight == 0 && t->pcData) {
+        if (t && t->pcData) {
             e.name = t->mFilename.C_Str();
-            e.bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
-        } else {
-            uncompressed = true;  // decoded texels: only from formats glTF is not (left empty: reported when used)
+            if (t->mHeight == 0) {
+                e.bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
+            } else {
+                e.width = int(std::min<unsigned>(t->mWidth, 1u << 30));
+                e.height = int(std::min<unsigned>(t->mHeight, 1u << 30));
+                // Sizes beyond the image limits are refused when the texture is used (textures.cpp).
+                if (imageSizeProblem("", e.width, e.height, 4).empty()) {
+                    const std::size_t n = std::size_t(e.width) * std::size_t(e.height);
+                    e.bytes.resize(4 * n);
+                    for (std::size_t k = 0; k < n; ++k) {
+                        const aiTexel& x = t->pcData[k];
+                        e.bytes[4 * k + 0] = char(x.r);
+                        e.bytes[4 * k + 1] = char(x.g);
+                        e.bytes[4 * k + 2] = char(x.b);
+                        e.bytes[4 * k + 3] = char(x.a);
+                    }
+                }
+            }
         }
         r.embedded.push_back(std::move(e));
     }
@@ -589,8 +608,6 @@ MeshImportResult importImpl(const std::string& path) {
     if (scene->mNumAnimations) conv.warn(std::to_string(scene->mNumAnimations) + " animations ignored");
     if (scene->mNumCameras) conv.warn(std::to_string(scene->mNumCameras) + " cameras ignored");
     if (scene->mNumLights) conv.warn(std::to_string(scene->mNumLights) + " lights ignored");
-    if (uncompressed) conv.warn("embedded textures stored as raw texels are not read (only PNG and JPEG files)");
-    (void)embedded;
     // KHR_texture_transform: one per material (its base colour texture's, else the first textured
     // slot's), applied to the UVs of its meshes in glTF's UV space (Assimp flips v: v_gltf = 1 - v).
     for (Mesh& mesh : r.meshes) {

@@ -38,10 +38,13 @@
 namespace caustic {
 namespace {
 
-// Update writeMesh/readMesh and writeMaterial/readMaterial when these change.
+// Update writeMesh/readMesh, writeMaterial/readMaterial and the embedded images' fields when these
+// change.
 static_assert(sizeof(Mesh) == 160, "a Mesh field was added: serialise it in mesh_import_child.cpp");
 static_assert(sizeof(ImportedMaterial) == 280,
               "an ImportedMaterial field was added: serialise it in mesh_import_child.cpp");
+static_assert(sizeof(EmbeddedImage) == 2 * sizeof(std::string) + 2 * sizeof(int),
+              "an EmbeddedImage field was added: serialise it in serializeImport/deserializeImport");
 
 constexpr std::uint32_t kMagic = 0x31494d43;  // "CMI1"
 
@@ -176,6 +179,8 @@ std::string serializeImport(const MeshImportResult& r) {
     for (const EmbeddedImage& e : r.embedded) {
         w.str(e.name);
         w.str(e.bytes);
+        w.pod(std::int32_t(e.width));
+        w.pod(std::int32_t(e.height));
     }
     w.pod(kMagic);
     return std::move(w.out);
@@ -199,10 +204,14 @@ bool deserializeImport(const std::string& bytes, MeshImportResult* out) {
     result.materials.resize(n);
     for (ImportedMaterial& m : result.materials)
         if (!readMaterial(r, m)) return false;
-    if (!r.count(n, 2 * sizeof(std::uint64_t))) return false;
+    if (!r.count(n, 2 * sizeof(std::uint64_t) + 2 * sizeof(std::int32_t))) return false;
     result.embedded.resize(n);
-    for (EmbeddedImage& e : result.embedded)
-        if (!r.str(e.name) || !r.str(e.bytes)) return false;
+    for (EmbeddedImage& e : result.embedded) {
+        std::int32_t width = 0, height = 0;
+        if (!r.str(e.name) || !r.str(e.bytes) || !r.pod(width) || !r.pod(height)) return false;
+        e.width = width;
+        e.height = height;
+    }
     if (!r.pod(end) || end != kMagic || r.at != bytes.size()) return false;
     *out = std::move(result);
     return true;
@@ -235,7 +244,7 @@ MeshImportResult importMeshFile(const std::string& path, double timeoutSeconds) 
         std::signal(SIGPIPE, SIG_IGN);   // a parent that went away makes write fail, not kill
         // A crash must end the child plainly: the parent's handlers (a test framework's report,
         // a program's crash handler, the temporary-file cleanup) are not the child's business.
-        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTERM, SIGINT, SIGHUP})
+        for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTERM, SIGINT, SIGHUP, SIGQUIT})
             std::signal(sig, SIG_DFL);
         bool written = false;
         try {

@@ -129,6 +129,25 @@ bool decodePng(const std::string& bytes, const std::string& what, ImageData* out
 
 }  // namespace
 
+bool rawTexelImage(const EmbeddedImage& e, const std::string& what, ImageData* out, std::string* error) {
+    if (std::string problem = imageSizeProblem(what, e.width, e.height, 4); !problem.empty()) {
+        *error = problem;
+        return false;
+    }
+    const std::size_t count = std::size_t(e.width) * std::size_t(e.height) * 4;
+    if (e.bytes.size() != count) {
+        *error = what + ": " + std::to_string(e.bytes.size()) + " bytes of raw texels for " + std::to_string(e.width) +
+                 "x" + std::to_string(e.height) + " (" + std::to_string(count) + " expected)";
+        return false;
+    }
+    out->width = e.width;
+    out->height = e.height;
+    out->channels = 4;
+    out->pixels.resize(count);
+    for (std::size_t i = 0; i < count; ++i) out->pixels[i] = float(static_cast<unsigned char>(e.bytes[i])) / 255.0f;
+    return true;
+}
+
 bool decodeImageBytes(const std::string& bytes, const std::string& what, ImageData* out, std::string* error) {
     const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
     if (bytes.size() >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return decodePng(bytes, what, out, error);
@@ -181,8 +200,9 @@ bool readTextureImage(const ImageReader& reader, const FileTextures* files, cons
             return false;
         }
         const EmbeddedImage& e = (*files->embedded)[index];
+        if (e.raw()) return rawTexelImage(e, what, out, error);
         if (e.bytes.empty()) {
-            *error = what + ": stored as raw texels, which are not read (only PNG and JPEG files)";
+            *error = what + ": the file gives no data for it";
             return false;
         }
         return decodeImageBytes(e.bytes, what, out, error);

@@ -76,9 +76,41 @@ std::optional<std::pair<Scene, std::string>> Autosave::read(std::string* error) 
 }
 
 void Autosave::remove() const {
+    if (frozen) return;
     std::error_code ec;
     fs::remove(scenePath, ec);
     fs::remove(ownerPath, ec);
+}
+
+Autosave::Found Autosave::recover() {
+    Found found;
+    std::string error;
+    found.recovered = read(&error);
+    if (found.recovered) return found;
+    // Moved aside under the first free name; an earlier unreadable autosave is never replaced.
+    const fs::path dir = fs::path(scenePath).parent_path();
+    constexpr int kMaxUnreadable = 1000;
+    std::error_code ec;
+    for (int n = 1; n <= kMaxUnreadable && found.keptAs.empty(); ++n) {
+        const fs::path scene = dir / ("autosave.unreadable-" + std::to_string(n) + ".json");
+        const fs::path owner = dir / ("autosave.unreadable-" + std::to_string(n) + ".owner");
+        if (fs::symlink_status(scene, ec).type() != fs::file_type::not_found ||
+            fs::symlink_status(owner, ec).type() != fs::file_type::not_found)
+            continue;
+        fs::rename(scenePath, scene, ec);
+        if (ec) break;
+        found.keptAs = scene.string();
+        if (fs::exists(ownerPath, ec)) fs::rename(ownerPath, owner, ec);
+    }
+    found.message = "the autosave " + scenePath + " could not be read, so it is not offered back: " + error + "\n";
+    if (!found.keptAs.empty()) {
+        found.message += "It is kept as " + found.keptAs + "; the editor goes on without it.";
+    } else {
+        frozen = true;
+        found.message += "It could not be moved aside" + (ec ? " (" + ec.message() + ")" : std::string()) +
+                         ", so it stays where it is: this session does not autosave (save your work) or remove it.";
+    }
+    return found;
 }
 
 }  // namespace caustic::editor

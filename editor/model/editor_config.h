@@ -33,6 +33,9 @@ private:
 struct Autosave {
     std::string scenePath;   // <dir>/autosave.json
     std::string ownerPath;   // <dir>/autosave.owner: the original file ("" when untitled)
+    // Set by recover() when an unreadable autosave could not be moved aside: it stays where it is,
+    // and this session neither writes over it nor removes it (remove() does nothing).
+    bool frozen = false;
 
     static Autosave in(const std::string& dir);
     bool write(const Scene& scene, const std::string& owner, std::string* error) const;
@@ -40,6 +43,20 @@ struct Autosave {
     // The recovered scene and its owner; nullopt with *error when it cannot be read.
     std::optional<std::pair<Scene, std::string>> read(std::string* error) const;
     void remove() const;
+
+    // What start-up does with an autosave it finds. When it reads, `recovered` holds the scene and
+    // its owner. When it does not (a truncated or hand-broken file), the user's data is kept: the
+    // file is moved aside to <dir>/autosave.unreadable-<n>.json (its owner file beside it, as
+    // autosave.unreadable-<n>.owner; n the first free number), so the next autosave does not
+    // write over it and a clean exit does not remove it, and `message` says which file could not
+    // be read, what is wrong with it and where it is now. If it cannot be moved, it stays and
+    // `frozen` is set.
+    struct Found {
+        std::optional<std::pair<Scene, std::string>> recovered;
+        std::string message;       // non-empty when the autosave could not be read
+        std::string keptAs;        // where the unreadable autosave is now
+    };
+    Found recover();
 };
 
 }  // namespace caustic::editor

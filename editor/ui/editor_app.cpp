@@ -293,7 +293,7 @@ void autosaveTick(EditorUi& ui) {
     const double t = now();
     if (t - ui.app.lastAutosave < autosaveIntervalSeconds()) return;
     ui.app.lastAutosave = t;
-    if (!ui.app.state.modified() || ui.app.recovered) return;
+    if (!ui.app.state.modified() || ui.app.recovered || ui.app.autosave.frozen) return;
     std::string error;
     if (!ui.app.autosave.write(ui.app.state.scene, ui.app.state.path, &error)) notify(ui, "autosave failed: " + error, true);
     else ++ui.app.autosaveWrites;
@@ -467,8 +467,10 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         }
         // A script sees (and may answer) the recovery offer only with $CAUSTIC_EDITOR_HOME set.
         if (app->autosave.exists() && app->driver->offersRecovery()) {
-            app->recovered = app->autosave.read(&error);
+            Autosave::Found found = app->autosave.recover();
+            app->recovered = std::move(found.recovered);
             if (app->recovered) ui->recoveryPromptRequested = true;
+            else showError(*ui, found.message);   // the window and stderr say it
         }
         if (sceneFile) openFile(*ui, *sceneFile);
 

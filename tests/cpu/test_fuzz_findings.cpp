@@ -1,6 +1,7 @@
 // Regression tests for what the fuzz harnesses (tests/fuzz, docs/reliability.md "Fuzzing") found
 // in caustic's own code; each failed before its fix. Findings in the image module (OpenImageIO)
 // are covered by the image harness's smoke run and its seeds (tests/fuzz/seeds/image/).
+#include "app/commands.h"
 #include "renderer/hdr_file.h"
 #include "renderer/mesh_import.h"
 #include "tests/support/meshes.h"
@@ -431,4 +432,26 @@ TEST_CASE("fuzz findings: a glTF accessor that reads past its buffer view is ref
     CHECK(r.error == outside + ": accessors[1].sparse.values reads 124 bytes of bufferViews[1], which has 120");
     // The file as it is imports.
     CHECK(importMeshFile(kSimpleSkin).ok());
+}
+
+TEST_CASE("fuzz findings: a sheet layout's unknown key is named on one short line", "[fuzz][sheet]") {
+    // fuzz_sheet's input (smoke run, a mutation of seeds/sheet/long-labels.json): a cell key that
+    // swallowed the twenty-line label's start, "\n" escapes and all. The message echoed the key
+    // as it was: twenty lines, and for a key of a megabyte, a megabyte.
+    SheetLayout layout;
+    std::string error;
+    std::string key = "lab", shown = "lab";   // as the JSON writes it; as the message shows it
+    for (int i = 0; i < 20; ++i) key += "\\nline";
+    for (int i = 0; i < 12; ++i) shown += "\\nline";
+    shown += "\\n...";   // 64 bytes of the key: "lab", twelve "\nline" and a newline
+    REQUIRE_FALSE(parseSheetLayout(R"({"output": "s.png", "columns": 1, "cells": [{"image": "x.png", ")" + key +
+                                       R"(": "line"}]})",
+                                   "layout.json", &layout, &error));
+    CHECK(error == "layout.json: cells[0]." + shown + ": unknown key (a cell has image and label)");
+    // A top-level key of a megabyte, with a tab and a control character.
+    const std::string huge(1 << 20, 'k');
+    REQUIRE_FALSE(parseSheetLayout(R"({"output": "s.png", "columns": 1, "cells": [{"image": "x.png"}], "\t\u0001)" + huge +
+                                       R"(": 1})",
+                                   "layout.json", &layout, &error));
+    CHECK(error == "layout.json: \\t?" + std::string(62, 'k') + "...: unknown key");
 }

@@ -2,11 +2,14 @@
 // Debian's assimp-testmodels package: each file either loads into finite, valid meshes (and a
 // NaN-free BVH) or fails with a message naming the file.
 #include "renderer/bvh.h"
+#include "renderer/gpu_scene.h"
 #include "renderer/mesh_import.h"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -288,4 +291,115 @@ TEST_CASE("Every model of assimp-testmodels loads cleanly or fails with a messag
          << triangles << " triangles), " << otherFiles << " other files, " << seconds << " s; slowest "
          << slowest << ", " << slowestSeconds << " s");
     CHECK(loaded > 250);
+}
+
+namespace {
+
+// A Quake 1 model (MDL version 6, "IDPO": one triangle, one frame) with a 2x2 skin of palette
+// indices 1, 2 (top row) and 3, 4, and a colormap.lmp beside it: Assimp's MDL importer reads the
+// palette from there and hands the skin over as raw texels (an aiTexture with mHeight != 0).
+struct QuakeMdl {
+    std::string bytes;
+    template <typename T> void put(T v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); }
+};
+
+std::string quakeMdlWithSkin() {
+    QuakeMdl m;
+    m.bytes = "IDPO";
+    m.put<std::int32_t>(6);                                                        // version
+    for (float v : {1.0f, 1.0f, 1.0f, 0.0f, 0.0f, 0.0f, 2.0f, 0.0f, 0.0f, 0.0f}) m.put(v);  // scale, origin, radius, eye
+    for (std::int32_t v : {1, 2, 2, 3, 1, 1, 0, 0}) m.put(v);   // skins, skin w, h, verts, tris, frames, sync, flags
+    m.put(1.0f);                                                                   // size
+    m.put<std::int32_t>(0);                                                        // a single skin
+    for (unsigned char index : {1, 2, 3, 4}) m.put(index);
+    for (std::int32_t v : {0, 0, 0, 0, 1, 0, 0, 0, 1}) m.put(v);                   // texture coordinates
+    for (std::int32_t v : {1, 0, 1, 2}) m.put(v);                                  // front-facing triangle 0 1 2
+    m.put<std::int32_t>(0);                                                        // a simple frame
+    for (unsigned char v : {0, 0, 0, 0, 1, 1, 0, 0}) m.put(v);                     // its bounding box
+    m.bytes += std::string("frame").append(11, '\0');
+    for (unsigned char v : {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}) m.put(v);         // three vertices
+    return m.bytes;
+}
+
+}  // namespace
+
+TEST_CASE("an embedded texture of raw texels (MDL skins) is read as RGBA, row 0 first", "[mesh]") {
+    TempDir dir;
+    // The palette: index i is (10 i, 100 + i, 200 + i), so red and blue tell a swap apart.
+    std::string palette(768, '\0');
+    for (int i = 0; i < 256; ++i) {
+        palette[size_t(3 * i)] = char(10 * (i % 25));
+        palette[size_t(3 * i + 1)] = char(100 + i % 100);
+        palette[size_t(3 * i + 2)] = char(200 + i % 50);
+    }
+    dir.write("colormap.lmp", palette);
+    const std::string path = dir.write("skinned.mdl", quakeMdlWithSkin());
+    const MeshImportResult r = importMeshFile(path);
+    INFO(r.error);
+    REQUIRE(r.ok());
+    REQUIRE(r.materials.size() == 1);
+    REQUIRE(r.materials[0].baseColorTexture == "*0");
+    REQUIRE(r.embedded.size() == 1);
+    CHECK(r.embedded[0].raw());
+    const FileTextures files{path, &r.embedded, r.materials[0].wrap};
+    ImageData image;
+    std::string error;
+    INFO(error);
+    REQUIRE(readTextureImage(ImageReader{}, &files, "*0", &image, &error));
+    REQUIRE(image.width == 2);
+    REQUIRE(image.height == 2);
+    REQUIRE(image.channels == 4);
+    for (int i = 0; i < 4; ++i) {
+        INFO("texel " << i);
+        const int index = i + 1;
+        CHECK(image.pixels[size_t(4 * i + 0)] == Approx(10 * index / 255.0));
+        CHECK(image.pixels[size_t(4 * i + 1)] == Approx((100 + index) / 255.0));
+        CHECK(image.pixels[size_t(4 * i + 2)] == Approx((200 + index) / 255.0));
+        CHECK(image.pixels[size_t(4 * i + 3)] == Approx(1.0));
+    }
+}
+
+TEST_CASE("raw texels that do not match their size are refused by name", "[mesh]") {
+    ImageData image;
+    std::string error;
+    EmbeddedImage e;
+    e.width = 2;
+    e.height = 2;
+    e.bytes = std::string(15, '\x7f');
+    CHECK_FALSE(rawTexelImage(e, "m.mdl (embedded image 0)", &image, &error));
+    CHECK(error == "m.mdl (embedded image 0): 15 bytes of raw texels for 2x2 (16 expected)");
+    e.width = 70000;
+    e.bytes.clear();
+    CHECK_FALSE(rawTexelImage(e, "m.mdl (embedded image 0)", &image, &error));
+    CHECK(error.find("m.mdl (embedded image 0): declares 70000x2 pixels, more than the limit") == 0);
+}
+
+TEST_CASE("the MDL models of assimp-testmodels read their embedded skins", "[mesh][testmodels]") {
+    INFO("no " << kTestModelsDir << ": run setup.sh (it installs Debian's assimp-testmodels package)");
+    REQUIRE(fs::is_directory(kTestModelsDir));
+    // The two 3D GameStudio models store their skins as raw texels; the Half-Life one names its
+    // embedded texture ("Material2.bmp") instead of "*0".
+    for (const char* model : {"MDL/MDL3 (3DGS A4)/minigun.MDL", "MDL/MDL5 (3DGS A5)/minigun_mdl5.mdl",
+                              "MDL/MDL (HL1)/man.mdl"}) {
+        const std::string path = (fs::path(kTestModelsDir) / model).string();
+        INFO(path);
+        const MeshImportResult r = importMeshFile(path);
+        INFO(r.error);
+        REQUIRE(r.ok());
+        REQUIRE_FALSE(r.materials.empty());
+        const ImportedMaterial& m = r.materials[0];
+        REQUIRE(m.baseColorTexture.size() > 1);
+        CHECK(m.baseColorTexture[0] == '*');
+        const FileTextures files{path, &r.embedded, m.wrap};
+        ImageData image;
+        std::string error;
+        const bool read = readTextureImage(ImageReader{}, &files, m.baseColorTexture, &image, &error);
+        INFO(error);
+        REQUIRE(read);
+        CHECK(image.channels == 4);
+        CHECK(image.width > 1);
+        CHECK(image.height > 1);
+        // A real skin, not one colour.
+        CHECK(std::any_of(image.pixels.begin(), image.pixels.end(), [&](float v) { return v != image.pixels[0]; }));
+    }
 }

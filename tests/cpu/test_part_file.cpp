@@ -72,3 +72,44 @@ TEST_CASE("part files: a part reads back bit for bit, and sums no render writes 
         CHECK(error.find("which no render writes") != std::string::npos);
     }
 }
+
+TEST_CASE("part files: an image size no render has and a render time that is not a number of seconds are refused",
+          "[part]") {
+    // Written while writing fuzz_part's properties: readPart took any positive image size (merge
+    // then sized its work by it) and read the render time with atof, so "nan", "inf", "-1" and
+    // text went through to the merged image's report.
+    test::TempDir dir;
+    const std::string path = (dir.path / "p.exr").string();
+    std::string error;
+    struct Case { int width, height; double seconds; const char* message; };
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    for (const Case c : {Case{16385, 6, 0.5, "metadata caustic:image_size = '16385x6' is not valid"},
+                         Case{8, 100000, 0.5, "metadata caustic:image_size = '8x100000' is not valid"},
+                         Case{8, 6, nan, "metadata caustic:render_seconds = 'nan' is not valid"},
+                         Case{8, 6, inf, "metadata caustic:render_seconds = 'inf' is not valid"},
+                         Case{8, 6, -1.0, "metadata caustic:render_seconds = '-1.000000' is not valid"}}) {
+        INFO(c.message);
+        Part bad = smallPart();
+        bad.info.width = c.width;
+        bad.info.height = c.height;
+        bad.info.seconds = c.seconds;
+        REQUIRE(writePart(path, bad, &error));
+        for (const bool pixels : {false, true}) {
+            Part read;
+            error.clear();
+            CHECK_FALSE(readPart(path, &read, &error, pixels));
+            CHECK(error == path + ": " + c.message);
+        }
+    }
+    // The largest render's parts, and any time a render can take, read.
+    Part edge = smallPart();
+    edge.info.width = kMaxRenderSide;
+    edge.info.height = kMaxRenderSide;
+    edge.info.seconds = 86400.0 * 365;
+    REQUIRE(writePart(path, edge, &error));
+    Part read;
+    INFO(error);
+    CHECK(readPart(path, &read, &error));
+    CHECK(read.info.width == kMaxRenderSide);
+    CHECK(read.info.seconds == 86400.0 * 365);
+}

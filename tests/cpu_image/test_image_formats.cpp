@@ -271,3 +271,39 @@ TEST_CASE("images: a header that declares more pixels than its file can hold is 
         CHECK(patched.pixels.empty());
     }
 }
+
+TEST_CASE("images: an OpenEXR attribute declaring more bytes than the file holds is refused before its reader allocates",
+          "[image]") {
+    // fuzz_part's file: a 1.5 KB part whose string attribute 'caustic:version' declares
+    // 1,879,048,197 bytes (and whose channel list is misnamed). OpenEXR allocated and zeroed
+    // 1.75 GiB for it, and took 10 s, before it failed; the header walk refuses it first, as a
+    // texture, an environment map or a part.
+    const std::string file = CAUSTIC_SOURCE_DIR "/tests/fuzz/seeds/part/attribute-size.exr";
+    test::TempDir dir;
+    std::filesystem::copy_file(file, dir.file("misnamed.png"));
+    for (const std::string& path : {file, dir.file("misnamed.png")}) {
+        INFO(path);
+        const std::string expected = path + ": the OpenEXR header declares its attribute 'caustic:version' (string) of "
+                                            "1879048197 bytes, and the file has 457 bytes after it; the file is "
+                                            "damaged or not what it says";
+        ImageData image;
+        std::string error;
+        CHECK_FALSE(readImage(path, &image, &error));
+        CHECK(error == expected);
+        ChannelImage channels;
+        CHECK_FALSE(readChannelImage(path, &channels, &error, false));
+        CHECK(error == expected);
+    }
+    // Long string attributes that the file does hold still read: a part's metadata of 100 KB.
+    const std::string good = dir.file("long-metadata.exr");
+    std::string error;
+    REQUIRE(writeExrChannels(good, 2, 1, {"R", "G", "B"}, std::vector<float>(6, 0.25f),
+                             {{"caustic:scene", std::string(100000, 's')}, {"note", "x"}}, &error));
+    ChannelImage image;
+    INFO(error);
+    REQUIRE(readChannelImage(good, &image, &error));
+    const auto scene = std::find_if(image.metadata.begin(), image.metadata.end(),
+                                    [](const auto& kv) { return kv.first == "caustic:scene"; });
+    REQUIRE(scene != image.metadata.end());
+    CHECK(scene->second == std::string(100000, 's'));
+}

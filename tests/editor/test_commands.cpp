@@ -314,6 +314,63 @@ TEST_CASE("the autosave round-trips the scene and its owner and is offered back"
     CHECK_FALSE(a.exists());
 }
 
+namespace {
+std::string fileText(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+}  // namespace
+
+TEST_CASE("a corrupt autosave is reported, named and kept aside, not offered back or deleted", "[editor]") {
+    TempDir dir;
+    const fs::path cfg = dir.path / "cfg";
+    Autosave a = Autosave::in(cfg.string());
+    std::string error;
+    REQUIRE(a.write(cornell().scene, kCornell, &error));
+    // Cut short, as a crash in the middle of a copy or a full disk leaves a file.
+    const std::string whole = fileText(a.scenePath);
+    const std::string cut = whole.substr(0, whole.size() / 2);
+    std::ofstream(a.scenePath, std::ios::binary | std::ios::trunc) << cut;
+
+    Autosave::Found found = a.recover();
+    CHECK_FALSE(found.recovered);
+    INFO(found.message);
+    // The message names the file and what is wrong with it (the parser's line and column).
+    CHECK(found.message.find(a.scenePath + " could not be read") != std::string::npos);
+    CHECK(found.message.find(a.scenePath + ":") != std::string::npos);
+    const fs::path kept = cfg / "autosave.unreadable-1.json";
+    CHECK(found.keptAs == kept.string());
+    CHECK(found.message.find("kept as " + kept.string()) != std::string::npos);
+    // The user's bytes are kept, out of the way of the next autosave and of the clean exit.
+    CHECK(fileText(kept) == cut);
+    CHECK(fileText(cfg / "autosave.unreadable-1.owner") == std::string(kCornell) + "\n");
+    CHECK_FALSE(a.exists());
+    CHECK_FALSE(a.frozen);
+    REQUIRE(a.write(cornell().scene, kCornell, &error));
+    a.remove();
+    CHECK(fileText(kept) == cut);
+
+    // A second unreadable autosave does not replace the first.
+    std::ofstream(a.scenePath, std::ios::binary) << "{\"version\": 1, \"camera\": ";
+    found = a.recover();
+    CHECK_FALSE(found.recovered);
+    CHECK(found.keptAs == (cfg / "autosave.unreadable-2.json").string());
+    CHECK(fileText(kept) == cut);
+    CHECK_FALSE(fs::exists(cfg / "autosave.unreadable-2.owner"));   // it had none
+
+    // One that cannot be moved aside (every name taken) stays, and the session leaves it alone.
+    for (int n = 1; n <= 1000; ++n) std::ofstream(cfg / ("autosave.unreadable-" + std::to_string(n) + ".json"));
+    std::ofstream(a.scenePath, std::ios::binary) << "not json";
+    found = a.recover();
+    CHECK_FALSE(found.recovered);
+    CHECK(found.keptAs.empty());
+    CHECK(found.message.find(a.scenePath + " could not be read") != std::string::npos);
+    CHECK(found.message.find("stays where it is") != std::string::npos);
+    CHECK(a.frozen);
+    a.remove();
+    CHECK(fileText(a.scenePath) == "not json");
+}
+
 TEST_CASE("recent files: most recent first, no duplicates, at most ten, persisted", "[editor]") {
     TempDir dir;
     RecentFiles r;

@@ -426,5 +426,48 @@ class EditorCrashRecovery(EditorSessionCase):
             self.assertEqual(f.read(), self.scene_text, "recovery wrote the scene file (it must stay unsaved)")
 
 
+CORRUPT_AUTOSAVE = """
+# Started with an autosave that cannot be read: the editor says so and goes on with the scene.
+wait_samples 4
+write_image started.png
+quit
+"""
+
+
+class EditorCorruptAutosave(EditorSessionCase):
+    """An autosave cut short (as a crash mid-write of another tool or a full disk leaves it): the
+    editor names the file and what is wrong with it, keeps it aside and opens the scene as usual;
+    the clean exit does not remove it."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-corrupt-autosave-")
+        cls.scene = os.path.join(cls.tmp, "scene.json")
+        shutil.copy(CORNELL, cls.scene)
+        home = os.path.join(cls.tmp, "home")
+        os.makedirs(home)
+        cls.autosave = os.path.join(home, "autosave.json")
+        with open(CORNELL) as f:
+            cls.cut = f.read()[:300]
+        with open(cls.autosave, "w") as f:
+            f.write(cls.cut)
+        with open(os.path.join(home, "autosave.owner"), "w") as f:
+            f.write(cls.scene + "\n")
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(CORRUPT_AUTOSAVE)
+        cls.session = run_editor(cls.tmp, "script.txt", cls.scene)
+
+    def test_the_autosave_is_reported_and_kept(self):
+        self.assertEqual(self.session.returncode, 0, self.session.stderr)
+        self.assertIn("the autosave %s could not be read" % self.autosave, self.session.stderr)
+        self.assertIn(self.autosave + ":", self.session.stderr)   # the parser's place in it
+        kept = os.path.join(self.tmp, "home", "autosave.unreadable-1.json")
+        self.assertIn("kept as " + kept, self.session.stderr)
+        with open(kept) as f:
+            self.assertEqual(f.read(), self.cut)
+        self.assertTrue(os.path.exists(os.path.join(self.tmp, "home", "autosave.unreadable-1.owner")))
+        self.assertEqual(len(self.image("started.png")), 256, "the editor did not go on to render the scene")
+
+
 if __name__ == "__main__":
     unittest.main()

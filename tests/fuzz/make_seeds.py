@@ -2,8 +2,11 @@
 """Writes the small generated seed files of the image harnesses (tests/fuzz/seeds/hdr/ and
 tests/fuzz/seeds/image/): Radiance HDR flat and run-length encoded (the two scanline encodings
 renderer/hdr_file.cpp reads), and tiny uncompressed TGA, BMP and PPM images (formats OpenImageIO
-reads that Debian's assimp-testmodels has no small example of). Deterministic; run it again to
-regenerate them after changing it."""
+reads that Debian's assimp-testmodels has no small example of); of the part-file harness
+(tests/fuzz/seeds/part/): uncompressed OpenEXR part files, valid ones and crafted ones (a NaN sum
+under a correct checksum, a header declaring far more pixels than the file holds, a missing
+channel, a foreign format tag, an image size and a render time no render writes); and of the sheet harness (tests/fuzz/seeds/sheet/): layouts.
+Deterministic; run it again to regenerate them after changing it."""
 import os
 import struct
 
@@ -141,3 +144,112 @@ def tiff(w, h, spp, depth=1):
 
 write("image/tiny.tif", tiff(4, 3, 3))
 write("image/six-channels.tif", tiff(3, 2, 6))   # more channels than RGBA: 4 are kept
+
+
+# ---- Part files (app/part_file.cpp): single-part scanline OpenEXR, uncompressed ----------------
+# The channels in the order of the part's checksum (kChannels in app/part_file.cpp).
+PART_CHANNELS = ["sum.R", "sum.G", "sum.B", "sum.A", "sumsq.R", "sumsq.G", "sumsq.B", "albedo.R", "albedo.G",
+                 "albedo.B", "albedo.A", "normal.R", "normal.G", "normal.B", "normal.A"]
+
+
+def fnv1a64(data):
+    h = 0xcbf29ce484222325
+    for b in data:
+        h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
+    return "%016x" % h
+
+
+def exr_attr(name, typ, value):
+    return name.encode() + b"\0" + typ.encode() + b"\0" + struct.pack("<i", len(value)) + value
+
+
+def exr(w, h, channels, pixel, strings, data_window=None):
+    """A scanline OpenEXR file, no compression, one scanline per chunk, 32-bit float channels.
+    pixel(x, y, name) gives each value; strings are extra string attributes."""
+    names = sorted(channels)  # OpenEXR keeps channels sorted by name, in the header and the data
+    chlist = b"".join(n.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for n in names) + b"\0"
+    x0, y0, x1, y1 = data_window or (0, 0, w - 1, h - 1)
+    box = struct.pack("<iiii", x0, y0, x1, y1)
+    header = struct.pack("<ii", 20000630, 2)
+    header += exr_attr("channels", "chlist", chlist)
+    header += exr_attr("compression", "compression", b"\0")
+    header += exr_attr("dataWindow", "box2i", box)
+    header += exr_attr("displayWindow", "box2i", box)
+    header += exr_attr("lineOrder", "lineOrder", b"\0")
+    header += exr_attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+    header += exr_attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
+    header += exr_attr("screenWindowWidth", "float", struct.pack("<f", 1.0))
+    for key, value in strings:
+        header += exr_attr(key, "string", value.encode())
+    header += b"\0"
+    rows = []
+    for y in range(h):
+        data = b"".join(struct.pack("<f", pixel(x, y, n)) for n in names for x in range(w))
+        rows.append(struct.pack("<ii", y0 + y, len(data)) + data)
+    at = len(header) + 8 * h
+    table = b""
+    for r in rows:
+        table += struct.pack("<Q", at)
+        at += len(r)
+    return header + table + b"".join(rows)
+
+
+def part_value(x, y, name):
+    layer, c = name.split(".")
+    base = {"sum": 2.0, "sumsq": 3.0, "albedo": 0.5, "normal": 0.25}[layer]
+    if name in ("sum.A", "albedo.A", "normal.A"):
+        return 4.0  # the sample counts
+    return base + 0.125 * x + 0.0625 * y + {"R": 0.0, "G": 0.01, "B": 0.02}[c]
+
+
+def part(image_w, image_h, crop, samples, value=part_value, channels=PART_CHANNELS, overrides=(), data_window=None):
+    cx0, cx1, cy0, cy1 = crop
+    w, h = cx1 - cx0, cy1 - cy0
+    interleaved = b"".join(struct.pack("<f", value(x, y, n)) for y in range(h) for x in range(w)
+                           for n in PART_CHANNELS if n in channels)
+    meta = dict([
+        ("caustic:part", "caustic-part-1"),
+        ("caustic:scene", "scenes/cornell-box.json"),
+        ("caustic:render_hash", "0123456789abcdef"),
+        ("caustic:version", "0.1.0"),
+        ("caustic:variant", ""),
+        ("caustic:seed", "7"),
+        ("caustic:image_size", "%dx%d" % (image_w, image_h)),
+        ("caustic:sample_range", "%d:%d" % samples),
+        ("caustic:crop", "%d:%d,%d:%d" % crop),
+        ("caustic:render_seconds", "0.250000"),
+        ("caustic:dropped", "0"),
+        ("caustic:checksum", fnv1a64(interleaved)),
+    ])
+    meta.update(dict(overrides))
+    return exr(w, h, channels, value, sorted(meta.items()), data_window)
+
+
+write("part/crop.exr", part(5, 4, (1, 4, 0, 2), (0, 4)))
+write("part/whole.exr", part(2, 2, (0, 2, 0, 2), (4, 12)))
+write("part/nan-sum.exr", part(2, 1, (0, 2, 0, 1), (0, 4),
+                               value=lambda x, y, n: float("nan") if (n == "sum.G" and x == 1) else part_value(x, y, n)))
+write("part/negative-count.exr", part(2, 1, (0, 2, 0, 1), (0, 4),
+                                      value=lambda x, y, n: -1.0 if n == "sum.A" else part_value(x, y, n)))
+write("part/missing-channel.exr", part(2, 1, (0, 2, 0, 1), (0, 4), channels=PART_CHANNELS[:-1]))
+write("part/foreign-format.exr", part(2, 1, (0, 2, 0, 1), (0, 4), overrides=[("caustic:part", "caustic-part-0")]))
+# Metadata no render writes: an image larger than any render, a render time that is not a number.
+write("part/image-size.exr", part(20000, 4, (0, 2, 0, 1), (0, 4)))
+write("part/seconds-nan.exr", part(2, 1, (0, 2, 0, 1), (0, 4), overrides=[("caustic:render_seconds", "nan")]))
+# The header declares 16384 x 8192 pixels; the file holds one scanline of two.
+write("part/huge-header.exr", part(16384, 8192, (0, 2, 0, 1), (0, 4), data_window=(0, 0, 16383, 8191)))
+
+
+# ---- Sheet layouts (caustic sheet) ------------------------------------------------------------
+write("sheet/two-columns.json", b"""{"output": "sheet.png", "columns": 2, "cells": [
+  {"image": "a.png", "label": "roughness 0.1"},
+  {"image": "b.png", "label": "roughness 0.5\\nmetal"},
+  {"image": "c.png"}
+]}
+""")
+write("sheet/long-labels.json", ("""{"output": "out/sheet.png", "columns": 1, "cells": [
+  {"image": "wide-image-name.png", "label": "%s"},
+  {"image": "x.png", "label": "%s"}
+]}
+""" % ("a label long enough to wrap over several lines " * 3, "\\n".join(["line"] * 20) + " \\u00e9\\u00e9")).encode())
+write("sheet/one-cell.json", b'{"output": "s.png", "columns": 4096, "cells": [{"image": "/abs/a.exr", "label": ""}]}')

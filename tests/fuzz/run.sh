@@ -4,7 +4,8 @@
 # assets/, Debian's assimp-testmodels and tests/fuzz/seeds/. docs/reliability.md has the figures.
 #
 #   tests/fuzz/run.sh                        every harness, 10^6 executions each, one after another
-#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh mesh_common mesh_open image)
+#   tests/fuzz/run.sh --runs 100000 mesh     one harness (scene scene_override hdr mesh mesh_common mesh_open image
+#                                            sheet part)
 #
 # Needs clang and its sanitizer runtimes (Debian: clang libclang-rt-14-dev); the normal build and
 # test suite do not. Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs), crashes go
@@ -19,11 +20,11 @@ harnesses=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) runs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) harnesses+=("$1"); shift ;;
   esac
 done
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh mesh_common mesh_open image)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(scene scene_override hdr mesh mesh_common mesh_open image sheet part)
 command -v clang++ >/dev/null || { echo "run.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -78,6 +79,8 @@ for h in "${harnesses[@]}"; do
       mapfile -t files < <(find "$models" -type f \( -iname '*.png' -o -iname '*.jpg' -o -iname '*.bmp' -o -iname '*.tga' \
         -o -iname '*.dds' -o -iname '*.tif' -o -iname '*.exr' -o -iname '*.hdr' \) | sort)
       seed_with_ext image 65536 "${files[@]}" "$fz"/seeds/image/* "$root/assets/sky.hdr" ;;
+    sheet) seed sheet "" "$fz"/seeds/sheet/* ;;
+    part) seed part "" "$fz"/seeds/part/* ;;
     *) echo "run.sh: no harness '$h'" >&2; exit 2 ;;
   esac
 done
@@ -85,7 +88,7 @@ done
 # Per harness: the longest input and extra options. Time-outs are per input (a hang is an input
 # that takes longer than 10 s); rss_limit_mb is above the largest image the readers accept
 # (16384 x 8192 x 4 floats = 2 GiB).
-declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [mesh_common]=65536 [mesh_open]=65536 [image]=65536)
+declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 [mesh_common]=65536 [mesh_open]=65536 [image]=65536 [sheet]=8192 [part]=16384)
 # The image harness's resident memory grows in steps over a long run under AddressSanitizer (1.3
 # GB after 12,000 inputs, 2.5 GB after 81,000: the sanitizer allocator keeps what the largest
 # images took; LeakSanitizer finds 62 bytes lost, in OpenImageIO) without anything leaking, so its
@@ -94,8 +97,8 @@ declare -A max_len=([scene]=8192 [scene_override]=8192 [hdr]=16384 [mesh]=65536 
 # 1.3 s under the sanitizers on a quiet machine, and twice on 2026-12-02 such an input passed 10 s
 # while the machine was loaded (the fuzzer at low priority beside the sanitizer suite). That is a
 # time-out with no hang behind it, and it ended the run.
-declare -A timeout=([scene]=10 [scene_override]=10 [hdr]=10 [mesh]=10 [mesh_common]=10 [mesh_open]=10 [image]=30)
-declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 [mesh_common]=4096 [mesh_open]=4096 [image]=8192)
+declare -A timeout=([scene]=10 [scene_override]=10 [hdr]=10 [mesh]=10 [mesh_common]=10 [mesh_open]=10 [image]=30 [sheet]=10 [part]=30)
+declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 [mesh_common]=4096 [mesh_open]=4096 [image]=8192 [sheet]=4096 [part]=8192)
 # Mesh and image inputs reach Assimp and OpenImageIO, which allocate what a corrupt header
 # declares (64 GB for one glTF accessor): a normal build gets std::bad_alloc and refuses the file,
 # but under AddressSanitizer a failed throwing new always aborts; Assimp's importers also crash
@@ -105,7 +108,7 @@ declare -A rss_limit=([scene]=4096 [scene_override]=4096 [hdr]=4096 [mesh]=4096 
 # (each fork-mode job restarts OpenImageIO, 100x slower); CAUSTIC_FUZZ_IMAGE_FORK=1 forks it too.
 # CAUSTIC_FUZZ_FORK_JOBS: parallel fork-mode jobs (default 1; -runs counts all of them together).
 fork="-fork=${CAUSTIC_FUZZ_FORK_JOBS:-1} -ignore_ooms=1 -ignore_crashes=1 -ignore_timeouts=1"
-declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [mesh_common]="$fork" [mesh_open]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}")
+declare -A extra=([scene]="-dict=$fz/scene.dict" [scene_override]="-dict=$fz/scene.dict" [hdr]="" [mesh]="$fork" [mesh_common]="$fork" [mesh_open]="$fork" [image]="${CAUSTIC_FUZZ_IMAGE_FORK:+$fork}" [sheet]="-dict=$fz/sheet.dict" [part]="-dict=$fz/part.dict")
 summary=()
 for h in "${harnesses[@]}"; do
   log="$build/logs/$h.log"
