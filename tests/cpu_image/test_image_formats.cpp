@@ -307,3 +307,45 @@ TEST_CASE("images: an OpenEXR attribute declaring more bytes than the file holds
     REQUIRE(scene != image.metadata.end());
     CHECK(scene->second == std::string(100000, 's'));
 }
+
+TEST_CASE("images: an OpenEXR data window wider than any image is refused before its reader opens it", "[image]") {
+    // fuzz_part's slow input: a header whose data window is 2,097,155 x 2 pixels. OpenEXR sizes
+    // its line buffers by the window when it opens the file (21 s under the sanitizers), before
+    // any check of caustic's; the header walk refuses it first. Made here from a valid 2 x 1 file
+    // whose dataWindow box2i is rewritten.
+    test::TempDir dir;
+    const std::string path = dir.file("wide.exr");
+    std::string error;
+    REQUIRE(writeExrChannels(path, 2, 1, {"R", "G", "B"}, std::vector<float>(6, 0.5f), {}, &error));
+    ChannelImage ok;
+    REQUIRE(readChannelImage(path, &ok, &error));  // the file as written reads
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+    const size_t at = bytes.find(key);
+    REQUIRE(at != std::string::npos);
+    const size_t box = at + key.size() + 4;  // after the attribute's size
+    auto put = [&](size_t offset, std::int32_t v) {
+        for (int k = 0; k < 4; ++k) bytes[offset + k] = char((std::uint32_t(v) >> (8 * k)) & 0xff);
+    };
+    put(box + 0, 0);
+    put(box + 4, 0);
+    put(box + 8, 2097154);
+    put(box + 12, 1);
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    const std::string expected = path + ": the OpenEXR header's data window is 2097155 x 2 pixels, more than an image "
+                                        "may have (65536 a side, " + std::to_string(kMaxImagePixels) +
+                                 " pixels); the file is damaged or not what it says";
+    ImageData image;
+    CHECK_FALSE(readImage(path, &image, &error));
+    CHECK(error == expected);
+    ChannelImage channels;
+    CHECK_FALSE(readChannelImage(path, &channels, &error, false));
+    CHECK(error == expected);
+}
