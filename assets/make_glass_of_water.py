@@ -62,11 +62,9 @@ def wall(m, radius, y0, y1, outward):
 
 def disk(m, radius, y, up, inner=0.0):
     n = (0.0, 1.0 if up else -1.0, 0.0)
-    outer = [m.vertex((radius * math.cos(2 * math.pi * i / SEGMENTS), y, radius * math.sin(2 * math.pi * i / SEGMENTS)), n)
-             for i in range(SEGMENTS)]
+    outer = [m.vertex(p, n) for p, _ in ring(radius, y, True)]
     if inner > 0.0:
-        inn = [m.vertex((inner * math.cos(2 * math.pi * i / SEGMENTS), y, inner * math.sin(2 * math.pi * i / SEGMENTS)), n)
-               for i in range(SEGMENTS)]
+        inn = [m.vertex(p, n) for p, _ in ring(inner, y, True)]
         for i in range(SEGMENTS):
             j = (i + 1) % SEGMENTS
             if up:

@@ -2,7 +2,7 @@
 #include "renderer/gpu_scene.h"
 
 #include "renderer/camera.h"
-#include "renderer/scene_schema.h"
+#include "renderer/gpu_materials.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -95,10 +95,9 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
         return l.info.x == LIGHT_POINT || l.info.x == LIGHT_SPOT;
     });
     f.options = glm::uvec4(r.glassSplit && !media ? OPTION_GLASS_SPLIT : 0u, 0, 0, std::uint32_t(deltaLights));
-    const float g = std::clamp(env.mediumAnisotropy, -0.999f, 0.999f);
-    const glm::vec3 most(static_cast<float>(kMaxCoefficient));
-    f.mediumA = glm::vec4(glm::clamp(env.mediumSigmaA, glm::vec3(0.0f), most), g);
-    f.mediumS = glm::vec4(glm::clamp(env.mediumSigmaS, glm::vec3(0.0f), most), 0);
+    const GpuMediumRows fog = gpuMedium(env.mediumSigmaA, env.mediumSigmaS, env.mediumAnisotropy);
+    f.mediumA = fog.a;
+    f.mediumS = fog.s;
     // The ray offset's floor (geometry/intersect.glsl): the largest coordinate magnitude of the
     // scene and the camera, at most 1, so a scene of size 1 or more keeps the floor 1 and a
     // scene scaled down keeps its offsets in proportion (issue 12: the Cornell box at 1e-4 was 22%

@@ -45,16 +45,19 @@ std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m) {
 // than float precision resolves well (pbrt-v4's EffectivelySmooth uses the same threshold).
 constexpr float kSmoothAlpha = 1e-3f;
 
-// An interior medium's coefficients in the material's k and eta rows (shared/layout.h), each
-// channel at most kMaxCoefficient (a transmission_depth of 1e-38 would make it infinite); a
-// medium with no absorption and no scattering is vacuum and sets nothing.
-static void setMedium(gpu::GpuMaterial& g, std::uint32_t& flags, glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy) {
+GpuMediumRows gpuMedium(glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy) {
     const glm::vec3 most(static_cast<float>(kMaxCoefficient));
-    sigmaA = glm::clamp(sigmaA, glm::vec3(0.0f), most);
-    sigmaS = glm::clamp(sigmaS, glm::vec3(0.0f), most);
-    if (sigmaA == glm::vec3(0.0f) && sigmaS == glm::vec3(0.0f)) return;
-    g.k = glm::vec4(sigmaA, 0);
-    g.eta = glm::vec4(sigmaS, std::clamp(anisotropy, -0.999f, 0.999f));
+    return {glm::vec4(glm::clamp(sigmaA, glm::vec3(0.0f), most), std::clamp(anisotropy, -0.999f, 0.999f)),
+            glm::vec4(glm::clamp(sigmaS, glm::vec3(0.0f), most), 0.0f)};
+}
+
+// An interior medium in the material's k and eta rows (shared/layout.h: k.rgb sigma_a, eta.rgb
+// sigma_s, eta.w g); a vacuum sets nothing.
+static void setMedium(gpu::GpuMaterial& g, std::uint32_t& flags, glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy) {
+    const GpuMediumRows rows = gpuMedium(sigmaA, sigmaS, anisotropy);
+    if (rows.vacuum()) return;
+    g.k = glm::vec4(glm::vec3(rows.a), 0);
+    g.eta = glm::vec4(glm::vec3(rows.s), rows.a.w);
     flags |= MAT_FLAG_MEDIUM;
 }
 

@@ -19,6 +19,16 @@ std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m);
 // The GPU material for a scene material (textures are filled in by the caller).
 gpu::GpuMaterial convertMaterial(const Material& m);
 
+// A medium as the shaders read it (shared/layout.h: a material's k and eta rows, GpuFrame's
+// mediumA and mediumS): sigma_a in a.rgb, sigma_s in s.rgb, each channel in [0, kMaxCoefficient]
+// (a transmission_depth of 1e-38 would make it infinite), the Henyey-Greenstein g in a.w, clamped
+// to [-0.999, 0.999] (at +-1 the phase function is a delta the sampler cannot represent).
+struct GpuMediumRows {
+    glm::vec4 a, s;
+    bool vacuum() const { return glm::vec3(a) == glm::vec3(0.0f) && glm::vec3(s) == glm::vec3(0.0f); }
+};
+GpuMediumRows gpuMedium(glm::vec3 sigmaA, glm::vec3 sigmaS, float anisotropy);
+
 // Named layered ("surface") materials for the editor's "Add > Material preset" menu and the
 // lookdev scene: plastic, varnished wood, car paint (a metal base under a clear coat), velvet
 // (sheen); each Material's name is the preset's. docs/materials.md lists their values.

@@ -303,8 +303,9 @@ std::span<const Param<Material>> schemaOf<Material>() {
              r.max = 10.0;
              return r;
          }(),
-         .doc = "relative index of refraction n_inside / n_outside; the inside is the side the normal points away "
-                "from (spheres: the interior)",
+         .doc = "index of refraction n_inside / n_outside; the inside is the side the normal points away from "
+                "(spheres: the interior). In a scene with media or a `priority`, a dielectric inside another takes "
+                "its own index and meets the outer one at their ratio (docs/materials.md, \"Media\")",
          .types = bits(T::Transmission, T::Dielectric), .speed = 0.005f},
         {.key = "roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::roughness,
          .range = between(0, 1),

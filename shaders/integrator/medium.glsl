@@ -218,27 +218,34 @@ vec3 hgSample(vec3 d, float g, vec2 u, out float pdf) {
 // Free flight alone puts medium vertices near a point or spot light too rarely for the 1 / r^2 they
 // receive (fireflies, an estimator of unbounded variance); the integrator adds an equiangular
 // sample towards one of them per segment and weighs the two by MIS (path.glsl).
+// The segment's geometry for a light at c: delta, D and the angle range [thetaA, thetaB]; false
+// when the light lies on the segment's line (never sampled there, so its pdf is 0).
+bool equiangularRange(vec3 o, vec3 d, float tMax, vec3 c, out float delta, out float D, out float thetaA,
+                      out float thetaB) {
+    delta = dot(c - o, d);
+    D = length(c - (o + delta * d));
+    thetaA = atan(-delta / D);
+    thetaB = atan((min(tMax, 1e30) - delta) / D);
+    return D > 1e-6 * max(1.0, abs(delta));
+}
+
+float equiangularDensity(float D, float thetaA, float thetaB, float x) { return D / ((thetaB - thetaA) * (D * D + x * x)); }
+
 float equiangularPdf(vec3 o, vec3 d, float tMax, vec3 c, float t) {
-    float delta = dot(c - o, d);
-    float D = length(c - (o + delta * d));
-    if (!(D > 1e-6 * max(1.0, abs(delta)))) return 0.0;  // the light on the line: never sampled
-    float thetaA = atan(-delta / D), thetaB = atan((min(tMax, 1e30) - delta) / D);
-    float x = t - delta;
-    return D / ((thetaB - thetaA) * (D * D + x * x));
+    float delta, D, thetaA, thetaB;
+    if (!equiangularRange(o, d, tMax, c, delta, D, thetaA, thetaB)) return 0.0;
+    return equiangularDensity(D, thetaA, thetaB, t - delta);
 }
 
 // A distance by equiangular sampling (above); false where the light lies on the segment's line.
 bool equiangularSample(vec3 o, vec3 d, float tMax, vec3 c, float u, out float t, out float pdf) {
-    float delta = dot(c - o, d);
-    float D = length(c - (o + delta * d));
-    t = 0.0;
+    float delta, D, thetaA, thetaB;
     pdf = 0.0;
-    if (!(D > 1e-6 * max(1.0, abs(delta)))) return false;
-    float thetaA = atan(-delta / D), thetaB = atan((min(tMax, 1e30) - delta) / D);
+    t = 0.0;
+    if (!equiangularRange(o, d, tMax, c, delta, D, thetaA, thetaB)) return false;
     t = delta + D * tan(mix(thetaA, thetaB, u));
     if (!(t >= 0.0 && t < tMax)) return false;
-    float x = t - delta;
-    pdf = D / ((thetaB - thetaA) * (D * D + x * x));
+    pdf = equiangularDensity(D, thetaA, thetaB, t - delta);
     return pdf > 0.0;
 }
 
