@@ -61,6 +61,109 @@ static void setMedium(gpu::GpuMaterial& g, std::uint32_t& flags, glm::vec3 sigma
     flags |= MAT_FLAG_MEDIUM;
 }
 
+// The interior medium of OpenPBR Surface 1.1's transmission ("Transmission"): extinction sigma_t =
+// -ln(transmission_color) / transmission_depth, scattering sigma_s = transmission_scatter / depth,
+// absorption sigma_a = sigma_t - sigma_s raised by a grey amount where a channel would be negative
+// (the extinction is then sigma_a + sigma_s). Depth 0 (or a white colour without scatter): none,
+// the flag stays clear and the interior is clear.
+static void setTransmissionMedium(gpu::GpuMaterial& g, std::uint32_t& flags, const Material& m) {
+    if (!(m.transmissionDepth > 0.0f)) return;
+    const glm::vec3 c = glm::clamp(m.transmissionColor, glm::vec3(1e-6f), glm::vec3(1.0f));
+    const glm::vec3 sigmaT = -glm::log(c) / m.transmissionDepth;
+    const glm::vec3 sigmaS = glm::max(m.transmissionScatter, glm::vec3(0.0f)) / m.transmissionDepth;
+    glm::vec3 sigmaA = sigmaT - sigmaS;
+    const float lowest = std::min({sigmaA.x, sigmaA.y, sigmaA.z});
+    if (lowest < 0.0f) sigmaA -= lowest;
+    setMedium(g, flags, sigmaA, sigmaS, m.scatterAnisotropy);
+}
+
+float subsurfaceSingleScatteringAlbedo(float multiple, float g) {
+    // van de Hulst's relation for a semi-infinite medium (H. C. van de Hulst, "Multiple Light
+    // Scattering", 1980; the similarity parameter s = sqrt((1 - alpha) / (1 - alpha g))):
+    //   A = (1 - s)(1 - 0.139 s) / (1 + 1.17 s)
+    // solved for s (the root in [0, 1] of 0.139 s^2 - (1.139 + 1.17 A) s + 1 - A = 0), then alpha.
+    const double a = std::clamp(double(multiple), 0.0, 1.0);
+    const double b = 1.139 + 1.17 * a;
+    const double s = (b - std::sqrt(std::max(b * b - 4.0 * 0.139 * (1.0 - a), 0.0))) / (2.0 * 0.139);
+    const double s2 = std::clamp(s, 0.0, 1.0) * std::clamp(s, 0.0, 1.0);
+    const double gg = std::clamp(double(g), -0.999, 0.999);
+    return float((1.0 - s2) / (1.0 - s2 * gg));
+}
+
+std::vector<gpu::GpuMaterial> surfaceParts(const Material& m) {
+    std::vector<gpu::GpuMaterial> parts;
+    if (m.type != MaterialType::Surface) return parts;
+    const float T = std::clamp(m.transmissionWeight, 0.0f, 1.0f), S = std::clamp(m.subsurfaceWeight, 0.0f, 1.0f);
+    const float w = T + (1.0f - T) * S;
+    if (!(w > 0.0f)) return parts;
+    const float ior = std::clamp(m.specularIor, 1.0f, 3.0f);
+    const float alpha = m.specularRoughness * m.specularRoughness;
+    // The interface: rough where the surface's specular is (or may be, with a roughness texture),
+    // except at IOR 1, where nothing bends and the straight-through pair has no half vector.
+    const bool rough = (alpha >= kSmoothAlpha || !m.roughnessTexture.empty()) && ior != 1.0f;
+    auto interface = [&](std::uint32_t flags) {
+        gpu::GpuMaterial g{};
+        g.albedo = glm::vec4(1.0f);
+        g.params = glm::vec4(alpha, ior, 0, 0);
+        g.sheen = glm::vec4(1.0f);  // the crossing tint (surface_parts.glsl)
+        g.info = glm::uvec4(rough ? MAT_ROUGH_DIELECTRIC : MAT_DIELECTRIC, flags, 0u,
+                            std::uint32_t(std::clamp(m.priority, 0, 1000)));
+        return g;
+    };
+    if (T > 0.0f) {
+        gpu::GpuMaterial g;
+        if (m.thinWalled) {
+            g = gpu::GpuMaterial{};
+            g.albedo = glm::vec4(glm::clamp(m.transmissionColor, glm::vec3(0.0f), glm::vec3(1.0f)), 0);
+            g.params = glm::vec4(alpha, ior, 0, 0);
+            g.sheen = glm::vec4(1.0f);
+            g.info = glm::uvec4(MAT_THIN_DIELECTRIC, 0u, 0u, 0u);
+        } else {
+            std::uint32_t flags = 0;
+            g = interface(0);
+            setTransmissionMedium(g, flags, m);
+            g.info.y = flags;
+            if (!(m.transmissionDepth > 0.0f)) g.sheen = glm::vec4(glm::clamp(m.transmissionColor, glm::vec3(0.0f), glm::vec3(1.0f)), 1);
+        }
+        parts.push_back(g);
+    }
+    if (S > 0.0f && T < 1.0f) {
+        gpu::GpuMaterial g;
+        const glm::vec3 colour = glm::clamp(m.subsurfaceColor, glm::vec3(0.0f), glm::vec3(1.0f));
+        if (m.thinWalled) {
+            // Diffuse transmission: the colour split between the two sides, (1 + g) / 2 of it
+            // passing through (half for isotropic scattering).
+            const float through = 0.5f * (1.0f + std::clamp(m.subsurfaceAnisotropy, -1.0f, 1.0f));
+            g = gpu::GpuMaterial{};
+            g.albedo = glm::vec4(colour * (1.0f - through), 0);
+            g.eta = glm::vec4(colour * through, 0);
+            g.info = glm::uvec4(MAT_DIFFUSE_TRANSMISSION, 0u, 0u, 0u);
+        } else {
+            // The walked interior: sigma_t = 1 / mean free path per channel, the single-scattering
+            // albedo from the colour (subsurfaceSingleScatteringAlbedo).
+            std::uint32_t flags = MAT_FLAG_RANDOM_WALK;
+            g = interface(0);
+            const glm::vec3 mfp = glm::max(m.subsurfaceRadius * m.subsurfaceRadiusScale, glm::vec3(1e-30f));
+            const glm::vec3 sigmaT = 1.0f / mfp;
+            glm::vec3 albedo;
+            for (int c = 0; c < 3; ++c) albedo[c] = subsurfaceSingleScatteringAlbedo(colour[c], m.subsurfaceAnisotropy);
+            setMedium(g, flags, sigmaT * (1.0f - albedo), sigmaT * albedo, m.subsurfaceAnisotropy);
+            g.info.y = flags;
+        }
+        parts.push_back(g);
+    }
+    // The first part carries the shares (surface_parts.glsl): w and the transmission's share of w.
+    parts.front().params.z = w;
+    parts.front().params.w = T / w;
+    return parts;
+}
+
+void linkSurfaceParts(gpu::GpuMaterial& g, const Material& m, std::uint32_t first) {
+    g.info.w = first;
+    if (m.transmissionWeight > 0.0f) g.info.y |= MAT_FLAG_TRANSMISSION_PART;
+    if (m.subsurfaceWeight > 0.0f && m.transmissionWeight < 1.0f) g.info.y |= MAT_FLAG_SUBSURFACE_PART;
+}
+
 gpu::GpuMaterial convertMaterial(const Material& m) {
     gpu::GpuMaterial g{};
     g.emission = glm::vec4(m.emission, m.normalScale);  // w: the normal map's scale (material.glsl)
@@ -93,20 +196,7 @@ gpu::GpuMaterial convertMaterial(const Material& m) {
     case MaterialType::Dielectric:
         // A roughness map can make any point rough, so a textured dielectric is always rough.
         type = m.roughness < kSmoothAlpha && m.roughnessTexture.empty() ? MAT_DIELECTRIC : MAT_ROUGH_DIELECTRIC;
-        // The interior medium, OpenPBR Surface 1.1's ("Transmission"): extinction sigma_t =
-        // -ln(transmission_color) / transmission_depth, scattering sigma_s = transmission_scatter /
-        // depth, absorption sigma_a = sigma_t - sigma_s raised by a grey amount where a channel
-        // would be negative (the extinction is then sigma_a + sigma_s). Depth 0 (or a white colour
-        // without scatter): none, the flag stays clear and the glass is clear.
-        if (m.transmissionDepth > 0.0f) {
-            const glm::vec3 c = glm::clamp(m.transmissionColor, glm::vec3(1e-6f), glm::vec3(1.0f));
-            const glm::vec3 sigmaT = -glm::log(c) / m.transmissionDepth;
-            const glm::vec3 sigmaS = glm::max(m.transmissionScatter, glm::vec3(0.0f)) / m.transmissionDepth;
-            glm::vec3 sigmaA = sigmaT - sigmaS;
-            const float lowest = std::min({sigmaA.x, sigmaA.y, sigmaA.z});
-            if (lowest < 0.0f) sigmaA -= lowest;
-            setMedium(g, flags, sigmaA, sigmaS, m.scatterAnisotropy);
-        }
+        setTransmissionMedium(g, flags, m);
         break;
     case MaterialType::Volume:
         // An index-matched boundary: no surface, only the medium inside (integrator/medium.glsl).
@@ -189,56 +279,64 @@ Material mapImportedMaterial(const ImportedMaterial& in, std::vector<std::string
     const glm::vec3 base = glm::clamp(in.baseColor, glm::vec3(0.0f), glm::vec3(1.0f));
     const std::string who = "material '" + in.name + "': ";
     const float roughness = std::clamp(in.roughness, 0.0f, 1.0f);  // perceptual, as glTF's
-    if (in.transmission > 0.5f) {
-        // KHR_materials_transmission: rough glass (the surface model has no transmission lobe).
-        m.type = MaterialType::Dielectric;
-        m.ior = in.ior;
-        m.roughness = roughness * roughness;
-        m.tint = base;
-        if (in.transmission < 1.0f)
-            unmapped->push_back(who + "transmission " + std::to_string(in.transmission) + " rounded to 1");
-        if (!in.metallicRoughnessTexture.empty())
-            unmapped->push_back(who + "the metallic-roughness texture of a transmissive material is not mapped (its "
-                                      "roughness factor is used)");
-        if (in.clearcoat > 0.0f || glm::any(glm::greaterThan(in.sheenColor, glm::vec3(0.0f))))
-            unmapped->push_back(who + "clearcoat and sheen of a transmissive material are not mapped");
-        // KHR_materials_volume: the light that travels attenuationDistance inside keeps
-        // attenuationColor, which is OpenPBR's transmission_color at transmission_depth. The
-        // distance is in the file's world units, taken as scene units (an object's scale does not
-        // scale it). A black channel would be an infinite coefficient: at least 1e-4.
-        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f)))) {
+    // The layered surface, by the glTF-to-OpenPBR correspondence (OpenPBR Surface 1.1, appendix
+    // "glTF PBR"): base colour, metalness (per texel with a metallic-roughness texture: mr, wired by
+    // compileScene), roughness (perceptual in both), KHR_materials_ior, _specular (factor ->
+    // specular_weight, colour -> specular_color), _clearcoat (ior 1.5, as the extension defines;
+    // white), _sheen (colour, roughness; weight 1 where the colour is not black), _transmission
+    // (transmission_weight), _volume (closed, its attenuation the interior's; without it, or with
+    // thickness 0, thin-walled), _diffuse_transmission (thin-walled: the subsurface, all of it
+    // passing through).
+    m = materialDefaults(MaterialType::Surface);
+    m.name = in.name;
+    m.emission = glm::max(in.emission, glm::vec3(0.0f));
+    m.albedo = base;
+    m.metalness = std::clamp(in.metallic, 0.0f, 1.0f);
+    m.specularRoughness = roughness;
+    m.specularIor = std::clamp(in.ior, 1.0f, 3.0f);
+    if (in.ior > 3.0f) unmapped->push_back(who + "ior " + std::to_string(in.ior) + " clamped to 3");
+    m.specularWeight = std::clamp(in.specular, 0.0f, 1.0f);
+    m.specularColor = glm::clamp(in.specularColor, glm::vec3(0.0f), glm::vec3(1.0f));
+    m.coatWeight = std::clamp(in.clearcoat, 0.0f, 1.0f);
+    m.coatRoughness = std::clamp(in.clearcoatRoughness, 0.0f, 1.0f);
+    m.coatIor = 1.5f;
+    m.sheenColor = glm::clamp(in.sheenColor, glm::vec3(0.0f), glm::vec3(1.0f));
+    m.sheenWeight = glm::any(glm::greaterThan(m.sheenColor, glm::vec3(0.0f))) ? 1.0f : 0.0f;
+    m.sheenRoughness = std::clamp(in.sheenRoughness, 0.0f, 1.0f);
+    // The roughness slot holds the baked texture (roughness in R, metalness in G).
+    if (!in.metallicRoughnessTexture.empty()) m.roughnessTexture = in.metallicRoughnessTexture;
+    (void)mr;
+    const bool attenuates =
+        in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f)));
+    m.thinWalled = !in.volume && (in.transmission > 0.0f || in.diffuseTransmission > 0.0f);
+    m.transmissionWeight = std::clamp(in.transmission, 0.0f, 1.0f);
+    if (m.transmissionWeight > 0.0f) {
+        // glTF tints the transmission by the base colour (at each refraction: transmission_color at
+        // depth 0); KHR_materials_volume's attenuation is OpenPBR's transmission_color at
+        // transmission_depth (the distance in the file's world units, taken as scene units: an
+        // object's scale does not scale it; a black channel would be an infinite coefficient: at
+        // least 1e-4). The two cannot both be the one colour: the attenuation wins, reported.
+        m.transmissionColor = base;
+        if (in.volume && attenuates) {
             m.transmissionColor = glm::clamp(in.attenuationColor, glm::vec3(1e-4f), glm::vec3(1.0f));
             m.transmissionDepth = in.attenuationDistance;
+            if (glm::any(glm::lessThan(base, glm::vec3(1.0f))))
+                unmapped->push_back(who + "the base colour's tint of the transmission is not mapped beside "
+                                          "KHR_materials_volume's attenuation");
         }
-    } else {
-        // The layered surface, by the glTF-to-OpenPBR correspondence (OpenPBR Surface 1.1,
-        // appendix "glTF PBR"): base colour, metalness (per texel with a metallic-roughness
-        // texture: mr, wired by compileScene), roughness (perceptual in both), KHR_materials_ior,
-        // _specular (factor -> specular_weight, colour -> specular_color), _clearcoat (ior 1.5, as
-        // the extension defines; white), _sheen (colour, roughness; weight 1 where the colour is
-        // not black).
-        m = materialDefaults(MaterialType::Surface);
-        m.name = in.name;
-        m.emission = glm::max(in.emission, glm::vec3(0.0f));
-        m.albedo = base;
-        m.metalness = std::clamp(in.metallic, 0.0f, 1.0f);
-        m.specularRoughness = roughness;
-        m.specularIor = std::clamp(in.ior, 1.0f, 3.0f);
-        if (in.ior > 3.0f) unmapped->push_back(who + "ior " + std::to_string(in.ior) + " clamped to 3");
-        m.specularWeight = std::clamp(in.specular, 0.0f, 1.0f);
-        m.specularColor = glm::clamp(in.specularColor, glm::vec3(0.0f), glm::vec3(1.0f));
-        m.coatWeight = std::clamp(in.clearcoat, 0.0f, 1.0f);
-        m.coatRoughness = std::clamp(in.clearcoatRoughness, 0.0f, 1.0f);
-        m.coatIor = 1.5f;
-        m.sheenColor = glm::clamp(in.sheenColor, glm::vec3(0.0f), glm::vec3(1.0f));
-        m.sheenWeight = glm::any(glm::greaterThan(m.sheenColor, glm::vec3(0.0f))) ? 1.0f : 0.0f;
-        m.sheenRoughness = std::clamp(in.sheenRoughness, 0.0f, 1.0f);
-        // The roughness slot holds the baked texture (roughness in R, metalness in G).
-        if (!in.metallicRoughnessTexture.empty()) m.roughnessTexture = in.metallicRoughnessTexture;
-        if (in.attenuationDistance > 0.0f && glm::any(glm::lessThan(in.attenuationColor, glm::vec3(1.0f))))
-            unmapped->push_back(who + "KHR_materials_volume's attenuation without transmission is not mapped (the "
-                                      "surface material has no interior)");
-        (void)mr;
+    } else if (attenuates) {
+        unmapped->push_back(who + "KHR_materials_volume's attenuation without transmission is not mapped (no light "
+                                  "enters the interior)");
+    }
+    if (in.diffuseTransmission > 0.0f) {
+        if (m.thinWalled) {
+            m.subsurfaceWeight = std::clamp(in.diffuseTransmission, 0.0f, 1.0f);
+            m.subsurfaceColor = glm::clamp(in.diffuseTransmissionColor, glm::vec3(0.0f), glm::vec3(1.0f));
+            m.subsurfaceAnisotropy = 0.999f;  // glTF's lobe only transmits: (1 + g) / 2 of it passes
+        } else {
+            unmapped->push_back(who + "KHR_materials_diffuse_transmission of a closed object (with "
+                                      "KHR_materials_volume) is not mapped");
+        }
     }
     if (!in.baseColorTexture.empty()) m.albedoTexture = in.baseColorTexture;
     if (!in.normalTexture.empty()) {

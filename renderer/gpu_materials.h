@@ -10,6 +10,7 @@
 
 #include <span>
 #include <utility>
+#include <vector>
 
 namespace caustic {
 
@@ -18,6 +19,17 @@ std::pair<glm::vec3, glm::vec3> conductorPreset(const Material& m);
 
 // The GPU material for a scene material (textures are filled in by the caller).
 gpu::GpuMaterial convertMaterial(const Material& m);
+
+// The parts of a surface with transmission or subsurface (integrator/surface_parts.glsl), in the
+// order they are stored: the transmission's, then the subsurface's; none without either. And the
+// surface's link to them, stored from index `first`.
+std::vector<gpu::GpuMaterial> surfaceParts(const Material& m);
+void linkSurfaceParts(gpu::GpuMaterial& g, const Material& m, std::uint32_t first);
+
+// The single-scattering albedo of a medium of Henyey-Greenstein g whose semi-infinite slab shows
+// the multiple-scattering albedo `multiple` (the inverse of van de Hulst's relation; the surface's
+// subsurface_color to its interior).
+float subsurfaceSingleScatteringAlbedo(float multiple, float g);
 
 // A medium as the shaders read it (shared/layout.h: a material's k and eta rows, GpuFrame's
 // mediumA and mediumS): sigma_a in a.rgb, sigma_s in s.rgb, each channel in [0, kMaxCoefficient]

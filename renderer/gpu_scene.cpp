@@ -92,6 +92,8 @@ bool Builder::run() {
     const std::string sceneDir = sceneFolder(scene);
     for (size_t i = 0; i < scene.materials.size(); ++i)
         if (!addMaterial(scene.materials[i], "materials[" + std::to_string(i) + "]", sceneDir)) return false;
+    // Parts after all of them: a scene material's index is its place in the scene's list.
+    for (size_t i = 0; i < scene.materials.size(); ++i) addSurfaceParts(static_cast<std::uint32_t>(i), scene.materials[i]);
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         const std::string where = "objects[" + std::to_string(i) + "]";

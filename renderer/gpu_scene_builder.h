@@ -121,6 +121,9 @@ struct Builder {
 
     // Appends a material (and loads its textures unless withTextures is false) to the material table.
     bool addMaterial(const Material& m, const std::string& where, const std::string& baseDir, bool withTextures = true);
+    // A surface's transmission and subsurface parts (integrator/surface_parts.glsl), appended to the
+    // materials and linked from material `index` (m's); nothing for other materials.
+    void addSurfaceParts(std::uint32_t index, const Material& m);
 
     // Loads m's textures into g's slots, each file once per encoding, relative paths against baseDir.
     bool addTextures(const Material& m, const std::string& where, const std::string& baseDir, gpu::GpuMaterial* gm);

@@ -80,6 +80,8 @@ bool Builder::importMesh(const std::string& file, const std::string& where, std:
     // a model whose objects all have scene materials imports even if its textures are missing.
     for (size_t k = 0; k < entry->materials.size(); ++k)
         addMaterial(entry->materials[k], where, "", false);
+    for (size_t k = 0; k < entry->materials.size(); ++k)
+        addSurfaceParts(meshMaterialBase.back() + static_cast<std::uint32_t>(k), entry->materials[k]);
     meshTexturesLoaded.push_back(false);
     meshSlots.push_back(entry->triangleSlot);
     meshMaterials.push_back(entry->materials);

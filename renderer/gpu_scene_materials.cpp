@@ -10,6 +10,13 @@ bool Builder::addMaterial(const Material& m, const std::string& where, const std
     return true;
 }
 
+void Builder::addSurfaceParts(std::uint32_t index, const Material& m) {
+    std::vector<gpu::GpuMaterial> parts = surfaceParts(m);
+    if (parts.empty()) return;
+    linkSurfaceParts(out.materials[index], m, static_cast<std::uint32_t>(out.materials.size()));
+    out.materials.insert(out.materials.end(), parts.begin(), parts.end());
+}
+
 bool Builder::addTextures(const Material& m, const std::string& where, const std::string& baseDir, gpu::GpuMaterial* gm) {
     gpu::GpuMaterial& g = *gm;
     auto texture = [&](const std::string& name, const char* key, TextureEncoding enc, std::uint32_t* slot) {
@@ -94,7 +101,10 @@ bool Builder::addFileMaterialTexturesWith(Material& m, gpu::GpuMaterial& g, cons
     m = mapImportedMaterial(*im, &unmapped, &mr);
     Material others = m;   // albedo and normal maps as usual; the roughness slot is filled here
     others.roughnessTexture.clear();
+    const glm::uvec4 info = g.info;  // the link to the surface's parts (addSurfaceParts) stays
     g = convertMaterial(m);
+    g.info.y |= info.y & (MAT_FLAG_TRANSMISSION_PART | MAT_FLAG_SUBSURFACE_PART);
+    if (m.type == MaterialType::Surface) g.info.w = info.w;
     if (!addTextures(others, where, "", &g)) return false;
     if (m.roughnessTexture.empty()) return true;  // diffuse: no roughness to map
     // One baked texture per (file, roughness factor): the factor is part of every texel.

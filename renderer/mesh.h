@@ -37,6 +37,9 @@ struct ImportedMaterial {
     float ior = 1.5f;                     // KHR_materials_ior
     glm::vec3 attenuationColor{1.0f};     // KHR_materials_volume: attenuationColor
     float attenuationDistance = 0.0f;     //   attenuationDistance (world units); 0: infinite, no absorption
+    bool volume = false;                  //   present with thicknessFactor > 0 (else thin-walled)
+    float diffuseTransmission = 0.0f;     // KHR_materials_diffuse_transmission: diffuseTransmissionFactor
+    glm::vec3 diffuseTransmissionColor{1.0f};  //   diffuseTransmissionColorFactor
     bool doubleSided = false;
     float specular = 1.0f;                // KHR_materials_specular: specularFactor
     glm::vec3 specularColor{1.0f};        //   specularColorFactor

@@ -243,6 +243,9 @@ void applyGltfInfo(const std::string& path, const GltfInfo& info, MeshImportResu
         m.transmission = std::max(m.transmission, g.transmission);
         m.attenuationColor = g.attenuationColor;
         m.attenuationDistance = g.attenuationDistance;
+        m.volume = g.volume;
+        m.diffuseTransmission = g.diffuseTransmission;
+        m.diffuseTransmissionColor = g.diffuseTransmissionColor;
         m.emission = g.emissiveFactor * g.emissiveStrength;
         m.setTextureWrap(TextureSlot::BaseColor, g.baseColor.wrapS, g.baseColor.wrapT);
         m.setTextureWrap(TextureSlot::MetallicRoughness, g.metallicRoughness.wrapS, g.metallicRoughness.wrapT);

@@ -41,7 +41,7 @@ namespace {
 // Update writeMesh/readMesh, writeMaterial/readMaterial and the embedded images' fields when these
 // change.
 static_assert(sizeof(Mesh) == 160, "a Mesh field was added: serialise it in mesh_import_child.cpp");
-static_assert(sizeof(ImportedMaterial) == 280,
+static_assert(sizeof(ImportedMaterial) == 304,
               "an ImportedMaterial field was added: serialise it in mesh_import_child.cpp");
 static_assert(sizeof(EmbeddedImage) == 2 * sizeof(std::string) + 2 * sizeof(int),
               "an EmbeddedImage field was added: serialise it in serializeImport/deserializeImport");
@@ -126,6 +126,9 @@ void writeMaterial(Writer& w, const ImportedMaterial& m) {
     w.pod(m.wrap);
     w.pod(m.attenuationColor);
     w.pod(m.attenuationDistance);
+    w.pod(m.volume);
+    w.pod(m.diffuseTransmission);
+    w.pod(m.diffuseTransmissionColor);
 }
 
 bool readMaterial(Reader& r, ImportedMaterial& m) {
@@ -134,7 +137,8 @@ bool readMaterial(Reader& r, ImportedMaterial& m) {
            r.pod(m.emission) && r.str(m.emissionTexture) && r.pod(m.transmission) && r.pod(m.ior) && r.pod(m.doubleSided) &&
            r.pod(m.specular) && r.pod(m.specularColor) && r.pod(m.clearcoat) && r.pod(m.clearcoatRoughness) &&
            r.pod(m.sheenColor) && r.pod(m.sheenRoughness) && r.pod(m.alphaMode) && r.pod(m.alphaCutoff) &&
-           r.pod(m.wrap) && r.pod(m.attenuationColor) && r.pod(m.attenuationDistance);
+           r.pod(m.wrap) && r.pod(m.attenuationColor) && r.pod(m.attenuationDistance) && r.pod(m.volume) &&
+           r.pod(m.diffuseTransmission) && r.pod(m.diffuseTransmissionColor);
 }
 
 void writeMesh(Writer& w, const Mesh& m) {

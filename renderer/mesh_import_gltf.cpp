@@ -143,15 +143,25 @@ GltfMaterialInfo materialInfo(const Json& root, const Json& m) {
         if (member(e, "transmissionTexture").is_object()) out.ignored.push_back("KHR_materials_transmission transmissionTexture");
     }
     if (const Json& e = member(ext, "KHR_materials_volume"); e.is_object()) {
-        // Attenuation is Beer-Lambert absorption inside (mapImportedMaterial: a dielectric's
+        // Attenuation is Beer-Lambert absorption inside (mapImportedMaterial: the surface's
         // transmission_color / transmission_depth). The thickness (factor and texture) is a
-        // rasteriser's stand-in for the geometry a path tracer traces: nothing to map.
+        // rasteriser's stand-in for the geometry a path tracer traces: only whether it is 0
+        // (thin-walled) is mapped.
+        const float thickness = number(e, "thicknessFactor", 0.0f);
+        out.volume = std::isfinite(thickness) && thickness > 0.0f;  // 0: thin-walled, as the extension says
         const float distance = number(e, "attenuationDistance", 0.0f);
         if (std::isfinite(distance) && distance > 0.0f) {
             out.attenuationDistance = distance;
             out.attenuationColor = glm::clamp(colour(e, "attenuationColor", glm::vec3(1.0f)), glm::vec3(0.0f),
                                               glm::vec3(1.0f));
         }
+    }
+    if (const Json& e = member(ext, "KHR_materials_diffuse_transmission"); e.is_object()) {
+        out.diffuseTransmission = unit(number(e, "diffuseTransmissionFactor", 0.0f));
+        out.diffuseTransmissionColor = glm::clamp(colour(e, "diffuseTransmissionColorFactor", glm::vec3(1.0f)),
+                                                  glm::vec3(0.0f), glm::vec3(1.0f));
+        for (const char* t : {"diffuseTransmissionTexture", "diffuseTransmissionColorTexture"})
+            if (member(e, t).is_object()) out.ignored.push_back(std::string("KHR_materials_diffuse_transmission ") + t);
     }
     if (const Json& e = member(ext, "KHR_materials_emissive_strength"); e.is_object())
         out.emissiveStrength = std::max(0.0f, number(e, "emissiveStrength", 1.0f));
@@ -183,7 +193,8 @@ bool isMappedGltfExtension(const std::string& name) {
     static const char* const kMapped[] = {"KHR_materials_ior",          "KHR_materials_specular",
                                           "KHR_materials_clearcoat",    "KHR_materials_sheen",
                                           "KHR_materials_transmission", "KHR_materials_emissive_strength",
-                                          "KHR_texture_transform",      "KHR_materials_volume"};
+                                          "KHR_texture_transform",      "KHR_materials_volume",
+                                          "KHR_materials_diffuse_transmission"};
     return std::any_of(std::begin(kMapped), std::end(kMapped), [&](const char* k) { return name == k; });
 }
 

@@ -46,6 +46,9 @@ struct GltfMaterialInfo {
     float transmission = 0.0f;
     glm::vec3 attenuationColor{1.0f};  // KHR_materials_volume
     float attenuationDistance = 0.0f;  // 0: absent or infinite (the extension's default)
+    bool volume = false;               // KHR_materials_volume with thicknessFactor > 0 (0: thin-walled)
+    float diffuseTransmission = 0.0f;  // KHR_materials_diffuse_transmission
+    glm::vec3 diffuseTransmissionColor{1.0f};
     glm::vec3 emissiveFactor{0.0f};
     float emissiveStrength = 1.0f;
     std::vector<std::string> ignored;  // what the material has that is not mapped ("clearcoatTexture", ...)

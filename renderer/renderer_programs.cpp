@@ -43,7 +43,11 @@ std::uint32_t mediaBits(const gpu::GpuFrame& frame, const CompiledScene& c) {
     for (const gpu::GpuMaterial& m : c.materials) {
         if ((m.info.y & MAT_FLAG_MEDIUM) != 0u) add(glm::vec3(m.k), glm::vec3(m.eta));
         if (m.info.x == MAT_VOLUME) bits |= MEDIA_BOUNDARIES | MEDIA_ABSORBING;
-        if (m.info.w != 0u) bits |= MEDIA_NESTED;
+        if ((m.info.y & (MAT_FLAG_TRANSMISSION_PART | MAT_FLAG_SUBSURFACE_PART)) != 0u)
+            bits |= MEDIA_SURFACE_PARTS;  // info.w: the parts' index, not a priority
+        else if (m.info.w != 0u)
+            bits |= MEDIA_NESTED;
+        if ((m.info.y & MAT_FLAG_RANDOM_WALK) != 0u) bits |= MEDIA_RANDOM_WALK;
     }
     return bits;
 }

@@ -136,6 +136,16 @@ struct Material {
     float sheenWeight = 0.0f;          // [0, 1]
     glm::vec3 sheenColor{1.0f};
     float sheenRoughness = 0.5f;       // [0, 1], perceptual (the Charlie lobe's r = roughness^2)
+    // surface: OpenPBR's transmission and subsurface (integrator/surface_parts.glsl). The transmission
+    // shares transmissionColor, transmissionDepth, transmissionScatter and scatterAnisotropy with the
+    // dielectric (at depth 0 the colour tints each crossing of the surface instead).
+    float transmissionWeight = 0.0f;   // [0, 1]: the share of the dielectric base that transmits
+    float subsurfaceWeight = 0.0f;     // [0, 1]: the share of the rest that scatters below the surface
+    glm::vec3 subsurfaceColor{0.8f};   // (0, 1): the multiple-scattering albedo a thick slab shows
+    float subsurfaceRadius = 1.0f;     // > 0, scene units: the mean free path, times the scale below
+    glm::vec3 subsurfaceRadiusScale{1.0f, 0.5f, 0.25f};  // (0, 1] per channel
+    float subsurfaceAnisotropy = 0.0f; // (-1, 1): the subsurface medium's Henyey-Greenstein g
+    bool thinWalled = false;           // a sheet with no inside: transmission and subsurface pass through it
     // Texture files (relative to the scene file), "" for none. albedoTexture replaces albedo
     // (diffuse models) or tint (the others) and is decoded from sRGB unless the file is HDR;
     // normalTexture is a tangent-space normal map; roughnessTexture's first channel replaces

@@ -319,6 +319,13 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "energy_compensation", .label = "Multiple scattering", .kind = ParamKind::Bool,
          .member = &M::energyCompensation, .doc = "multiple-scattering compensation of rough GGX",
          .types = bits(T::Conductor)},
+        {.key = "transmission_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::transmissionWeight,
+         .range = between(0, 1),
+         .doc = "`surface`: OpenPBR's: the share of the dielectric base (below the specular interface) that "
+                "transmits, refracting into the object's interior (a closed mesh or shape) or, thin-walled, passing "
+                "through the sheet; the interior is the medium the keys below describe",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.transmissionWeight == 0.0f; },
+         .slider = true, .section = "Transmission"},
         {.key = "transmission_color", .label = "Transmission colour", .kind = ParamKind::Colour,
          .member = &M::transmissionColor, .range = [] {
              Range r = greaterThan(0.0);
@@ -326,26 +333,28 @@ std::span<const Param<Material>> schemaOf<Material>() {
              return r;
          }(),
          .doc = "OpenPBR's: the colour that light keeps after travelling `transmission_depth` inside (Beer-Lambert "
-                "extinction, sigma_t = -ln(colour) / depth per channel); needs `transmission_depth` > 0 unless it "
-                "is [1, 1, 1]. Closed objects; overlapping ones nest by `priority` (docs/materials.md, \"Media\")",
-         .types = bits(T::Dielectric),
+                "extinction, sigma_t = -ln(colour) / depth per channel); `dielectric`: needs `transmission_depth` > "
+                "0 unless it is [1, 1, 1]; `surface`: at depth 0 (and thin-walled) a tint of each crossing of the "
+                "surface. Closed objects; overlapping ones nest by `priority` (docs/materials.md, \"Media\")",
+         .types = bits(T::Dielectric, T::Surface),
          .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Transmission"},
         {.key = "transmission_depth", .label = "Transmission depth", .kind = ParamKind::Float,
          .member = &M::transmissionDepth, .range = atLeast(0), .unit = "m",
          .doc = "OpenPBR's: the distance inside at which light that has not scattered has the colour "
                 "`transmission_color`; 0: no medium inside (clear glass)",
-         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
+         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
          .speed = 0.01f},
         {.key = "transmission_scatter", .label = "Transmission scatter", .kind = ParamKind::Colour,
          .member = &M::transmissionScatter, .range = between(0, 1),
          .doc = "OpenPBR's: the interior's scattering coefficient times `transmission_depth` (sigma_s = scatter / "
                 "depth; the absorption is what is left of -ln(`transmission_color`) / depth, raised by a grey amount "
                 "where it would be negative); needs `transmission_depth` > 0",
-         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.transmissionScatter == glm::vec3(0.0f); }},
+         .types = bits(T::Dielectric, T::Surface),
+         .omitted = [](const M& m) { return m.transmissionScatter == glm::vec3(0.0f); }},
         {.key = "transmission_scatter_anisotropy", .label = "Scatter anisotropy", .kind = ParamKind::Float,
          .member = &M::scatterAnisotropy, .range = openInterval(-1, 1),
          .doc = "OpenPBR's: the interior's Henyey-Greenstein g (> 0 forward, < 0 backward scattering)",
-         .types = bits(T::Dielectric), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
+         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
          .slider = true},
         {.key = "priority", .label = "Priority", .kind = ParamKind::Int, .member = &M::priority,
          .range = between(0, 1000),
@@ -353,7 +362,7 @@ std::span<const Param<Material>> schemaOf<Material>() {
                 "priority is what is there, and a surface inside it is no interface; `ior` is then the material's "
                 "own, taken relative to the dielectric around it (a glass of water: the glass above the water, the "
                 "water slightly larger than the glass's inside; docs/materials.md, \"Media\")",
-         .types = bits(T::Dielectric, T::Volume), .omitted = [](const M& m) { return m.priority == 0; },
+         .types = bits(T::Dielectric, T::Volume, T::Surface), .omitted = [](const M& m) { return m.priority == 0; },
          .speed = 0.1f},
         {.key = "sigma_a", .label = "Absorption", .kind = ParamKind::Vector, .member = &M::sigmaA,
          .range = between(0, kMaxCoefficient), .unit = "1/m",
@@ -402,6 +411,47 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "sheen_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::sheenWeight,
          .range = between(0, 1), .doc = "`surface`: the sheen (fuzz) layer's strength (0: none)",
          .types = bits(T::Surface), .slider = true, .section = "Sheen"},
+        {.key = "subsurface_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::subsurfaceWeight,
+         .range = between(0, 1),
+         .doc = "`surface`: OpenPBR's: the share of the dielectric base not transmitting that scatters below the "
+                "surface (a random walk in the object's interior; thin-walled: diffuse transmission) instead of "
+                "reflecting diffusely",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceWeight == 0.0f; },
+         .slider = true, .section = "Subsurface"},
+        {.key = "subsurface_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::subsurfaceColor,
+         .range = between(0, 1),
+         .doc = "`surface`: the colour a thick slab of the material shows under white light (its multiple-scattering "
+                "albedo); the interior's single-scattering albedo is found from it by inverting van de Hulst's "
+                "relation (docs/materials.md, \"Subsurface\")",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceColor == glm::vec3(0.8f); }},
+        {.key = "subsurface_radius", .label = "Radius", .kind = ParamKind::Float, .member = &M::subsurfaceRadius,
+         .range = [] {
+             Range r = greaterThan(0.0);
+             r.max = 1e6;
+             return r;
+         }(), .unit = "m",
+         .doc = "`surface`: the interior's mean free path (times `subsurface_radius_scale` per channel): how far "
+                "light travels between scattering events",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceRadius == 1.0f; }, .speed = 0.001f},
+        {.key = "subsurface_radius_scale", .label = "Radius scale", .kind = ParamKind::Colour,
+         .member = &M::subsurfaceRadiusScale, .range = [] {
+             Range r = greaterThan(0.0);
+             r.max = 1.0;
+             return r;
+         }(),
+         .doc = "`surface`: the mean free path per channel, relative to `subsurface_radius` (red travels farthest in "
+                "skin)",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceRadiusScale == glm::vec3(1.0f, 0.5f, 0.25f); }},
+        {.key = "subsurface_scatter_anisotropy", .label = "Anisotropy", .kind = ParamKind::Float,
+         .member = &M::subsurfaceAnisotropy, .range = openInterval(-1, 1),
+         .doc = "`surface`: the interior's Henyey-Greenstein g (> 0 forward scattering, as skin's 0.8)",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceAnisotropy == 0.0f; },
+         .slider = true},
+        {.key = "geometry_thin_walled", .label = "Thin-walled", .kind = ParamKind::Bool, .member = &M::thinWalled,
+         .doc = "`surface`: OpenPBR's: the surface bounds no interior but is a thin sheet (a leaf, paper, a soap "
+                "bubble): transmission passes straight through it (a thin dielectric sheet of `specular_ior`, tinted "
+                "by `transmission_color`), subsurface becomes diffuse transmission",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return !m.thinWalled; }, .section = "Geometry"},
         {.key = "sheen_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::sheenColor,
          .range = between(0, 1), .doc = "`surface`: the sheen's colour", .types = bits(T::Surface)},
         {.key = "sheen_roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::sheenRoughness,
@@ -613,7 +663,8 @@ std::optional<RuleViolation> checkRules(const Material& m) {
     if (m.type == MaterialType::Dielectric && m.transmissionDepth == 0.0f && m.transmissionColor != glm::vec3(1.0f))
         return RuleViolation{"transmission_color",
                              "needs transmission_depth > 0 (at depth 0 there is no absorption; `tint` tints the surface)"};
-    if (m.type == MaterialType::Dielectric && m.transmissionDepth == 0.0f && m.transmissionScatter != glm::vec3(0.0f))
+    if ((m.type == MaterialType::Dielectric || (m.type == MaterialType::Surface && !m.thinWalled)) &&
+        m.transmissionDepth == 0.0f && m.transmissionScatter != glm::vec3(0.0f))
         return RuleViolation{"transmission_scatter", "needs transmission_depth > 0 (it is a coefficient times the depth)"};
     if (m.type == MaterialType::Volume && m.emission != glm::vec3(0.0f))
         return RuleViolation{"emission", "a volume has no surface to emit from (its boundary is invisible)"};

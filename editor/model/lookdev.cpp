@@ -55,6 +55,23 @@ Material surface(const char* name, glm::vec3 base, float roughness) {
     return m;
 }
 
+// The surface with subsurface scattering (OpenPBR's subsurface: colour, mean free path radius x
+// scale per channel, anisotropy; docs/materials.md), for objects of about a scene unit.
+Material subsurface(const char* name, glm::vec3 colour, float radius, glm::vec3 scale, float roughness, float ior,
+                    float anisotropy = 0.0f) {
+    Material m = materialDefaults(MaterialType::Surface);
+    m.name = name;
+    m.albedo = colour;  // what the rest of the base (none here) and the preview's swatch show
+    m.subsurfaceWeight = 1.0f;
+    m.subsurfaceColor = colour;
+    m.subsurfaceRadius = radius;
+    m.subsurfaceRadiusScale = scale;
+    m.subsurfaceAnisotropy = anisotropy;
+    m.specularRoughness = roughness;
+    m.specularIor = ior;
+    return m;
+}
+
 Material matte(const char* name, MaterialType type, glm::vec3 albedo) {
     Material m = materialDefaults(type);
     m.name = name;
@@ -118,6 +135,28 @@ std::span<const LibraryMaterial> materialLibrary() {
             Material plaster = matte("plaster", MaterialType::OrenNayar, {0.85f, 0.84f, 0.8f});
             plaster.sigma = 0.5f;
             l.push_back({"Matte", plaster});
+        }
+        // Translucent: the surface's subsurface (a random walk inside) and transmission.
+        l.push_back({"Translucent", subsurface("jade", {0.32f, 0.72f, 0.45f}, 0.08f, {1.0f, 1.0f, 0.8f}, 0.15f, 1.61f)});
+        l.push_back({"Translucent", subsurface("marble", {0.92f, 0.9f, 0.86f}, 0.03f, {1.0f, 0.9f, 0.75f}, 0.25f, 1.5f)});
+        l.push_back({"Translucent", subsurface("wax", {0.93f, 0.8f, 0.55f}, 0.05f, {1.0f, 0.6f, 0.35f}, 0.35f, 1.45f)});
+        l.push_back({"Translucent", subsurface("skin", {0.85f, 0.56f, 0.45f}, 0.02f, {1.0f, 0.35f, 0.2f}, 0.45f, 1.4f, 0.8f)});
+        l.push_back({"Translucent", subsurface("milk", {0.95f, 0.93f, 0.87f}, 0.01f, {1.0f, 0.85f, 0.65f}, 0.1f, 1.35f)});
+        {
+            Material tinted = materialDefaults(MaterialType::Surface);
+            tinted.name = "coloured glass (surface)";
+            tinted.specularRoughness = 0.0f;
+            tinted.transmissionWeight = 1.0f;
+            tinted.transmissionColor = {0.2f, 0.5f, 0.85f};
+            tinted.transmissionDepth = 0.3f;
+            l.push_back({"Translucent", tinted});
+        }
+        {
+            Material leaf = subsurface("leaf", {0.25f, 0.55f, 0.1f}, 1.0f, glm::vec3(1.0f), 0.4f, 1.45f, 0.3f);
+            leaf.albedo = {0.1f, 0.3f, 0.05f};
+            leaf.subsurfaceWeight = 0.6f;
+            leaf.thinWalled = true;
+            l.push_back({"Translucent", leaf});
         }
         // Media: volumes (a shape that only bounds its medium), coefficients per scene unit.
         l.push_back({"Media", volume("fog", glm::vec3(0.02f), glm::vec3(0.45f), 0.5f)});

@@ -28,6 +28,10 @@ uint bsdfTraits(GpuMaterial m) {
 // True for models that transmit: their local frame must keep the front side (wo.z < 0 = inside).
 bool bsdfHasTransmission(GpuMaterial m) { return (bsdfTraits(m) & BSDF_TRANSMITS) != 0u; }
 
+// True for the thin-walled models (bsdf/thin.glsl): they transmit, but nothing refracts and no
+// interior is entered.
+bool bsdfIsThin(GpuMaterial m) { return m.info.x == MAT_THIN_DIELECTRIC || m.info.x == MAT_DIFFUSE_TRANSMISSION; }
+
 // True when every lobe is a delta (eval and pdf are zero everywhere; light sampling is useless).
 bool bsdfIsDelta(GpuMaterial m) { return (bsdfTraits(m) & BSDF_DELTA) != 0u; }
 

@@ -19,6 +19,7 @@
 #include "dielectric.glsl"
 #include "conductor.glsl"
 #include "surface.glsl"
+#include "thin.glsl"
 
 #define BSDF_DELTA 1u
 #define BSDF_TRANSMITS 2u
@@ -35,6 +36,10 @@
     MODEL(MAT_CONDUCTOR, vec3(0.0), 0.0, smoothConductorSample(m, wo), BSDF_DELTA)                          \
     MODEL(MAT_ROUGH_CONDUCTOR, roughConductorEval(m, wo, wi), roughConductorPdf(m, wo, wi),                 \
           roughConductorSample(m, wo, u.xy), 0u)                                                           \
-    MODEL(MAT_SURFACE, surfaceEval(m, wo, wi), surfacePdf(m, wo, wi), surfaceSample(m, wo, u), 0u)
+    MODEL(MAT_SURFACE, surfaceEval(m, wo, wi), surfacePdf(m, wo, wi), surfaceSample(m, wo, u), 0u)         \
+    MODEL(MAT_THIN_DIELECTRIC, thinDielectricEval(m, wo, wi), thinDielectricPdf(m, wo, wi),               \
+          thinDielectricSample(m, wo, u.z, u.xy), thinIsSmooth(m) ? BSDF_DELTA | BSDF_TRANSMITS : BSDF_TRANSMITS) \
+    MODEL(MAT_DIFFUSE_TRANSMISSION, diffuseTransmissionEval(m, wo, wi), diffuseTransmissionPdf(m, wo, wi), \
+          diffuseTransmissionSample(m, wo, u), BSDF_TRANSMITS)
 
 #endif

@@ -23,8 +23,9 @@
 //     small), and its bounded variants lose 5 to 18 % (docs/materials.md).
 // The metal lobe is single scattering (it loses what GGX loses at high roughness, as a conductor
 // without energy_compensation).
-// Simplifications against OpenPBR, by design: no transmission, subsurface, thin film or
-// anisotropy; the base is Lambert, not EON; the coat does not darken or refract the base's
+// Transmission and subsurface are parts of their own, chosen per hit by the integrator
+// (integrator/surface_parts.glsl); this model is the rest, reflection only.
+// Simplifications against OpenPBR, by design: no thin film or anisotropy; the base is Lambert, not EON; the coat does not darken or refract the base's
 // lobes (the specular layer's IOR stays relative to air under the coat); the coat colour is one
 // multiplication. Roughness parameters in the file are OpenPBR's perceptual ones (alpha = r^2,
 // done by the scene compiler, the sheen's r likewise); the GpuMaterial holds alphas and r.

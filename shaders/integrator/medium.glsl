@@ -46,6 +46,7 @@ struct Medium {
     vec3 sigmaA;
     vec3 sigmaS;
     float g;
+    bool walk;  // a subsurface interior (MAT_FLAG_RANDOM_WALK): walked without light sampling (path.glsl)
 };
 
 // The medium of entry m (see the header).
@@ -55,6 +56,7 @@ Medium mediumAt(uint m) {
         md.sigmaA = frame.mediumA.rgb;
         md.sigmaS = frame.mediumS.rgb;
         md.g = frame.mediumA.w;
+        md.walk = false;
         return md;
     }
     GpuMaterial mat = loadMaterial(m - 1u);
@@ -62,6 +64,7 @@ Medium mediumAt(uint m) {
     md.sigmaA = has ? mat.k.rgb : vec3(0.0);
     md.sigmaS = has ? mat.eta.rgb : vec3(0.0);
     md.g = has ? mat.eta.w : 0.0;
+    md.walk = HAS_MEDIA(MEDIA_RANDOM_WALK) && (mat.info.y & MAT_FLAG_RANDOM_WALK) != 0u;
     return md;
 }
 
@@ -145,6 +148,10 @@ float outsideIor(uvec4 s, uint material) {
 // bounce's (lib/sampler.glsl hashes slots, so any unused number is a fresh dimension), because a
 // bounce may run through several segments (one per boundary crossed).
 uint mediumSlot(uint k) { return 0x00100000u + k; }
+// The direction sampled at the k-th segment's scattering event of a subsurface walk (path.glsl), and
+// a bounce's choice of a surface's part (integrator/surface_parts.glsl): ranges of their own.
+uint walkSlot(uint k) { return 0x00200000u + k; }
+uint partSlot(uint bounce) { return 0x00300000u + bounce; }
 
 // The probability of sampling each channel's free flight for a path of throughput beta.
 vec3 channelPmf(vec3 beta) {

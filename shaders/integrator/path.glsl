@@ -47,6 +47,7 @@
 #include "../lights/lights.glsl"
 #include "../lights/light_select.glsl"
 #include "medium.glsl"
+#include "surface_parts.glsl"
 
 struct PathAov {
     vec3 albedo;
@@ -208,6 +209,19 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t,
         st.aov.albedo = md.sigmaS / max(sigmaT, vec3(1e-30));
         st.aov.normal = vec3(0.0);
     }
+    // A subsurface interior (md.walk): the walk goes on outside the depth budget, with neither light
+    // sampling (a light is outside the object, past a refracting boundary no shadow ray passes) nor
+    // Russian roulette (the single-scattering albedo keeps the throughput bounded; the walk ends at
+    // MEDIUM_MAX_PATH_SEGMENTS). What it meets when it leaves counts with weight 1.
+    if (md.walk) {
+        if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return true;
+        float pdfWalk;
+        st.ray.o = p;
+        st.ray.d = hgSample(d, md.g, sample2D(smp, walkSlot(st.segments)), pdfWalk);
+        st.countEmitted = true;
+        st.emitScale = 1.0;
+        return false;
+    }
     if (bounces >= frame.counts.z) return true;
     uint li;
     float pmf;
@@ -306,7 +320,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         bool scatters = mediumSampleDistance(md, tMax, st.beta, smp, mediumSlot(st.segments), t, weight);
         // Point and spot lights: an equiangular sample along the segment (the scattering event it
         // stands for is this bounce's, so only below the maximum depth).
-        if (useLights && mediumScatters(md) && bounces < maxDepth)
+        if (useLights && mediumScatters(md) && !md.walk && bounces < maxDepth)
             st.L += equiangularDirect(betaIn, st.ray, tMax, md, st.stack, smp, equiangularSlot(st.segments));
         st.segments += 1u;
         st.beta *= weight;
@@ -369,6 +383,15 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         mat = materialAtSurface(mat, sp, coneWidth, normalTexel);
         ns = shadingNormalAt(mat, sp, hit.ns, normalTexel);
     }
+    // A surface with a transmission or subsurface part: the part or the rest, chosen here
+    // (integrator/surface_parts.glsl); from here on the hit's material is the one chosen.
+    uint matIndex = hit.material;
+    SurfacePartVertex pv;
+    pv.isPart = false;
+    if (surfaceHasParts(mat)) {
+        st.beta *= surfaceChoosePart(mat, matIndex, wo, hit.ng, ns, st.stack, sample1D(smp, partSlot(bounces)), pv);
+        if (boundsInterior(mat)) mat.params.y /= outsideIor(st.stack, matIndex);
+    }
     bool keepFront = bsdfHasTransmission(mat);
     float side = dot(hit.ng, wo) < 0.0 && !keepFront ? -1.0 : 1.0;
     vec3 n = side * ns;
@@ -393,6 +416,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
             vec3 wiL = toLocal(f, ls.wi);
             float pdfBsdf;
             vec3 fv = bsdfEvalPdf(mat, woL, wiL, pdfBsdf);
+            if (pv.isPart) fv *= surfacePartFactor(pv, hit.ng, wo, ls.wi, ns);
             // Reflection and transmission as the geometry sees them must agree with the
             // shading frame's (a shading normal must not leak light through the surface).
             if ((woL.z * wiL.z > 0.0) != (ngWo * dot(hit.ng, ls.wi) > 0.0)) fv = vec3(0.0);
@@ -418,7 +442,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
                     // The shadow ray leaves into the interiors on its side of the surface.
                     uvec4 shadowStack = st.stack;
                     if ((dot(hit.ng, ls.wi) > 0.0) != (ngWo > 0.0) && boundsInterior(mat))
-                        shadowStack = stackCross(st.stack, hit.material, hit.ng, ls.wi);
+                        shadowStack = stackCross(st.stack, matIndex, hit.ng, ls.wi);
                     vec3 tr = shadowTransmittance(shadow, shadowTMax, shadowStack);
                     if (maxComponent(tr) > 0.0)
                         st.L += tr * lightSampleRadiance(st.beta, fv, wiL.z, ls, pmf, pdfBsdf, misOn);
@@ -437,6 +461,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     BsdfSample bs = bsdfSample(mat, woL, vec3(uDir, sample1D(smp, bounceSlot(bounces, SLOT_BSDF_LOBE))));
     if (bs.pdf <= 0.0) return pathEndsAfterShading(st);
     vec3 wiW = toWorld(f, bs.wi);
+    if (pv.isPart) bs.f *= surfacePartFactor(pv, hit.ng, wo, wiW, ns);
     // Reflection or transmission as the geometry sees it must agree with the shading frame's.
     bool ends = (woL.z * bs.wi.z > 0.0) != (ngWo * dot(hit.ng, wiW) > 0.0);
 
@@ -450,7 +475,8 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     vec3 probeDir = vec3(0.0);
     // With nested interiors, only where leaving this object leaves every interior (the probe sees
     // what lies beyond with nothing on the way).
-    if (CAUSTIC_MEDIA != 0u) split = split && stackRemove(st.stack, hit.material + 1u) == uvec4(0u);
+    // A surface's part is not split (its light leaving passes the surface's layers).
+    if (CAUSTIC_MEDIA != 0u) split = split && !pv.isPart && stackRemove(st.stack, matIndex + 1u) == uvec4(0u);
     if (HAS_MATERIAL(MAT_DIELECTRIC) && split && mat.info.x == MAT_DIELECTRIC) {
         if (bs.wi.z > 0.0) st.emitScale = bs.pdf;
         BsdfSample other = smoothDielectricOtherLobe(mat, woL, bs);
@@ -469,10 +495,10 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         st.prevP = hit.p;
         st.prevN = n;
         st.prevTwoSided = keepFront;
-        if (woL.z * bs.wi.z < 0.0) {  // refraction: eta' is the ratio of the side entered to the side left
+        if (woL.z * bs.wi.z < 0.0 && !bsdfIsThin(mat)) {  // refraction: eta' is the ratio of the side entered to the side left
             float eta = mat.params.y;
             st.etaScale *= woL.z > 0.0 ? eta * eta : 1.0 / (eta * eta);
-            if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) st.stack = stackCross(st.stack, hit.material, hit.ng, wiW);
+            if (CAUSTIC_MEDIA != 0u && boundsInterior(mat)) st.stack = stackCross(st.stack, matIndex, hit.ng, wiW);
         }
         st.ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         st.ray.d = wiW;
@@ -491,7 +517,12 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     } else if (ends) {
         return pathEndsAfterShading(st);
     }
-    st.bounces = bounces + 1u;
+    // A subsurface walk's reflection off its boundary from inside is part of the walk: outside the
+    // depth budget too.
+    bool walkReflection = HAS_MEDIA(MEDIA_RANDOM_WALK) && (mat.info.y & MAT_FLAG_RANDOM_WALK) != 0u &&
+                          ngWo < 0.0 && dot(hit.ng, wiW) < 0.0;
+    if (!walkReflection) st.bounces = bounces + 1u;
+    else if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return pathEndsAfterShading(st);
     return false;
 }
 

@@ -45,7 +45,7 @@
 #define CAUSTIC_ALPHA_MASK 1u              // 0: no mesh has an alpha-masked material (geometry/alpha_mask.glsl)
 #endif
 #ifndef CAUSTIC_MEDIA
-#define CAUSTIC_MEDIA 15u                  // bits MEDIA_*: what the scene's media need (integrator/medium.glsl)
+#define CAUSTIC_MEDIA 63u                  // bits MEDIA_*: what the scene's media need (integrator/medium.glsl)
 #endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)

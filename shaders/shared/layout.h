@@ -142,6 +142,8 @@ using uint = std::uint32_t;
 #define MAT_ROUGH_CONDUCTOR 8u      // GGX microfacet conductor
 #define MAT_SURFACE 9u              // layered surface: sheen over coat over metal / specular + diffuse (surface.glsl)
 #define MAT_VOLUME 10u              // no surface: an index-matched boundary of the medium inside (integrator/medium.glsl)
+#define MAT_THIN_DIELECTRIC 11u     // a thin dielectric sheet: reflection and straight-through transmission (thin.glsl)
+#define MAT_DIFFUSE_TRANSMISSION 12u  // a thin diffuse sheet: Lambertian reflection and transmission (thin.glsl)
 
 // Material flags (GpuMaterial::info.y).
 #define MAT_FLAG_ENERGY_COMPENSATION 1u  // Oren-Nayar: the global factor; rough conductor: multiple scattering
@@ -153,12 +155,21 @@ using uint = std::uint32_t;
                                          // uintBitsToFloat(info.z) (geometry/alpha_mask.glsl)
 #define MAT_FLAG_MEDIUM 32u              // dielectric, volume: its interior is a medium, sigma_a = k.rgb,
                                          // sigma_s = eta.rgb, Henyey-Greenstein g = eta.w (integrator/medium.glsl)
+#define MAT_FLAG_TRANSMISSION_PART 64u   // surface: its transmission is the material at index info.w (a
+                                         // dielectric with the interior medium, or a thin dielectric)
+#define MAT_FLAG_SUBSURFACE_PART 128u    // surface: its subsurface is the material after the transmission
+                                         // part (at info.w without one): a dielectric whose interior is
+                                         // walked (MAT_FLAG_RANDOM_WALK), or a thin diffuse transmitter
+#define MAT_FLAG_RANDOM_WALK 256u        // dielectric with MAT_FLAG_MEDIUM: a subsurface interior, walked
+                                         // without light sampling and outside the depth budget
 
 // What the scene's media need of the integrator (CAUSTIC_MEDIA, bits; scene/features.glsl).
 #define MEDIA_ABSORBING 1u          // some medium (a material's interior or the scene's) absorbs or scatters
 #define MEDIA_SCATTERING 2u         // some medium scatters: free-flight sampling, medium vertices
 #define MEDIA_BOUNDARIES 4u         // some material is MAT_VOLUME: rays and shadow rays cross its surfaces
 #define MEDIA_NESTED 8u             // some dielectric or volume has a nesting priority (GpuMaterial::info.w)
+#define MEDIA_SURFACE_PARTS 16u     // some surface has a transmission or subsurface part (integrator/surface_parts.glsl)
+#define MEDIA_RANDOM_WALK 32u       // some interior is a subsurface random walk (MAT_FLAG_RANDOM_WALK)
 
 #define GGX_ALBEDO_TABLE_SIZE 32    // the GGX albedo table is 32 (mu) x 32 (alpha)
 // The BSDF tables buffer (BINDING_BSDF_TABLES), computed on the GPU from the shaders' own code
@@ -283,7 +294,9 @@ CAUSTIC_STRUCT(GpuVertex) { GPU_DECLARE(GPU_VERTEX_ROWS) };
 //             w: the normal map's scale (x and y of its tangent-space normal)
 //   params:   x: roughness (GGX alpha, Oren-Nayar sigma or EON r), y: IOR (inside / outside)
 //   info:     x: MAT_*, y: MAT_FLAG_*, z: with MAT_FLAG_ALPHA_MASK the alpha cutoff (float bits),
-//             w: dielectrics and volumes: the nesting priority (integrator/medium.glsl)
+//             w: dielectrics and volumes: the nesting priority (integrator/medium.glsl); surfaces with
+//             MAT_FLAG_TRANSMISSION_PART or MAT_FLAG_SUBSURFACE_PART: the index of the first part, and
+//             params.z... as surface.glsl says, sheen.w... (integrator/surface_parts.glsl reads them)
 //   eta, k:   conductors: rgb real and imaginary (extinction) parts of the complex IOR
 //             dielectrics and volumes with MAT_FLAG_MEDIUM: the interior medium's coefficients per
 //             scene unit, k.rgb absorption sigma_a, eta.rgb scattering sigma_s, eta.w the

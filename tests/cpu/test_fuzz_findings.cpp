@@ -256,6 +256,9 @@ TEST_CASE("fuzz findings: the import stream round-trips and every truncation of 
     mat.transmission = 0.1f;
     mat.ior = 1.33f;
     mat.doubleSided = true;
+    mat.volume = true;
+    mat.diffuseTransmission = 0.25f;
+    mat.diffuseTransmissionColor = {0.5f, 0.6f, 0.7f};
     r.materials = {mat};
     const std::string bytes = serializeImport(r);
     MeshImportResult back;
@@ -267,6 +270,8 @@ TEST_CASE("fuzz findings: the import stream round-trips and every truncation of 
     REQUIRE(back.materials.size() == 1);
     CHECK(back.materials[0].emissionTexture == "e.png");
     CHECK(back.materials[0].doubleSided);
+    CHECK(back.materials[0].volume);
+    CHECK(back.materials[0].diffuseTransmissionColor == mat.diffuseTransmissionColor);
     for (std::size_t n = 0; n < bytes.size(); ++n) {
         MeshImportResult ignored;
         INFO("prefix of " << n << " bytes");

@@ -55,9 +55,40 @@ TEST_CASE("imported dielectrics, diffuse bases and what cannot be mapped", "[cpu
     glass.ior = 1.45f;
     glass.roughness = 0.1f;
     Material g = mapImportedMaterial(glass, &unmapped);
-    CHECK(g.type == MaterialType::Dielectric);
-    CHECK(g.ior == Approx(1.45f));
-    CHECK(g.roughness == Approx(0.01f));
+    // The surface's transmission (docs/materials.md, "glTF transmission and volume"): without
+    // KHR_materials_volume a thin-walled sheet, tinted by the base colour.
+    CHECK(g.type == MaterialType::Surface);
+    CHECK(g.transmissionWeight == 1.0f);
+    CHECK(g.thinWalled);
+    CHECK(g.transmissionColor == glass.baseColor);
+    CHECK(g.specularIor == Approx(1.45f));
+    CHECK(g.specularRoughness == Approx(0.1f));  // perceptual in both
+    // A partial factor is kept as it is, and a closed object (KHR_materials_volume) is not thin.
+    glass.transmission = 0.3f;
+    glass.volume = true;
+    g = mapImportedMaterial(glass, &unmapped);
+    CHECK(g.transmissionWeight == 0.3f);
+    CHECK_FALSE(g.thinWalled);
+    // KHR_materials_diffuse_transmission: a thin-walled surface's subsurface, all of it transmitted;
+    // on a closed object, reported.
+    ImportedMaterial leaf;
+    leaf.name = "leaf";
+    leaf.diffuseTransmission = 0.6f;
+    leaf.diffuseTransmissionColor = glm::vec3(0.3f, 0.8f, 0.1f);
+    unmapped.clear();
+    g = mapImportedMaterial(leaf, &unmapped);
+    CHECK(g.thinWalled);
+    CHECK(g.subsurfaceWeight == 0.6f);
+    CHECK(g.subsurfaceColor == leaf.diffuseTransmissionColor);
+    CHECK(g.subsurfaceAnisotropy > 0.99f);
+    CHECK(unmapped.empty());
+    leaf.volume = true;
+    g = mapImportedMaterial(leaf, &unmapped);
+    CHECK(g.subsurfaceWeight == 0.0f);
+    bool reported = false;
+    for (const std::string& line : unmapped) reported |= line.find("material 'leaf': KHR_materials_diffuse_transmission") == 0;
+    CHECK(reported);
+    unmapped.clear();
 
     ImportedMaterial paint;
     paint.name = "paint";
@@ -147,14 +178,16 @@ TEST_CASE("glTF metallic-roughness textures: roughness from G, metalness from B,
     ImportedMaterial glass = steel;
     glass.transmission = 1.0f;
     const Material g = mapImportedMaterial(glass, &unmapped, &baked);
-    CHECK(g.type == MaterialType::Dielectric);
+    CHECK(g.type == MaterialType::Surface);
+    CHECK(g.roughnessTexture == "/models/steel_mr.png");
+    CHECK(g.transmissionWeight == 1.0f);
     ImageData broken = mr;
     broken.pixels[4] = std::nanf("");
     CHECK_FALSE(bakeMetallicRoughness(broken, 1.0f, 1.0f, &baked, &error));
     CHECK(error.find("non-finite") != std::string::npos);
 }
 
-TEST_CASE("KHR_materials_volume's attenuation becomes a dielectric's absorption", "[cpu][materials][gltf]") {
+TEST_CASE("KHR_materials_volume's attenuation becomes the surface's transmission absorption", "[cpu][materials][gltf]") {
     // A glass whose light keeps [0.8, 0.5, 0.2] over 0.25 world units: OpenPBR's transmission_color at
     // transmission_depth, which the glTF extension's attenuation colour and distance are.
     std::vector<std::string> unmapped;
@@ -163,8 +196,11 @@ TEST_CASE("KHR_materials_volume's attenuation becomes a dielectric's absorption"
     glass.transmission = 1.0f;
     glass.attenuationColor = glm::vec3(0.8f, 0.5f, 0.2f);
     glass.attenuationDistance = 0.25f;
+    glass.volume = true;
+    glass.baseColor = glm::vec3(1.0f);  // glTF's default: no tint of its own
     Material g = mapImportedMaterial(glass, &unmapped);
-    CHECK(g.type == MaterialType::Dielectric);
+    CHECK(g.type == MaterialType::Surface);
+    CHECK_FALSE(g.thinWalled);
     CHECK(g.transmissionColor == glm::vec3(0.8f, 0.5f, 0.2f));
     CHECK(g.transmissionDepth == 0.25f);
     CHECK(joined(unmapped).find("volume") == std::string::npos);
@@ -213,10 +249,12 @@ TEST_CASE("a glTF file's KHR_materials_volume reaches the imported material thro
     REQUIRE(amber != nullptr);
     CHECK(amber->attenuationDistance == 0.5f);
     CHECK(amber->attenuationColor == glm::vec3(0.9f, 0.5f, 0.1f));
+    CHECK(amber->volume);  // thicknessFactor 0.1
     for (const std::string& w : r.warnings) CHECK(w.find("KHR_materials_volume") == std::string::npos);
     std::vector<std::string> unmapped;
     const Material m = mapImportedMaterial(*amber, &unmapped);
-    CHECK(m.type == MaterialType::Dielectric);
+    CHECK(m.type == MaterialType::Surface);
+    CHECK(m.transmissionWeight == 1.0f);
     CHECK(m.transmissionColor == glm::vec3(0.9f, 0.5f, 0.1f));
     CHECK(m.transmissionDepth == 0.5f);
 }

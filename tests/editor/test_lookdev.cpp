@@ -185,7 +185,7 @@ TEST_CASE("the preset library has the usual looks, each valid and uniquely named
         CHECK_FALSE(l.group.empty());
     }
     for (const char* n : {"gold", "copper", "aluminium", "silver", "glass", "rough glass", "plastic", "rough plastic",
-                          "matte white", "mirror", "velvet", "car paint"}) {
+                          "matte white", "mirror", "velvet", "car paint", "jade", "marble", "wax", "skin", "milk"}) {
         INFO(n);
         CHECK(findLibraryMaterial(n));
     }

@@ -264,6 +264,17 @@ std::vector<Chi2Case> chi2Cases() {
     cases.push_back({"rough transmission a=0.35 oblique", roughTransmission, oblique});
     cases.push_back({"rough transmission a=0.35 inside", roughTransmission, directionWithCos(-0.9f)});
     cases.push_back({"rough transmission a=0.35 inside beyond the critical angle", roughTransmission, directionWithCos(-0.5f)});
+    // Thin-walled sheets (bsdf/thin.glsl): the rough thin dielectric (its transmission the mirrored
+    // reflection lobe) and the diffuse transmitter, from either face.
+    gpu::GpuMaterial thin = material(MAT_THIN_DIELECTRIC, glm::vec3(0.9f, 0.6f, 0.3f), 0.35f, 1.5f);
+    cases.push_back({"thin dielectric a=0.35 oblique", thin, oblique});
+    cases.push_back({"thin dielectric a=0.35 from behind", thin, directionWithCos(-0.7f)});
+    thin.params.x = 0.8f;
+    cases.push_back({"thin dielectric a=0.8 grazing", thin, grazing});
+    gpu::GpuMaterial translucent = material(MAT_DIFFUSE_TRANSMISSION, glm::vec3(0.6f, 0.5f, 0.4f));
+    translucent.eta = glm::vec4(0.2f, 0.3f, 0.5f, 0.0f);
+    cases.push_back({"diffuse transmission oblique", translucent, oblique});
+    cases.push_back({"diffuse transmission from behind", translucent, directionWithCos(-0.4f)});
     // The layered surface: every lobe combination at an oblique view, the full stack also at
     // normal and grazing incidence.
     static std::vector<std::string> surfaceNames;
