@@ -132,11 +132,15 @@ std::vector<gpu::GpuMaterial> surfaceParts(const Material& m) {
         const glm::vec3 colour = glm::clamp(m.subsurfaceColor, glm::vec3(0.0f), glm::vec3(1.0f));
         if (m.thinWalled) {
             // Diffuse transmission: the colour split between the two sides, (1 + g) / 2 of it
-            // passing through (half for isotropic scattering).
+            // passing through (half for isotropic scattering), under the specular layer.
             const float through = 0.5f * (1.0f + std::clamp(m.subsurfaceAnisotropy, -1.0f, 1.0f));
             g = gpu::GpuMaterial{};
             g.albedo = glm::vec4(colour * (1.0f - through), 0);
             g.eta = glm::vec4(colour * through, 0);
+            // Under the surface's specular layer (its weight, roughness and IOR; bsdf/thin.glsl).
+            g.params = glm::vec4(alpha, ior, 0, 0);
+            g.k = glm::vec4(std::clamp(m.specularWeight, 0.0f, 1.0f), 0, 0, 0);
+            g.sheen = glm::vec4(1.0f);
             g.info = glm::uvec4(MAT_DIFFUSE_TRANSMISSION, 0u, 0u, 0u);
         } else {
             // The walked interior: sigma_t = 1 / mean free path per channel, the single-scattering

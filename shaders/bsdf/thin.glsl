@@ -19,15 +19,17 @@
 //   with wr = wi mirrored to the upper side (wr = (wi.x, wi.y, |wi.z|)) and wm = normalize(wo + wr);
 //   the pdf is ggxReflectionPdf(wo, wr) times R or 1 - R. Single scattering: what GGX loses at high
 //   roughness is lost (as the rough dielectric).
-// Diffuse transmission (MAT_DIFFUSE_TRANSMISSION): a Lambertian sheet, f = albedo.rgb / pi towards
-//   wo's side and eta.rgb / pi through it; sampling picks the side by the two colours' means, then
-//   a cosine-weighted direction there.
+// Diffuse transmission (MAT_DIFFUSE_TRANSMISSION): a Lambertian sheet, albedo.rgb / pi towards
+//   wo's side and eta.rgb / pi through it, under a GGX specular layer (below); sampling picks the
+//   specular lobe or a side by their estimated albedos, then a visible normal or a cosine-weighted
+//   direction.
 #ifndef BSDF_THIN_GLSL
 #define BSDF_THIN_GLSL
 #include "common.glsl"
 #include "fresnel.glsl"
 #include "microfacet.glsl"
 #include "layer_lobes.glsl"
+#include "surface.glsl"
 #include "../lib/sampling.glsl"
 
 // The sheet's reflectance at cos theta (see the header).
@@ -98,31 +100,79 @@ BsdfSample thinDielectricSample(GpuMaterial m, vec3 wo, float uLobe, vec2 u) {
     return s;
 }
 
-vec3 diffuseTransmissionEval(GpuMaterial m, vec3 wo, vec3 wi) {
-    if (wo.z == 0.0 || wi.z == 0.0) return vec3(0.0);
-    return (wo.z * wi.z > 0.0 ? m.albedo.rgb : m.eta.rgb) * INV_PI;
+// The diffuse transmitter under its specular layer (the surface's: weight ws = k.x, GGX alpha
+// params.x, ior params.y), combined as the surface combines specular and diffuse (surface.glsl,
+// albedo scaling): f = ws F D G / (4 cos cos) on wo's side, plus on either side
+//   C / pi (1 - ws E(wo)) (1 - ws E(wi)) / (1 - ws E_avg),  C = albedo.rgb (wo's side) or eta.rgb (through)
+// which gives each side exactly (1 - ws E(wo)) times its colour.
+struct ThinDiffuseAtWo {
+    float alpha, ws, eO, norm, pSpec, pReflect;
+};
+
+ThinDiffuseAtWo thinDiffuseAtWo(GpuMaterial m, float mu) {
+    ThinDiffuseAtWo t;
+    t.alpha = max(m.params.x, GGX_MIN_ALPHA);
+    t.ws = m.k.x;
+    t.eO = t.ws > 0.0 ? t.ws * dielectricAlbedo(mu, t.alpha, m.params.y) : 0.0;
+    t.norm = t.ws > 0.0 ? max(1.0 - t.ws * dielectricAlbedoAverage(t.alpha, m.params.y), 1e-4) : 1.0;
+    float r = surfaceMean(m.albedo.rgb), tr = surfaceMean(m.eta.rgb);
+    float diffuse = (1.0 - t.eO) * (r + tr);
+    t.pSpec = t.eO + diffuse > 0.0 ? t.eO / (t.eO + diffuse) : 0.0;
+    t.pReflect = r + tr > 0.0 ? r / (r + tr) : 0.5;
+    return t;
 }
 
-// The probability of sampling the reflected side.
-float diffuseTransmissionReflectProbability(GpuMaterial m) {
-    float r = (m.albedo.r + m.albedo.g + m.albedo.b), t = (m.eta.r + m.eta.g + m.eta.b);
-    return r + t > 0.0 ? r / (r + t) : 0.5;
+vec3 diffuseTransmissionEvalAt(GpuMaterial m, ThinDiffuseAtWo t, vec3 wo, vec3 wi) {
+    bool through = wi.z < 0.0;
+    vec3 w = vec3(wi.xy, abs(wi.z));
+    float eI = t.ws > 0.0 ? t.ws * dielectricAlbedo(w.z, t.alpha, m.params.y) : 0.0;
+    vec3 f = (through ? m.eta.rgb : m.albedo.rgb) * (INV_PI * (1.0 - t.eO) * (1.0 - eI) / t.norm);
+    if (!through && t.ws > 0.0) f += vec3(t.ws * dielectricReflection(wo, wi, t.alpha, m.params.y));
+    return f;
+}
+
+float diffuseTransmissionPdfAt(ThinDiffuseAtWo t, vec3 wo, vec3 wi) {
+    float pdf = (1.0 - t.pSpec) * (wi.z > 0.0 ? t.pReflect : 1.0 - t.pReflect) * cosineHemispherePdf(abs(wi.z));
+    if (wi.z > 0.0 && t.pSpec > 0.0) pdf += t.pSpec * ggxReflectionPdf(wo, wi, t.alpha);
+    return pdf;
+}
+
+vec3 diffuseTransmissionEval(GpuMaterial m, vec3 wo, vec3 wi) {
+    if (wo.z == 0.0 || wi.z == 0.0) return vec3(0.0);
+    if (wo.z < 0.0) {
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+    }
+    return diffuseTransmissionEvalAt(m, thinDiffuseAtWo(m, wo.z), wo, wi);
 }
 
 float diffuseTransmissionPdf(GpuMaterial m, vec3 wo, vec3 wi) {
     if (wo.z == 0.0 || wi.z == 0.0) return 0.0;
-    float pr = diffuseTransmissionReflectProbability(m);
-    return (wo.z * wi.z > 0.0 ? pr : 1.0 - pr) * cosineHemispherePdf(abs(wi.z));
+    if (wo.z < 0.0) {
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+    }
+    return diffuseTransmissionPdfAt(thinDiffuseAtWo(m, wo.z), wo, wi);
 }
 
+// u.xy: the direction; u.z: the specular lobe or the diffuse side.
 BsdfSample diffuseTransmissionSample(GpuMaterial m, vec3 wo, vec3 u) {
     if (wo.z == 0.0) return bsdfInvalidSample();
+    float side = wo.z < 0.0 ? -1.0 : 1.0;
+    vec3 w = vec3(wo.xy, abs(wo.z));
+    ThinDiffuseAtWo t = thinDiffuseAtWo(m, w.z);
+    vec3 wi;
+    if (u.z < t.pSpec) {
+        wi = reflectAbout(w, ggxSampleVisibleNormal(w, t.alpha, u.xy));
+        if (wi.z <= 0.0) return bsdfInvalidSample();
+    } else {
+        wi = sampleCosineHemisphere(u.xy);
+        if ((u.z - t.pSpec) >= (1.0 - t.pSpec) * t.pReflect) wi.z = -wi.z;
+    }
     BsdfSample s;
-    s.wi = sampleCosineHemisphere(u.xy);
-    bool reflects = u.z < diffuseTransmissionReflectProbability(m);
-    if ((wo.z > 0.0) != reflects) s.wi.z = -s.wi.z;
-    s.f = diffuseTransmissionEval(m, wo, s.wi);
-    s.pdf = diffuseTransmissionPdf(m, wo, s.wi);
+    s.f = diffuseTransmissionEvalAt(m, t, w, wi);
+    s.pdf = diffuseTransmissionPdfAt(t, w, wi);
+    s.wi = vec3(wi.xy, side * wi.z);
     s.flags = 0u;
     return s;
 }

@@ -100,7 +100,9 @@ vec3 surfaceChoosePart(inout GpuMaterial mat, inout uint index, vec3 wo, vec3 ng
         if (chosen != first) part = loadMaterial(chosen);
         pv.isPart = true;
         if (transmission) pv.crossTint = part.sheen.rgb;
-        if (part.info.x == MAT_ROUGH_DIELECTRIC || part.info.x == MAT_THIN_DIELECTRIC) part.params.x = alpha;
+        if (part.info.x == MAT_ROUGH_DIELECTRIC || part.info.x == MAT_THIN_DIELECTRIC ||
+            part.info.x == MAT_DIFFUSE_TRANSMISSION)
+            part.params.x = alpha;
         mat = part;
         index = chosen;
         return coatColor * (A * (1.0 - M) * w / q);

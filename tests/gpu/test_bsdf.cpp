@@ -273,8 +273,12 @@ std::vector<Chi2Case> chi2Cases() {
     cases.push_back({"thin dielectric a=0.8 grazing", thin, grazing});
     gpu::GpuMaterial translucent = material(MAT_DIFFUSE_TRANSMISSION, glm::vec3(0.6f, 0.5f, 0.4f));
     translucent.eta = glm::vec4(0.2f, 0.3f, 0.5f, 0.0f);
+    translucent.params = glm::vec4(0.2f, 1.45f, 0.0f, 0.0f);
+    translucent.k = glm::vec4(0.0f);  // no specular layer
     cases.push_back({"diffuse transmission oblique", translucent, oblique});
-    cases.push_back({"diffuse transmission from behind", translucent, directionWithCos(-0.4f)});
+    translucent.k.x = 1.0f;  // under a specular layer of alpha 0.2
+    cases.push_back({"diffuse transmission + specular oblique", translucent, oblique});
+    cases.push_back({"diffuse transmission + specular from behind", translucent, directionWithCos(-0.4f)});
     // The layered surface: every lobe combination at an oblique view, the full stack also at
     // normal and grazing incidence.
     static std::vector<std::string> surfaceNames;

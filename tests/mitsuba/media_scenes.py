@@ -8,6 +8,10 @@ Four scenes written for both (box filter, caustic max_depth N = Mitsuba N + 1, 9
                    (caustic `volume`, Mitsuba `null` BSDF + interior), sky 0.3 and a rectangle light
   milky-glass      a glass sphere (ior 1.5) with a scattering, back-scattering (g -0.3) interior,
                    sky 0.3 and the rectangle light
+  subsurface       the surface material's subsurface (a random walk, smooth interface of ior 1.4, colour
+                   [0.8, 0.5, 0.25], mean free path 0.1 x [1, 0.6, 0.3], g 0.2) against Mitsuba's dielectric
+                   with the interior the mapping gives (van de Hulst's relation inverted, written here
+                   again), no depth limit in Mitsuba (the walk has none in caustic), sky 0.3 and the light
   fog-spot         the scene's fog (camera inside; Mitsuba: the sensor's medium and every shape's
                    exterior) lit by a spot light (linear-in-angle falloff, Mitsuba's) over a floor
                    with a sphere on it
@@ -129,6 +133,32 @@ def scene_milky_glass():
     return c, m
 
 
+def single_scattering_albedo(colour, g):
+    """van de Hulst's relation A = (1 - s)(1 - 0.139 s) / (1 + 1.17 s), s = sqrt((1 - a) / (1 - a g)),
+    solved for the single-scattering albedo a (docs/materials.md, "Transmission and subsurface")."""
+    b = 1.139 + 1.17 * colour
+    s = (b - math.sqrt(b * b - 4 * 0.139 * (1 - colour))) / (2 * 0.139)
+    return (1 - s * s) / (1 - s * s * g)
+
+
+def scene_subsurface():
+    colour, radius, scale, g = [0.8, 0.5, 0.25], 0.1, [1.0, 0.6, 0.3], 0.2
+    c = {"camera": CAM,
+         "materials": [{"name": "sss", "type": "surface", "base_color": colour, "specular_roughness": 0,
+                        "specular_ior": 1.4, "subsurface_weight": 1, "subsurface_color": colour,
+                        "subsurface_radius": radius, "subsurface_radius_scale": scale,
+                        "subsurface_scatter_anisotropy": g},
+                       {"name": "black", "type": "diffuse", "albedo": [0, 0, 0]}],
+         "objects": [{"name": "ball", "shape": "sphere", "material": "sss"}, caustic_light()],
+         "environment": {"type": "constant", "radiance": [0.3, 0.3, 0.3]}}
+    st = [1 / (radius * k) for k in scale]
+    alb = [single_scattering_albedo(x, g) for x in colour]
+    m = {"env": {"type": "constant", "radiance": mi_rgb([0.3, 0.3, 0.3])}, "light": mi_light(),
+         "ball": {"type": "sphere", "bsdf": {"type": "dielectric", "int_ior": 1.4, "ext_ior": 1.0},
+                  "interior": mi_medium([t * (1 - a) for t, a in zip(st, alb)], [t * a for t, a in zip(st, alb)], g)}}
+    return c, m, None, -1
+
+
 FOG_A, FOG_S = [0.01, 0.012, 0.015], [0.12, 0.13, 0.15]
 
 
@@ -158,7 +188,7 @@ def scene_fog_spot():
 
 
 SCENES = {"absorbing-glass": scene_absorbing_glass, "volume-sphere": scene_volume_sphere,
-          "milky-glass": scene_milky_glass, "fog-spot": scene_fog_spot}
+          "milky-glass": scene_milky_glass, "subsurface": scene_subsurface, "fog-spot": scene_fog_spot}
 
 
 CAUSTIC = os.path.join(ROOT, "build", "caustic")
@@ -177,8 +207,8 @@ def render_caustic(name, c, spp, seed, out_dir):
         mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False))
 
 
-def render_mitsuba(m, medium, spp, seed):
-    scene = {"type": "scene", "integrator": {"type": "volpath", "max_depth": MAX_DEPTH + 1},
+def render_mitsuba(m, medium, spp, seed, max_depth=MAX_DEPTH + 1):
+    scene = {"type": "scene", "integrator": {"type": "volpath", "max_depth": max_depth},
              "sensor": mi_camera(CAM, medium)}
     scene.update(m)
     return np.array(mi.render(mi.load_dict(scene), seed=seed, spp=spp))
@@ -208,8 +238,9 @@ def main():
             made = make()
             c, m = made[0], made[1]
             medium = made[2] if len(made) > 2 else None
+            depth = made[3] if len(made) > 3 else MAX_DEPTH + 1
             a = np.stack([render_caustic(name, c, args.spp, s, tmp) for s in range(SEEDS)])
-            b = np.stack([render_mitsuba(m, medium, args.spp, 1000 + s) for s in range(SEEDS)])
+            b = np.stack([render_mitsuba(m, medium, args.spp, 1000 + s, depth) for s in range(SEEDS)])
             ma, mb = a.mean(axis=(0, 1, 2)), b.mean(axis=(0, 1, 2))
             ratio = ma / mb
             ba, bb = np.stack([blocks(x) for x in a]), np.stack([blocks(x) for x in b])
