@@ -319,51 +319,6 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "energy_compensation", .label = "Multiple scattering", .kind = ParamKind::Bool,
          .member = &M::energyCompensation, .doc = "multiple-scattering compensation of rough GGX",
          .types = bits(T::Conductor)},
-        {.key = "transmission_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::transmissionWeight,
-         .range = between(0, 1),
-         .doc = "`surface`: OpenPBR's: the share of the dielectric base (below the specular interface) that "
-                "transmits, refracting into the object's interior (a closed mesh or shape) or, thin-walled, passing "
-                "through the sheet; the interior is the medium the keys below describe",
-         .types = bits(T::Surface), .omitted = [](const M& m) { return m.transmissionWeight == 0.0f; },
-         .slider = true, .section = "Transmission"},
-        {.key = "transmission_color", .label = "Transmission colour", .kind = ParamKind::Colour,
-         .member = &M::transmissionColor, .range = [] {
-             Range r = greaterThan(0.0);
-             r.max = 1.0;
-             return r;
-         }(),
-         .doc = "OpenPBR's: the colour that light keeps after travelling `transmission_depth` inside (Beer-Lambert "
-                "extinction, sigma_t = -ln(colour) / depth per channel); `dielectric`: needs `transmission_depth` > "
-                "0 unless it is [1, 1, 1]; `surface`: at depth 0 (and thin-walled) a tint of each crossing of the "
-                "surface. Closed objects; overlapping ones nest by `priority` (docs/materials.md, \"Media\")",
-         .types = bits(T::Dielectric, T::Surface),
-         .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Transmission"},
-        {.key = "transmission_depth", .label = "Transmission depth", .kind = ParamKind::Float,
-         .member = &M::transmissionDepth, .range = atLeast(0), .unit = "m",
-         .doc = "OpenPBR's: the distance inside at which light that has not scattered has the colour "
-                "`transmission_color`; 0: no medium inside (clear glass)",
-         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
-         .speed = 0.01f},
-        {.key = "transmission_scatter", .label = "Transmission scatter", .kind = ParamKind::Colour,
-         .member = &M::transmissionScatter, .range = between(0, 1),
-         .doc = "OpenPBR's: the interior's scattering coefficient times `transmission_depth` (sigma_s = scatter / "
-                "depth; the absorption is what is left of -ln(`transmission_color`) / depth, raised by a grey amount "
-                "where it would be negative); needs `transmission_depth` > 0",
-         .types = bits(T::Dielectric, T::Surface),
-         .omitted = [](const M& m) { return m.transmissionScatter == glm::vec3(0.0f); }},
-        {.key = "transmission_scatter_anisotropy", .label = "Scatter anisotropy", .kind = ParamKind::Float,
-         .member = &M::scatterAnisotropy, .range = openInterval(-1, 1),
-         .doc = "OpenPBR's: the interior's Henyey-Greenstein g (> 0 forward, < 0 backward scattering)",
-         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
-         .slider = true},
-        {.key = "priority", .label = "Priority", .kind = ParamKind::Int, .member = &M::priority,
-         .range = between(0, 1000),
-         .doc = "nested dielectrics (Schmidt and Budge 2002): where objects overlap, the interior of the higher "
-                "priority is what is there, and a surface inside it is no interface; `ior` is then the material's "
-                "own, taken relative to the dielectric around it (a glass of water: the glass above the water, the "
-                "water slightly larger than the glass's inside; docs/materials.md, \"Media\")",
-         .types = bits(T::Dielectric, T::Volume, T::Surface), .omitted = [](const M& m) { return m.priority == 0; },
-         .speed = 0.1f},
         {.key = "sigma_a", .label = "Absorption", .kind = ParamKind::Vector, .member = &M::sigmaA,
          .range = between(0, kMaxCoefficient), .unit = "1/m",
          .doc = "`volume`: the interior medium's absorption coefficient per R, G, B (per scene unit)",
@@ -411,6 +366,57 @@ std::span<const Param<Material>> schemaOf<Material>() {
         {.key = "sheen_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::sheenWeight,
          .range = between(0, 1), .doc = "`surface`: the sheen (fuzz) layer's strength (0: none)",
          .types = bits(T::Surface), .slider = true, .section = "Sheen"},
+        {.key = "sheen_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::sheenColor,
+         .range = between(0, 1), .doc = "`surface`: the sheen's colour", .types = bits(T::Surface)},
+        {.key = "sheen_roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::sheenRoughness,
+         .range = between(0, 1), .doc = "`surface`: perceptual roughness of the sheen (the Charlie lobe's r = roughness^2, as glTF's; below "
+                "0.265, r = 0.07)",
+         .types = bits(T::Surface), .slider = true},
+        {.key = "transmission_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::transmissionWeight,
+         .range = between(0, 1),
+         .doc = "`surface`: OpenPBR's: the share of the dielectric base (below the specular interface) that "
+                "transmits, refracting into the object's interior (a closed mesh or shape) or, thin-walled, passing "
+                "through the sheet; the interior is the medium the keys below describe",
+         .types = bits(T::Surface), .omitted = [](const M& m) { return m.transmissionWeight == 0.0f; },
+         .slider = true, .section = "Transmission"},
+        {.key = "transmission_color", .label = "Transmission colour", .kind = ParamKind::Colour,
+         .member = &M::transmissionColor, .range = [] {
+             Range r = greaterThan(0.0);
+             r.max = 1.0;
+             return r;
+         }(),
+         .doc = "OpenPBR's: the colour that light keeps after travelling `transmission_depth` inside (Beer-Lambert "
+                "extinction, sigma_t = -ln(colour) / depth per channel); `dielectric`: needs `transmission_depth` > "
+                "0 unless it is [1, 1, 1]; `surface`: at depth 0 (and thin-walled) a tint of each crossing of the "
+                "surface. Closed objects; overlapping ones nest by `priority` (docs/materials.md, \"Media\")",
+         .types = bits(T::Dielectric, T::Surface),
+         .omitted = [](const M& m) { return m.transmissionColor == glm::vec3(1.0f); }, .section = "Transmission"},
+        {.key = "transmission_depth", .label = "Transmission depth", .kind = ParamKind::Float,
+         .member = &M::transmissionDepth, .range = atLeast(0), .unit = "m",
+         .doc = "OpenPBR's: the distance inside at which light that has not scattered has the colour "
+                "`transmission_color`; 0: no medium inside (clear glass)",
+         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.transmissionDepth == 0.0f; },
+         .speed = 0.01f},
+        {.key = "transmission_scatter", .label = "Transmission scatter", .kind = ParamKind::Colour,
+         .member = &M::transmissionScatter, .range = between(0, 1),
+         .doc = "OpenPBR's: the interior's scattering coefficient times `transmission_depth` (sigma_s = scatter / "
+                "depth; the absorption is what is left of -ln(`transmission_color`) / depth, raised by a grey amount "
+                "where it would be negative); needs `transmission_depth` > 0",
+         .types = bits(T::Dielectric, T::Surface),
+         .omitted = [](const M& m) { return m.transmissionScatter == glm::vec3(0.0f); }},
+        {.key = "transmission_scatter_anisotropy", .label = "Scatter anisotropy", .kind = ParamKind::Float,
+         .member = &M::scatterAnisotropy, .range = openInterval(-1, 1),
+         .doc = "OpenPBR's: the interior's Henyey-Greenstein g (> 0 forward, < 0 backward scattering)",
+         .types = bits(T::Dielectric, T::Surface), .omitted = [](const M& m) { return m.scatterAnisotropy == 0.0f; },
+         .slider = true},
+        {.key = "priority", .label = "Priority", .kind = ParamKind::Int, .member = &M::priority,
+         .range = between(0, 1000),
+         .doc = "nested dielectrics (Schmidt and Budge 2002): where objects overlap, the interior of the higher "
+                "priority is what is there, and a surface inside it is no interface; `ior` is then the material's "
+                "own, taken relative to the dielectric around it (a glass of water: the glass above the water, the "
+                "water slightly larger than the glass's inside; docs/materials.md, \"Media\")",
+         .types = bits(T::Dielectric, T::Volume, T::Surface), .omitted = [](const M& m) { return m.priority == 0; },
+         .speed = 0.1f},
         {.key = "subsurface_weight", .label = "Weight", .kind = ParamKind::Float, .member = &M::subsurfaceWeight,
          .range = between(0, 1),
          .doc = "`surface`: OpenPBR's: the share of the dielectric base not transmitting that scatters below the "
@@ -452,12 +458,6 @@ std::span<const Param<Material>> schemaOf<Material>() {
                 "bubble): transmission passes straight through it (a thin dielectric sheet of `specular_ior`, tinted "
                 "by `transmission_color`), subsurface becomes diffuse transmission",
          .types = bits(T::Surface), .omitted = [](const M& m) { return !m.thinWalled; }, .section = "Geometry"},
-        {.key = "sheen_color", .label = "Colour", .kind = ParamKind::Colour, .member = &M::sheenColor,
-         .range = between(0, 1), .doc = "`surface`: the sheen's colour", .types = bits(T::Surface)},
-        {.key = "sheen_roughness", .label = "Roughness", .kind = ParamKind::Float, .member = &M::sheenRoughness,
-         .range = between(0, 1), .doc = "`surface`: perceptual roughness of the sheen (the Charlie lobe's r = roughness^2, as glTF's; below "
-                "0.265, r = 0.07)",
-         .types = bits(T::Surface), .slider = true},
         {.key = "emission", .label = "Emission", .kind = ParamKind::Radiance, .member = &M::emission,
          .range = between(0, kMaxRadiance), .unit = "W/(sr m^2)",
          .doc = "emitted radiance (every emitted radiance or intensity is at most 1e12: the film sums squared samples "
