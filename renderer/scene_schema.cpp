@@ -428,7 +428,7 @@ std::span<const Param<Material>> schemaOf<Material>() {
          .range = between(0, 1),
          .doc = "`surface`: the colour a thick slab of the material shows under white light (its multiple-scattering "
                 "albedo); the interior's single-scattering albedo is found from it by inverting van de Hulst's "
-                "relation (docs/materials.md, \"Subsurface\")",
+                "relation (docs/materials.md, \"Transmission and subsurface\")",
          .types = bits(T::Surface), .omitted = [](const M& m) { return m.subsurfaceColor == glm::vec3(0.8f); }},
         {.key = "subsurface_radius", .label = "Radius", .kind = ParamKind::Float, .member = &M::subsurfaceRadius,
          .range = [] {

@@ -240,9 +240,15 @@ void transformWidgets(Edit& e, Transform* t) {
 
 template <class T>
 void drawParams(Edit& e, T& value, const std::function<bool(const Param<T>&, T&)>& special) {
+    // A section's heading once, at the first of its parameters that applies (the surface's
+    // Transmission starts at transmission_weight, the dielectric's at transmission_color).
+    std::string_view section;
     for (const Param<T>& p : schemaOf<T>()) {
         if (!appliesTo(p, value)) continue;
-        if (!p.section.empty()) ImGui::SeparatorText(std::string(p.section).c_str());
+        if (!p.section.empty() && p.section != section) {
+            ImGui::SeparatorText(std::string(p.section).c_str());
+            section = p.section;
+        }
         ImGui::PushID(p.key.data(), p.key.data() + p.key.size());
         if (special && special(p, value)) {
             ImGui::PopID();

@@ -24,7 +24,9 @@
 // turn in the loop (`probing`, `pending`), so the loop keeps one closest-hit call site.
 //
 // Depth: `bounces` counts the scattering events on the path so far. frame.counts.z (max depth)
-// caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on.
+// caps it: 0 shows only emitters seen directly, 1 adds direct lighting, and so on. A subsurface
+// walk's reflections off its boundary are vertices with random numbers of their own (bounceSlot
+// of `bounces`) but outside the depth budget (`freeVertices`; pathDepth).
 // Russian roulette (frame.sampling.z, RR_*; docs/design.md says how the default was chosen) acts
 // on the throughput times eta^2 accumulated over refractions (Veach 1997 sec. 5.2: radiance
 // scales by 1/eta^2 across an interface, which says nothing about how much the path will still
@@ -121,6 +123,7 @@ struct PathState {
     Ray pending;
     float emitScale;
     uint bounces;
+    uint freeVertices;    // vertices of subsurface walks among `bounces` (MEDIA_RANDOM_WALK; pathDepth)
     bool aovDone;
     PathAov aov;
     // CAUSTIC_PAIRED_TRACE: the shadow ray of the last vertex waits for the next step, which
@@ -156,6 +159,7 @@ PathState pathBegin(Ray ray) {
     st.pending = ray;
     st.emitScale = 1.0;
     st.bounces = 0u;
+    st.freeVertices = 0u;
     st.aovDone = false;
     st.aov.albedo = vec3(0.0);
     st.aov.normal = vec3(0.0);
@@ -168,6 +172,10 @@ PathState pathBegin(Ray ray) {
     st.segments = 0u;
     return st;
 }
+
+// The scattering events that count towards max_depth: `bounces` less the subsurface walks' free
+// vertices.
+uint pathDepth(PathState st) { return HAS_MEDIA(MEDIA_RANDOM_WALK) ? st.bounces - st.freeVertices : st.bounces; }
 
 // The end of a path after its last vertex's shading: true, unless its shadow ray still waits for
 // the next step (CAUSTIC_PAIRED_TRACE), which then only traces it.
@@ -222,7 +230,8 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t,
         st.emitScale = 1.0;
         return false;
     }
-    if (bounces >= frame.counts.z) return true;
+    uint depth = pathDepth(st);
+    if (depth >= frame.counts.z) return true;
     uint li;
     float pmf;
     if (useLights && selectLight(sample1D(smp, bounceSlot(bounces, SLOT_LIGHT_SELECT)), p, vec3(0.0), true, li, pmf)) {
@@ -258,7 +267,7 @@ bool pathMediumVertex(inout PathState st, inout Sampler smp, Medium md, float t,
     st.ray.o = p;
     st.ray.d = wi;
     float q;
-    if (russianRouletteEnds(bounces, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q))
+    if (russianRouletteEnds(depth, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q))
         return true;
     st.beta /= q;
     st.bounces = bounces + 1u;
@@ -299,7 +308,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
     // whole path length (bsdf/material.glsl).
     float pixelSpread = 2.0 * length(frame.camUp.xyz) / float(frame.image.y);
     bool split = (frame.options.x & OPTION_GLASS_SPLIT) != 0u && frame.counts.y > 0u;
-    uint bounces = st.bounces;
+    uint bounces = st.bounces, depth = pathDepth(st);
 
     if (st.probing) {
         st.L += st.probeBeta * probeEmission(found, hit, st.ray.d);
@@ -320,7 +329,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         bool scatters = mediumSampleDistance(md, tMax, st.beta, smp, mediumSlot(st.segments), t, weight);
         // Point and spot lights: an equiangular sample along the segment (the scattering event it
         // stands for is this bounce's, so only below the maximum depth).
-        if (useLights && mediumScatters(md) && !md.walk && bounces < maxDepth)
+        if (useLights && mediumScatters(md) && !md.walk && depth < maxDepth)
             st.L += equiangularDirect(betaIn, st.ray, tMax, md, st.stack, smp, equiangularSlot(st.segments));
         st.segments += 1u;
         st.beta *= weight;
@@ -401,7 +410,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         st.aov.albedo = aovAlbedo(mat);
         st.aov.normal = dot(n, wo) < 0.0 ? -n : n;  // n: the shading normal, or ng where it fails
     }
-    if (bounces >= maxDepth) return true;
+    if (depth >= maxDepth) return true;
     Frame f = frameFromNormal(n);
     vec3 woL = toLocal(f, wo);
     float ngWo = dot(hit.ng, wo);
@@ -503,7 +512,7 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         st.ray.o = offsetRayOrigin(hit.p, hit.ng, wiW);
         st.ray.d = wiW;
         float q;
-        ends = russianRouletteEnds(bounces, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q);
+        ends = russianRouletteEnds(depth, maxComponent(st.beta) * st.etaScale, sample1D(smp, bounceSlot(bounces, SLOT_RR)), q);
         if (!ends) {
             st.beta /= q;
             ends = maxComponent(st.beta) <= 0.0;
@@ -518,11 +527,14 @@ bool pathShade(inout PathState st, inout Sampler smp, bool found, Hit hit) {
         return pathEndsAfterShading(st);
     }
     // A subsurface walk's reflection off its boundary from inside is part of the walk: outside the
-    // depth budget too.
+    // depth budget too (a vertex of its own for the random numbers).
     bool walkReflection = HAS_MEDIA(MEDIA_RANDOM_WALK) && (mat.info.y & MAT_FLAG_RANDOM_WALK) != 0u &&
                           ngWo < 0.0 && dot(hit.ng, wiW) < 0.0;
-    if (!walkReflection) st.bounces = bounces + 1u;
-    else if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return pathEndsAfterShading(st);
+    if (walkReflection) {
+        if (st.segments > MEDIUM_MAX_PATH_SEGMENTS) return pathEndsAfterShading(st);
+        st.freeVertices += 1u;
+    }
+    st.bounces = bounces + 1u;
     return false;
 }
 

@@ -54,6 +54,13 @@ apply_preset gold
 wait_preview 8
 write_preview preview-gold.png
 screenshot inspector.png
+# A translucent preset: the surface's subsurface (a random walk inside the ball), with its
+# Subsurface section in the inspector.
+apply_preset jade
+wait_preview 8
+write_preview preview-jade.png
+screenshot inspector-jade.png
+apply_preset gold
 # Saved camera views: store, move away, recall (one undo step) gives the camera back.
 select camera
 expect_no_focus_overlay
@@ -136,6 +143,8 @@ class EditorLookdev(EditorSessionCase):
         self.assertGreater(sum(w), 60, w)                # lit
         self.assertLess(abs(w[0] - w[2]), 0.15 * w[0] + 4, w)   # white is neutral
         self.assertGreater(g[0], 1.3 * g[2] + 4, g)      # gold: red well above blue
+        j = mean_rgb(self.image("preview-jade.png"), 54, 44, 74, 64)
+        self.assertGreater(j[1], 1.2 * max(j[0], j[2]) + 4, j)  # jade: green, lit through its walk
         # The checker floor (the bottom rows): alternating light and dark tiles.
         row = white[120]
         lum = [sum(p) for p in row]
