@@ -67,4 +67,19 @@ double apertureRadiusForFNumber(const CameraFrame& frame, double n) {
     return focalLengthMm(frame) / (2.0 * n * kMillimetresPerSceneUnit);
 }
 
+LensCameraSettings lensCameraSettings(const Camera& camera, int width, int height) {
+    const CameraFrame frame = cameraFrame(camera, width, height);
+    LensCameraSettings s;
+    s.focusDistanceMm = frame.focalDistance * kMillimetresPerSceneUnit;
+    s.fNumber = camera.lensFStop;
+    const double longer = camera.sensorWidthMm;
+    const double aspect = double(width) / double(height);
+    s.filmWidthMm = aspect >= 1.0 ? longer : longer * aspect;
+    s.filmHeightMm = aspect >= 1.0 ? longer / aspect : longer;
+    s.blades = camera.blades;
+    s.bladeRotation = glm::radians(double(camera.bladeRotationDegrees));
+    s.dispersion = camera.lensDispersion;
+    return s;
+}
+
 }  // namespace caustic

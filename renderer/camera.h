@@ -10,6 +10,7 @@
 // view between points near +-3e38 (their difference overflows) would normalise to NaN in float.
 #pragma once
 
+#include "renderer/lens.h"
 #include "renderer/scene.h"
 
 #include <glm/glm.hpp>
@@ -59,5 +60,10 @@ double fovForFocalLength(const Camera& camera, double aspect, double mm);
 double fNumber(const CameraFrame& frame);
 // The aperture radius (scene units) of f-number n at the frame's focal length.
 double apertureRadiusForFNumber(const CameraFrame& frame, double n);
+
+// What a camera with a lens system (Camera::lens) asks of it for an image of width x height: the
+// focus distance (cameraFrame's, in mm from the film), the stop, the film (sensorWidthMm along
+// the image's longer side), the blades and dispersion.
+LensCameraSettings lensCameraSettings(const Camera& camera, int width, int height);
 
 }  // namespace caustic

@@ -74,7 +74,7 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     const std::uint32_t filter = scene.render.filter == PixelFilter::Tent       ? FILTER_TENT
                                  : scene.render.filter == PixelFilter::Gaussian ? FILTER_GAUSSIAN
                                                                                 : FILTER_BOX;
-    f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, 0, 0);
+    f.camInfo = glm::uvec4(std::max(c.blades, 0), filter, c.lens.empty() ? 0u : 1u, 0);
     f.geometry = glm::uvec4(compiled.tlasNodeCount, compiled.instances.size(), 0, 0);
     const RenderSettings& r = scene.render;
     const std::uint32_t selection = r.lightSelection == LightSelection::Power     ? LIGHT_SELECT_POWER

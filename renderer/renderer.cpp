@@ -4,6 +4,7 @@
 #include "renderer/renderer_internal.h"
 
 #include "renderer/bsdf_tables.h"
+#include "renderer/camera.h"
 
 #include <glad/gl.h>
 
@@ -110,6 +111,11 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, const I
     r->m_textures = materialBuffers[1];
     r->m_bsdfTables = materialBuffers[2];
     glCreateBuffers(1, &r->m_lightTree);
+    glCreateBuffers(1, &r->m_lensUbo);
+    {
+        const std::vector<glm::vec4> zeros(3 + 2 * kLensMaxSurfaces + kLensPupilBins, glm::vec4(0.0f));
+        glNamedBufferData(r->m_lensUbo, GLsizeiptr(zeros.size() * sizeof(glm::vec4)), zeros.data(), GL_STATIC_DRAW);
+    }
     glCreateBuffers(1, &r->m_primitiveHits);
     glCreateBuffers(1, &r->m_wideNodes);
     glCreateTextures(GL_TEXTURE_BUFFER, kTexelViews, r->m_texelViews);
@@ -125,6 +131,7 @@ Renderer::~Renderer() {
     unsigned materialBuffers[3] = {m_texels, m_textures, m_bsdfTables};
     glDeleteBuffers(3, materialBuffers);
     glDeleteBuffers(1, &m_lightTree);
+    glDeleteBuffers(1, &m_lensUbo);
     glDeleteBuffers(1, &m_primitiveHits);
     glDeleteBuffers(1, &m_wideNodes);
     glDeleteTextures(kTexelViews, m_texelViews);
@@ -141,6 +148,7 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     const auto previousMeshes = m_compiled.meshEntries;
     const std::size_t previousNodes = m_compiled.bvhNodes.size();
     const std::uint32_t previousReserve = m_compiled.tlasNodeCapacity;
+    if (!prepareLens(scene, error)) return false;
     CompiledScene compiled;
     if (!compileChecked(scene, &compiled, error)) return false;
     const bool meshesInPlace = m_uploaded && !compiled.meshEntries.empty() && compiled.meshEntries == previousMeshes &&
@@ -174,6 +182,49 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
     }
     if (!selectProgram(error)) return false;  // compiled now, not inside the first render
     resetAccumulation();
+    return true;
+}
+
+bool Renderer::prepareLens(const Scene& scene, std::string* error) {
+    static_assert(kLensMaxSurfaces == LENS_MAX_SURFACES && kLensPupilBins == LENS_PUPIL_BINS);
+    const Camera& c = scene.camera;
+    if (c.lens.empty()) {
+        if (!m_lensKey.empty()) {
+            const std::vector<glm::vec4> zeros(3 + 2 * kLensMaxSurfaces + kLensPupilBins, glm::vec4(0.0f));
+            glNamedBufferData(m_lensUbo, GLsizeiptr(zeros.size() * sizeof(glm::vec4)), zeros.data(), GL_STATIC_DRAW);
+        }
+        m_lensKey.clear();
+        m_lensCamera.reset();
+        return true;
+    }
+    const std::string path = resolveScenePath(scene, c.lens);
+    const LensCameraSettings settings = lensCameraSettings(c, scene.render.width, scene.render.height);
+    std::error_code ec;
+    const auto stamp = std::filesystem::last_write_time(path, ec);
+    char key[512];
+    std::snprintf(key, sizeof key, "%lld %.17g %.17g %.17g %.17g %d %.17g %d",
+                  ec ? -1LL : static_cast<long long>(stamp.time_since_epoch().count()), settings.focusDistanceMm,
+                  settings.fNumber, settings.filmWidthMm, settings.filmHeightMm, settings.blades,
+                  settings.bladeRotation, settings.dispersion ? 1 : 0);
+    const std::string fullKey = path + "\n" + key;
+    if (fullKey == m_lensKey) return true;
+    LensSystem lens;
+    std::string why;
+    if (!readLensFile(path, &lens, &why)) {
+        *error = "camera.lens: " + why;
+        return false;
+    }
+    auto camera = std::make_shared<LensCamera>();
+    if (!prepareLensCamera(lens, settings, camera.get(), &why)) {
+        *error = "camera.lens: " + path + ": " + why;
+        return false;
+    }
+    for (const std::string& note : camera->notes) std::fprintf(stderr, "caustic: camera.lens: %s: %s\n", path.c_str(), note.c_str());
+    std::vector<glm::vec4> block = lensUniformBlock(*camera);
+    block[2].w = static_cast<float>(1.0 / kMillimetresPerSceneUnit);
+    glNamedBufferData(m_lensUbo, GLsizeiptr(block.size() * sizeof(glm::vec4)), block.data(), GL_STATIC_DRAW);
+    m_lensCamera = std::move(camera);
+    m_lensKey = fullKey;
     return true;
 }
 
@@ -229,6 +280,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         !sameSize || scene.materials.size() != m_scene.materials.size() ||
         scene.render.lightSelection != m_scene.render.lightSelection)
         return setScene(scene, error);
+    if (!prepareLens(scene, error)) return false;
     if (dirty & (kDirtyMaterials | kDirtyTransforms)) {
         // Recompiling on the CPU is cheap (meshes come from the cache, their BVHs untouched); what
         // is uploaded is only what changed. Transforms: primitives, instances, lights and the top

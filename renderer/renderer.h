@@ -7,6 +7,7 @@
 #include "renderer/gpu_limits.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/integrator_config.h"
+#include "renderer/lens.h"
 #include "renderer/scene.h"
 #include "renderer/shader_loader.h"
 
@@ -134,6 +135,8 @@ public:
     Film readFilm() const;
     Accumulators readAccumulators() const;   // the sums as they are (part files)
     const CompiledScene& compiled() const { return m_compiled; }
+    // The camera's lens system as the shader traces it (null when the camera has none).
+    const LensCamera* lensCamera() const { return m_lensCamera.get(); }
     // The imported meshes and their BVHs kept between compiles: the editor inserts meshes it
     // prepared off-thread (prepareMesh) before the edit that uses them. Same thread as update().
     MeshCache& meshCache() { return m_meshCache; }
@@ -174,6 +177,10 @@ private:
     double finishBand();   // renders the rest of a started sample (renderFor); returns seconds
     long long tilePixels(std::uint32_t tile0, std::uint32_t tile1) const;
     PixelRect cropOf(const Scene& scene) const;   // m_crop within the scene's image
+    // The camera's lens system (renderer/lens.h), prepared for `scene` (read, focused, stopped
+    // down, its pupil bounds traced) when its lens, focus, stop, film or image size changed since
+    // the last; an empty block without a lens. False with a message naming camera.lens and the file.
+    bool prepareLens(const Scene& scene, std::string* error);
 
     // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
     // top of the configuration's (m_config.defines()), compiling it the first time; false with the
@@ -205,6 +212,9 @@ private:
     std::array<std::uint32_t, COUNTER_WORDS> readCounters() const;  // the counter buffer's words
     unsigned m_frameUbo = 0, m_primitives = 0, m_materials = 0, m_lights = 0, m_tables = 0, m_counters = 0;
     unsigned m_lightTree = 0;    // GpuLightNode[] (CompiledScene::lightTree)
+    unsigned m_lensUbo = 0;      // LensBlock (lensUniformBlock; zeros without a lens system)
+    std::string m_lensKey;       // what the block was prepared from ("" : no lens)
+    std::shared_ptr<const LensCamera> m_lensCamera;  // the prepared lens system, or null
     unsigned m_envTexture = 0;   // m_tables holds all the CDF tables (packTables)
     // Geometry: BVH nodes, top-level entries, instances, triangles, vertices.
     static constexpr int kGeometryBuffers = 5;

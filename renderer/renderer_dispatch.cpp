@@ -78,6 +78,7 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     // A fresh buffer store per dispatch (orphaning) so an in-flight dispatch keeps its constants.
     glNamedBufferData(m_frameUbo, sizeof frame, &frame, GL_STREAM_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, m_frameUbo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_LENS_UBO, m_lensUbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVES, m_primitives);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PRIMITIVE_HITS, m_primitiveHits);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MATERIALS, m_materials);

@@ -47,6 +47,14 @@ struct Camera {
     float squeeze = 1.0f;              // anamorphic: the lens sample's x is divided by it, > 0
     int blades = 0;                    // 0: a round aperture; >= 3: a regular polygon
     float bladeRotationDegrees = 0.0f;
+    // A lens system instead of the thin lens (docs/lenses.md): a prescription file (relative to the
+    // scene file); empty: the thin lens above. The film sits at `position`; the lens and
+    // sensorWidthMm set the field of view, lensFStop the stop, and the focus is focalDistance's or
+    // focusPoint's, measured from the film.
+    std::string lens;
+    float lensFStop = 0.0f;            // 0: wide open
+    float sensorWidthMm = 36.0f;       // the film's extent along the image's longer side
+    bool lensDispersion = true;        // each channel at its own wavelength (glasses with an Abbe number)
     bool operator==(const Camera&) const = default;
 };
 

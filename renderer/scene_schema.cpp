@@ -193,7 +193,10 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
          .doc = "turns the image counter-clockwise about the view direction", .speed = 0.2f},
         {.key = "aperture_radius", .label = "Aperture radius", .kind = ParamKind::Float, .member = &C::apertureRadius,
          .range = atLeast(0.0), .unit = "scene units",
-         .doc = "radius of the thin lens; `0` is a pinhole (everything sharp)", .speed = 0.001f},
+         .doc = "radius of the thin lens; `0` is a pinhole (everything sharp)",
+         .applies = [](const C& c) { return c.lens.empty(); },
+         .onlyWhen = [](const C&) { return std::string("a camera with a `lens` takes its aperture from lens_f_stop"); },
+         .speed = 0.001f},
         {.key = "focal_distance", .label = "Focal distance", .kind = ParamKind::Float, .member = &C::focalDistance,
          .range = atLeast(0.0), .unit = "scene units",
          .doc = "distance of the plane of focus along the view direction; `0` means the distance to `look_at`",
@@ -206,7 +209,9 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
         {.key = "squeeze", .label = "Squeeze", .kind = ParamKind::Float, .member = &C::squeeze,
          .range = greaterThan(0.0),
          .doc = "anamorphic squeeze: the lens sample's x is divided by it, so out-of-focus highlights are "
-                "`squeeze` times taller than wide",
+                "`squeeze` times taller than wide (thin lens only)",
+         .applies = [](const C& c) { return c.lens.empty(); },
+         .onlyWhen = [](const C&) { return std::string("squeeze is the thin lens's; a lens system has none"); },
          .speed = 0.01f},
         {.key = "blades", .label = "Blades", .kind = ParamKind::Int, .member = &C::blades,
          .range = between(0.0, 64.0),
@@ -214,7 +219,32 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
                 "are refused",
          .speed = 0.1f},
         {.key = "blade_rotation", .label = "Blade rotation", .kind = ParamKind::Float, .member = &C::bladeRotationDegrees,
-         .unit = "deg", .doc = "at 0 a polygon vertex points along the image's +x", .speed = 0.5f},
+         .unit = "deg", .doc = "at 0 a polygon vertex points along the image's +x (a lens system: its stop's)", .speed = 0.5f},
+        {.key = "lens", .label = "Lens", .kind = ParamKind::File, .member = &C::lens,
+         .doc = "a lens prescription (`.lens`, relative to the scene file; docs/lenses.md, `assets/lenses/` holds "
+                "published designs) traced instead of the thin lens: the film sits at `position`, the lens and "
+                "`sensor_width` set the field of view (`fov` is then the editor's only), the focus is "
+                "`focal_distance` or `focus_point` from the film, `blades` shape its stop",
+         .omitted = [](const C& c) { return c.lens.empty(); }, .nonEmpty = true, .defaultText = "none",
+         .section = "Lens system"},
+        {.key = "lens_f_stop", .label = "f-stop", .kind = ParamKind::Float, .member = &C::lensFStop,
+         .range = between(0.0, 1000.0),
+         .doc = "with `lens`: the f-number the stop closes to (paraxial, at infinity focus); `0` or wider than the "
+                "lens opens: wide open",
+         .applies = [](const C& c) { return !c.lens.empty(); },
+         .onlyWhen = [](const C&) { return std::string("only a camera with a `lens` takes lens_f_stop"); },
+         .speed = 0.05f},
+        {.key = "sensor_width", .label = "Sensor width", .kind = ParamKind::Float, .member = &C::sensorWidthMm,
+         .range = between(1.0, 500.0), .unit = "mm",
+         .doc = "with `lens`: the film's extent along the image's longer side (36: full frame)",
+         .applies = [](const C& c) { return !c.lens.empty(); },
+         .onlyWhen = [](const C&) { return std::string("only a camera with a `lens` takes sensor_width"); },
+         .speed = 0.1f},
+        {.key = "lens_dispersion", .label = "Dispersion", .kind = ParamKind::Bool, .member = &C::lensDispersion,
+         .doc = "with `lens`: trace red, green and blue camera rays at the C, d and F lines through glasses with an "
+                "Abbe number (chromatic aberration); `false`: every ray at d",
+         .applies = [](const C& c) { return !c.lens.empty(); },
+         .onlyWhen = [](const C&) { return std::string("only a camera with a `lens` takes lens_dispersion"); }},
     };
     return k;
 }

@@ -1,4 +1,5 @@
-// Camera rays: a pinhole or a thin lens, with an importance-sampled pixel filter.
+// Camera rays: a pinhole or a thin lens, with an importance-sampled pixel filter (a lens system:
+// integrator/lens_camera.glsl).
 //
 // Pinhole: the jittered position on the image plane at distance 1, with the half-extents
 // tan(fov/2) folded into camRight / camUp on the CPU. Image row 0 is the top.
@@ -16,6 +17,8 @@
 #define INTEGRATOR_CAMERA_GLSL
 #include "../geometry/intersect.glsl"
 #include "../lib/sampling.glsl"
+#include "../scene/features.glsl"
+#include "lens_camera.glsl"
 
 // Inverse CDF of the tent filter on [-1, 1] for u in [0, 1).
 float sampleTent(float u) {
@@ -69,6 +72,20 @@ Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
         r.d = normalize(r.d - offset / s);
     }
     return r;
+}
+
+// The integrator's camera ray and its weight per channel: the thin lens's (weight 1), or a lens
+// system's where the camera has one (integrator/lens_camera.glsl; compiled out of programs
+// specialised for scenes without, CAUSTIC_LENS_SYSTEM).
+Ray cameraRayWeighted(uvec2 pixel, vec2 uFilter, vec2 uLens, out vec3 weight) {
+    weight = vec3(1.0);
+    if (CAUSTIC_LENS_SYSTEM != 0u && frame.camInfo.z != 0u) {
+        vec2 size = vec2(frame.image.xy);
+        vec2 p = vec2(pixel) + 0.5 + samplePixelFilter(uFilter);
+        vec2 ndc = vec2(2.0 * p.x / size.x - 1.0, 1.0 - 2.0 * p.y / size.y);
+        return lensCameraRay(ndc, uLens, weight);
+    }
+    return cameraRay(pixel, uFilter, uLens);
 }
 
 #endif

@@ -17,11 +17,11 @@ struct PixelSums {
 };
 
 // Sample s of the dispatch at `pixel`: its sampler (the random numbers of seed, pixel and sample
-// index) and its camera ray.
-Ray sampleCameraRay(uvec2 pixel, uint pixelIndex, uint s, out Sampler smp) {
+// index), its camera ray and the ray's weight (1 but through a lens system).
+Ray sampleCameraRay(uvec2 pixel, uint pixelIndex, uint s, out Sampler smp, out vec3 weight) {
     smp = samplerStart(frame.sampling.x, pixelIndex, frame.image.z + s, frame.image.w);
     vec2 uFilter = sample2D(smp, SLOT_FILTER);
-    return cameraRay(pixel, uFilter, sample2D(smp, SLOT_LENS));
+    return cameraRayWeighted(pixel, uFilter, sample2D(smp, SLOT_LENS), weight);
 }
 
 // Adds a finished sample: its AOVs always, its radiance unless NaN or infinite (then counted).

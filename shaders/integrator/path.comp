@@ -52,20 +52,24 @@ void main() {
     if (frame.dispatch.x > 0u) {
         uint s = 0u;
         Sampler smp;
-        PathState st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp));
+        vec3 weight;
+        PathState st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp, weight));
+        st.beta = weight;
         while (true) {
             if (!pathStep(st, smp)) continue;
             addSample(px, st.L, st.aov);
             if (++s >= frame.dispatch.x) break;
-            st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp));
+            st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp, weight));
+            st.beta = weight;
         }
     }
 #else
     for (uint s = 0u; s < frame.dispatch.x; ++s) {
         Sampler smp;
-        Ray ray = sampleCameraRay(pixel, pixelIndex, s, smp);
+        vec3 weight;
+        Ray ray = sampleCameraRay(pixel, pixelIndex, s, smp, weight);
         PathAov aov;
-        vec3 L = pathRadiance(ray, smp, aov);
+        vec3 L = weight * pathRadiance(ray, smp, aov);
         addSample(px, L, aov);
     }
 #endif

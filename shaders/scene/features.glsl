@@ -47,6 +47,9 @@
 #ifndef CAUSTIC_MEDIA
 #define CAUSTIC_MEDIA 63u                  // bits MEDIA_*: what the scene's media need (integrator/medium.glsl)
 #endif
+#ifndef CAUSTIC_LENS_SYSTEM
+#define CAUSTIC_LENS_SYSTEM 1u             // 0: the camera is not a lens system (integrator/lens_camera.glsl)
+#endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)
 #endif

@@ -41,6 +41,9 @@ using uint = std::uint32_t;
 #define BINDING_ALBEDO_IMAGE 2     // image2D rgba32f: rgb = sum of first non-specular albedos, a = count
 #define BINDING_NORMAL_IMAGE 3     // image2D rgba32f: rgb = sum of first non-specular world normals, a = count
 #define BINDING_FRAME_UBO 0
+#define BINDING_LENS_UBO 1         // LensBlock: a lens system camera's surfaces and exit-pupil bounds (integrator/lens_camera.glsl)
+#define LENS_MAX_SURFACES 32       // renderer/lens.h, kLensMaxSurfaces
+#define LENS_PUPIL_BINS 64         // renderer/lens.h, kLensPupilBins
 #define BINDING_PRIMITIVES 1
 #define BINDING_MATERIALS 2
 #define BINDING_LIGHTS 3
@@ -365,7 +368,7 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 //   envZenith: sky: radiance at the zenith (times intensity)
 //   envMap: map: x = cos(rotation), y = sin(rotation), z = intensity
 //   camLens: x: aperture radius, y: focal distance, z: squeeze, w: blade rotation (rad)
-//   camInfo: x: blades (0: round), y: FILTER_*
+//   camInfo: x: blades (0: round), y: FILTER_*, z: 1 when the camera is a lens system (LensBlock)
 //   geometry: x: top-level BVH nodes (0: empty scene), y: instances
 //   tables: offsets into the tables buffer (one storage block for all of them: Mesa allows 16
 //     per shader): x: light selection CDF, y: environment map row CDF (H + 1), z: environment
