@@ -1,0 +1,214 @@
+// The lens-system camera on the GPU (integrator/lens_camera.glsl) against its CPU twin
+// (renderer/lens.h, lensCameraRay) and against the thin lens:
+//   - the shader's rays in the lens's frame equal the CPU's (double) for the same film points,
+//     pupil samples and wavelengths, with blades and dispersion, so what the CPU side computes
+//     (focus, picking through the lens) is what renders;
+//   - in the limit of one thin element (a 0.8 mm equiconvex lens of f = 200 mm, its stop at its
+//     front) the image equals the thin-lens camera's at the same focus, aperture and field, within
+//     noise, once the lens's natural vignetting (cos^4 of the chief ray's angle) is divided out;
+//   - a lens file that cannot be read fails the scene with a message naming camera.lens and the file.
+#include "tests/gpu/gl_fixture.h"
+
+#include "renderer/camera.h"
+#include "renderer/lens.h"
+
+#include <glad/gl.h>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <vector>
+
+using namespace caustic;
+
+namespace {
+
+std::string lensPath(const char* name) { return std::string(CAUSTIC_SOURCE_DIR) + "/assets/lenses/" + name; }
+
+Scene lensScene(const std::string& lens, float fStop, int blades) {
+    Scene s;
+    s.render.width = 96;
+    s.render.height = 64;
+    s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(0.0f)});
+    s.objects.push_back(test::floorQuad("grey", 4.0f));
+    s.objects.push_back(test::sphereAt("grey", glm::vec3(0.0f, 0.5f, -1.0f), 0.5f));
+    s.environment.type = EnvironmentType::Constant;
+    s.environment.radiance = glm::vec3(1.0f);
+    s.camera.position = glm::vec3(0.0f, 0.6f, 2.0f);
+    s.camera.lookAt = glm::vec3(0.0f, 0.5f, -1.0f);
+    s.camera.lens = lens;
+    s.camera.lensFStop = fStop;
+    s.camera.blades = blades;
+    s.camera.bladeRotationDegrees = 10.0f;
+    return s;
+}
+
+struct GpuLensRay { glm::vec3 o; float weight; glm::vec3 d; bool passes; };
+
+std::vector<GpuLensRay> traceOnGpu(Renderer& r, const std::vector<glm::vec4>& inputs) {
+    const std::size_t n = inputs.size() / 2;
+    GLuint buffers[2];
+    glCreateBuffers(2, buffers);
+    glNamedBufferData(buffers[0], GLsizeiptr(inputs.size() * sizeof(glm::vec4)), inputs.data(), GL_STATIC_DRAW);
+    glNamedBufferData(buffers[1], GLsizeiptr(2 * n * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_READ);
+    const GLuint program = test::kernel("lens_rays.comp");
+    r.bindScene(0, 1);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, buffers[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TEST_OUTPUT, buffers[1]);
+    glUseProgram(program);
+    glProgramUniform1ui(program, glGetUniformLocation(program, "u_count"), GLuint(n));
+    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> out(2 * n);
+    glGetNamedBufferSubData(buffers[1], 0, GLsizeiptr(out.size() * sizeof(glm::vec4)), out.data());
+    glDeleteBuffers(2, buffers);
+    REQUIRE(glDebugErrorCount() == 0);
+    std::vector<GpuLensRay> rays;
+    for (std::size_t i = 0; i < n; ++i)
+        rays.push_back({glm::vec3(out[2 * i]), out[2 * i].w, glm::vec3(out[2 * i + 1]), out[2 * i + 1].w > 0.5f});
+    return rays;
+}
+
+}  // namespace
+
+TEST_CASE("lens camera: the shader's rays through a lens system are the CPU's", "[gpu][camera][lens]") {
+    auto renderer = test::makeRenderer();
+    struct Case { const char* file; float fStop; int blades; };
+    for (const Case& k : {Case{"dgauss-50mm.lens", 2.8f, 6}, Case{"singlet-bk7-100mm.lens", 0.0f, 0},
+                          Case{"fisheye-10mm.lens", 0.0f, 5}, Case{"telephoto-250mm.lens", 8.0f, 0}}) {
+        INFO(k.file);
+        const Scene s = lensScene(lensPath(k.file), k.fStop, k.blades);
+        std::string error;
+        REQUIRE(renderer->setScene(s, &error));
+        const LensCamera* cam = renderer->lensCamera();
+        REQUIRE(cam != nullptr);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> uniform(0.0, 1.0);
+        std::vector<glm::vec4> inputs;
+        std::vector<glm::dvec2> films, us;
+        std::vector<int> channels;
+        for (int i = 0; i < 4000; ++i) {
+            const glm::dvec2 film(cam->filmHalfWidth * (2.0 * uniform(rng) - 1.0), cam->filmHalfHeight * (2.0 * uniform(rng) - 1.0));
+            const glm::dvec2 u(uniform(rng), uniform(rng));
+            const int channel = cam->dispersion ? i % 3 : 1;
+            films.push_back(film);
+            us.push_back(u);
+            channels.push_back(channel);
+            inputs.push_back(glm::vec4(glm::vec2(film), glm::vec2(u)));
+            inputs.push_back(glm::vec4(float(channel), 0.0f, 0.0f, 0.0f));
+        }
+        const std::vector<GpuLensRay> gpu = traceOnGpu(*renderer, inputs);
+        int passed = 0, verdicts = 0, far = 0;
+        double worstDir = 0.0, worstOrigin = 0.0, worstWeight = 0.0;
+        for (std::size_t i = 0; i < gpu.size(); ++i) {
+            double weight = 0.0;
+            // The float inputs, as the GPU got them.
+            const auto cpu = lensCameraRay(*cam, glm::dvec2(glm::vec2(films[i])), glm::dvec2(glm::vec2(us[i])), channels[i], &weight);
+            if (cpu.has_value() != gpu[i].passes) {
+                ++verdicts;
+                continue;
+            }
+            if (!cpu) continue;
+            ++passed;
+            const double dd = glm::length(cpu->d - glm::dvec3(gpu[i].d));
+            const double dO = glm::length(cpu->o - glm::dvec3(gpu[i].o));
+            const double dw = std::abs(weight - gpu[i].weight) / weight;
+            worstDir = std::max(worstDir, dd);
+            worstOrigin = std::max(worstOrigin, dO);
+            worstWeight = std::max(worstWeight, dw);
+            far += dd > 1e-4 || dO > 5e-3 || dw > 1e-4;
+        }
+        std::printf("lens rays %-24s %d of %zu pass; GPU vs CPU: %d verdicts differ, worst direction %.2g, origin "
+                    "%.2g mm, weight %.2g (relative)\n", k.file, passed, gpu.size(), verdicts, worstDir, worstOrigin,
+                    worstWeight);
+        CHECK(passed > 1000);
+        // A ray grazing an aperture's edge may be decided differently in float.
+        CHECK(verdicts <= 4);
+        CHECK(far == 0);
+    }
+}
+
+TEST_CASE("lens camera: one thin element renders the thin-lens camera's image", "[gpu][camera][lens]") {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "caustic-thin-element";
+    std::filesystem::create_directories(dir);
+    const std::string file = (dir / "thin.lens").string();
+    {
+        std::ofstream f(file);
+        f << "# an equiconvex lens of f = 200 mm, 0.8 mm thick, its stop (20 mm: f/10) at its front\n"
+             "0 0 0 20\n200 0.8 1.5 24\n-200 0 1 24\n";
+    }
+    const double focusMm = 2000.0;
+    Scene lens = lensScene(file, 0.0f, 0);
+    lens.render.width = 64;
+    lens.render.height = 48;
+    lens.render.maxDepth = 2;
+    lens.camera.sensorWidthMm = 8.0f;
+    lens.camera.focalDistance = float(focusMm / 1000.0);
+    lens.objects.push_back(test::sphereAt("grey", glm::vec3(0.25f, 0.3f, 0.9f), 0.12f));  // near: blurred
+    lens.objects.push_back(test::sphereAt("grey", glm::vec3(-0.6f, 0.6f, -3.0f), 0.4f));  // far: blurred
+    auto renderer = test::makeRenderer();
+    std::string error;
+    REQUIRE(renderer->setScene(lens, &error));
+    const LensCamera cam = *renderer->lensCamera();
+    // The thin lens at the rear principal plane, v from the film: H' lies BFD - EFL behind the last
+    // vertex, with EFL and BFD those of the focused system.
+    const auto p = paraxialAnalysis(cam.lens);
+    REQUIRE(p);
+    const double v = cam.filmZ - (cam.vertexZ.back() + p->bfd - p->efl);
+    Scene thin = lens;
+    thin.camera.lens.clear();
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(lens.camera.lookAt) - glm::dvec3(lens.camera.position));
+    thin.camera.position = glm::vec3(glm::dvec3(lens.camera.position) + forward * (v / 1000.0));
+    thin.camera.lookAt = glm::vec3(glm::dvec3(thin.camera.position) + forward);
+    thin.camera.focalDistance = float((focusMm - v) / 1000.0);
+    thin.camera.apertureRadius = 0.010f;
+    thin.camera.fovAxis = FovAxis::Y;
+    thin.camera.fovDegrees = float(2.0 * std::atan(cam.filmHalfHeight / v) * 180.0 / std::numbers::pi);
+    const int spp = 256;
+    Film a = test::renderFilm(*renderer, lens, spp);
+    const Film b = test::renderFilm(*renderer, thin, spp);
+    // Divide out the lens's natural vignetting: cos^4 of the chief ray's angle at each pixel.
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            const double fx = cam.filmHalfWidth * (2.0 * (x + 0.5) / a.width - 1.0);
+            const double fy = cam.filmHalfHeight * (2.0 * (y + 0.5) / a.height - 1.0);
+            const double c2 = v * v / (v * v + fx * fx + fy * fy);
+            const float k = float(1.0 / (c2 * c2));
+            a.mean[a.index(x, y)] *= k;
+            a.varianceOfMean[a.index(x, y)] *= k * k;
+        }
+    test::checkSameMean(a, b);
+    test::checkBlocksAgree(a, b, "thin element vs thin lens");
+    // And the images are not flat: the blur matters to the comparison.
+    const test::ImageStats sa = test::imageStats(a);
+    CHECK(sa.mean.x > 0.2);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("lens camera: a lens file that cannot be read fails the scene, naming camera.lens and the file",
+          "[gpu][camera][lens]") {
+    auto renderer = test::makeRenderer();
+    std::string error;
+    CHECK_FALSE(renderer->setScene(lensScene("/nonexistent/none.lens", 0.0f, 0), &error));
+    CHECK(error == "camera.lens: /nonexistent/none.lens: cannot open the lens file");
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "caustic-bad-lens";
+    std::filesystem::create_directories(dir);
+    const std::string bad = (dir / "bad.lens").string();
+    std::ofstream(bad) << "10 1 1.5 5\n-10 0 1\n";
+    CHECK_FALSE(renderer->setScene(lensScene(bad, 0.0f, 0), &error));
+    CHECK(error.find("camera.lens: " + bad + ":2: expected") == 0);
+    // A lens with no stop reads, but is no camera.
+    std::ofstream(bad) << "50 2 1.5 10\n-50 0 1 10\n";
+    CHECK_FALSE(renderer->setScene(lensScene(bad, 0.0f, 0), &error));
+    CHECK(error.find("no aperture stop") != std::string::npos);
+    // The last good scene still renders.
+    REQUIRE(renderer->setScene(lensScene(lensPath("dgauss-50mm.lens"), 0.0f, 0), &error));
+    CHECK_FALSE(renderer->update(lensScene(bad, 0.0f, 0), kDirtyCamera, &error));
+    CHECK(renderer->lensCamera() != nullptr);
+    std::filesystem::remove_all(dir);
+}
