@@ -19,20 +19,21 @@ namespace caustic {
 
 namespace {
 // The tables in the order they are packed.
-std::array<const std::vector<float>*, 6> packedTables(const CompiledScene& c) {
+std::array<const std::vector<float>*, 9> packedTables(const CompiledScene& c) {
     return {&c.lightCdf, &c.envMap.marginalCdf, &c.envMap.conditionalCdf, &c.meshLightCdf, &c.envMap.marginalGuide,
-            &c.envMap.conditionalGuide};
+            &c.envMap.conditionalGuide, &c.aperture.marginalCdf, &c.aperture.conditionalCdf, &c.aperture.mask};
 }
 }  // namespace
 
 TableOffsets tableOffsets(const CompiledScene& c) {
-    std::array<std::size_t, 7> at{};
+    std::array<std::size_t, 10> at{};
     const auto tables = packedTables(c);
     for (std::size_t i = 0; i < tables.size(); ++i) at[i + 1] = at[i] + tables[i]->size();
     TableOffsets o;
     o.tables = glm::uvec4(at[0], at[1], at[2], at[3]);
     o.guides = glm::uvec2(at[4], at[5]);
-    o.total = at[6];
+    o.aperture = std::uint32_t(at[6]);
+    o.total = at[9];
     return o;
 }
 
@@ -110,6 +111,8 @@ gpu::GpuFrame makeFrame(const Scene& scene, const CompiledScene& compiled, std::
     const TableOffsets offsets = tableOffsets(compiled);
     f.tables = offsets.tables;
     f.envGuide = glm::uvec4(offsets.guides, compiled.envMap.marginalGuideLog2, compiled.envMap.conditionalGuideLog2);
+    f.aperture = glm::uvec4(offsets.aperture, compiled.aperture.width, compiled.aperture.height,
+                            compiled.aperture.width > 0 ? 1u : 0u);
     f.envRadiance = glm::vec4(env.radiance * env.intensity, 0);
     f.envHorizon = glm::vec4(env.horizon * env.intensity, 0);
     f.envZenith = glm::vec4(env.zenith * env.intensity, 0);

@@ -262,6 +262,23 @@ bool Builder::run() {
             return false;
         }
     }
+    if (!scene.camera.apertureImage.empty()) {
+        const std::string file = resolveScenePath(scene, scene.camera.apertureImage);
+        ImageData image;
+        std::string why;
+        if (!readImage) {
+            *error = "camera.aperture_image: " + file + ": this build cannot read images";
+            return false;
+        }
+        if (!readImage(file, &image, &why)) {
+            *error = "camera.aperture_image: " + why;
+            return false;
+        }
+        if (!buildApertureImage(image, &out.aperture, &why)) {
+            *error = "camera.aperture_image: " + file + ": " + why;
+            return false;
+        }
+    }
     if (env.type != EnvironmentType::None) {
         glm::vec3 average = env.type == EnvironmentType::Constant ? env.radiance
                             : env.type == EnvironmentType::Map   ? out.envMap.average
@@ -308,6 +325,65 @@ bool Builder::run() {
 
 using scene_compile::Builder;
 
+
+bool buildApertureImage(const ImageData& image, ApertureImage* out, std::string* error) {
+    if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
+        image.pixels.size() < std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.channels)) {
+        *error = "the image has no pixels";
+        return false;
+    }
+    // Box-average down by an integer factor until both sides fit.
+    const int factor = std::max((image.width + kMaxApertureSide - 1) / kMaxApertureSide,
+                                (image.height + kMaxApertureSide - 1) / kMaxApertureSide);
+    ApertureImage a;
+    a.width = (image.width + factor - 1) / factor;
+    a.height = (image.height + factor - 1) / factor;
+    a.mask.assign(std::size_t(a.width) * std::size_t(a.height), 0.0f);
+    const int colours = std::min(image.channels, 3);
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            double sum = 0.0;
+            int count = 0;
+            for (int sy = y * factor; sy < std::min((y + 1) * factor, image.height); ++sy)
+                for (int sx = x * factor; sx < std::min((x + 1) * factor, image.width); ++sx) {
+                    const float* p = &image.pixels[(std::size_t(sy) * std::size_t(image.width) + std::size_t(sx)) *
+                                                   std::size_t(image.channels)];
+                    double v = 0.0;
+                    for (int c = 0; c < colours; ++c) v += std::isfinite(p[c]) ? p[c] : 0.0;
+                    sum += std::clamp(v / colours, 0.0, 1.0);
+                    ++count;
+                }
+            a.mask[std::size_t(y) * std::size_t(a.width) + std::size_t(x)] = float(sum / count);
+        }
+    std::vector<double> rows(std::size_t(a.height), 0.0);
+    double total = 0.0;
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = 0; x < a.width; ++x) rows[std::size_t(y)] += a.mask[std::size_t(y) * std::size_t(a.width) + std::size_t(x)];
+        total += rows[std::size_t(y)];
+    }
+    if (!(total > 0.0)) {
+        *error = "the image is black everywhere: no light would pass the aperture";
+        return false;
+    }
+    a.marginalCdf.push_back(0.0f);
+    double acc = 0.0;
+    for (int y = 0; y < a.height; ++y) {
+        acc += rows[std::size_t(y)];
+        a.marginalCdf.push_back(float(acc / total));
+        double rowAcc = 0.0;
+        a.conditionalCdf.push_back(0.0f);
+        for (int x = 0; x < a.width; ++x) {
+            rowAcc += a.mask[std::size_t(y) * std::size_t(a.width) + std::size_t(x)];
+            // A row of zero weight gets a uniform CDF (never chosen).
+            a.conditionalCdf.push_back(rows[std::size_t(y)] > 0.0 ? float(rowAcc / rows[std::size_t(y)])
+                                                                  : float(x + 1) / float(a.width));
+        }
+        a.conditionalCdf.back() = 1.0f;
+    }
+    a.marginalCdf.back() = 1.0f;
+    *out = std::move(a);
+    return true;
+}
 
 bool compileScene(const Scene& scene, const ImageReader& readImage, CompiledScene* out, std::string* error,
                   MeshCache* meshCache, CompiledScene* reuse) {

@@ -48,6 +48,18 @@ struct EnvironmentMap {
 // Builds the tables from RGB(A) pixels; fails for an empty, non-finite or negative image.
 bool buildEnvironmentMap(const ImageData& image, EnvironmentMap* out, std::string* error);
 
+// A camera's aperture image (Camera::apertureImage) as the camera reads it: its transmission per
+// texel (the mean of the image's colour channels as stored, clamped to [0, 1]; an image larger
+// than kMaxApertureSide a side is box-averaged down to fit), the CDF over its rows (height + 1
+// entries from 0 to 1) and each row's CDF over its texels (width + 1 each).
+inline constexpr int kMaxApertureSide = 256;
+struct ApertureImage {
+    int width = 0, height = 0;
+    std::vector<float> mask, marginalCdf, conditionalCdf;
+};
+// False (with the reason) for an image with no texel above 0.
+bool buildApertureImage(const ImageData& image, ApertureImage* out, std::string* error);
+
 struct CompiledScene {
     std::vector<gpu::GpuPrimitive> primitives;
     std::vector<gpu::GpuMaterial> materials;
@@ -62,6 +74,7 @@ struct CompiledScene {
     std::vector<glm::uvec2> texels;     // material textures' mip chains (RGBA halves), see GpuTexture
     std::vector<gpu::GpuTexture> textures;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all finite geometry
+    ApertureImage aperture;             // the camera's aperture image (width 0: none)
 
     // Geometry acceleration (docs/design.md, "Geometry"): one top-level BVH over every analytic
     // primitive and every mesh instance, then one BVH per distinct mesh file.
@@ -188,6 +201,7 @@ std::vector<float> packTables(const CompiledScene& compiled);
 struct TableOffsets {
     glm::uvec4 tables{0u};
     glm::uvec2 guides{0u};
+    std::uint32_t aperture = 0;   // the aperture image's row CDF, its rows' CDFs, its texels
     std::size_t total = 0;
 };
 TableOffsets tableOffsets(const CompiledScene& compiled);

@@ -205,18 +205,21 @@ struct StopShape {
     double radius = 0.0;
     int blades = 0;
     double rotation = 0.0;
+    const ApertureMask* mask = nullptr;
 };
 
-bool insideStop(const StopShape& stop, double x, double y) {
+// The fraction of a ray at (x, y) that passes the stop.
+double stopTransmission(const StopShape& stop, double x, double y) {
     const double rho2 = x * x + y * y;
-    if (rho2 > stop.radius * stop.radius) return false;
-    if (stop.blades < 3) return true;
+    if (rho2 > stop.radius * stop.radius) return 0.0;
+    if (stop.mask && stop.mask->width > 0) return stop.mask->at(x / stop.radius, y / stop.radius);
+    if (stop.blades < 3) return 1.0;
     // The polygon's edge facing the point: its midpoint's direction and distance R cos(pi / n).
     const double sector = 2.0 * std::numbers::pi / stop.blades;
     const double phi = std::atan2(y, x) - stop.rotation;
     const double k = std::floor(phi / sector);
     const double mid = stop.rotation + (k + 0.5) * sector;
-    return x * std::cos(mid) + y * std::sin(mid) <= stop.radius * std::cos(0.5 * sector);
+    return x * std::cos(mid) + y * std::sin(mid) <= stop.radius * std::cos(0.5 * sector) ? 1.0 : 0.0;
 }
 
 bool refract(const glm::dvec3& d, glm::dvec3 n, double n1, double n2, glm::dvec3* out) {
@@ -267,7 +270,8 @@ bool intersect(const LensSurface& s, double z, const LensRay& r, glm::dvec3* p, 
 // Through every surface, front to back (fromFilm false) or back to front; the stop's opening is
 // `stop`'s where given, else its clear aperture.
 std::optional<LensRay> trace(const LensSystem& lens, const std::vector<double>& z, LensRay r, double nm, bool fromFilm,
-                             const StopShape* stop) {
+                             const StopShape* stop, double* pass = nullptr) {
+    if (pass) *pass = 1.0;
     const std::size_t n = lens.surfaces.size();
     for (std::size_t step = 0; step < n; ++step) {
         const std::size_t k = fromFilm ? n - 1 - step : step;
@@ -275,7 +279,9 @@ std::optional<LensRay> trace(const LensSystem& lens, const std::vector<double>& 
         glm::dvec3 p, normal;
         if (!intersect(s, z[k], r, &p, &normal)) return std::nullopt;
         if (s.stop && stop) {
-            if (!insideStop(*stop, p.x, p.y)) return std::nullopt;
+            const double t = stopTransmission(*stop, p.x, p.y);
+            if (!(t > 0.0)) return std::nullopt;
+            if (pass) *pass = t;
         } else if (p.x * p.x + p.y * p.y > 0.25 * s.aperture * s.aperture) {
             return std::nullopt;
         }
@@ -292,6 +298,13 @@ std::optional<LensRay> trace(const LensSystem& lens, const std::vector<double>& 
 double wavelengthOf(int channel) { return channel == 0 ? kLineC : channel == 2 ? kLineF : kLineD; }
 
 }  // namespace
+
+double ApertureMask::at(double x, double y) const {
+    if (width <= 0 || std::abs(x) > 1.0 || std::abs(y) > 1.0) return 0.0;
+    const int i = std::min(int((x * 0.5 + 0.5) * width), width - 1);
+    const int j = std::min(int((0.5 - y * 0.5) * height), height - 1);
+    return values[std::size_t(j) * std::size_t(width) + std::size_t(i)];
+}
 
 std::optional<LensRay> traceFromScene(const LensSystem& lens, LensRay r, double nm) {
     return trace(lens, surfaceVertices(lens), r, nm, false, nullptr);
@@ -315,12 +328,13 @@ std::optional<LensRay> lensCameraRay(const LensCamera& cam, glm::dvec2 film, glm
     const double rearZ = cam.vertexZ.back();
     const glm::dvec3 o(film, cam.filmZ);
     const glm::dvec3 d = glm::normalize(glm::dvec3(rear, rearZ) - o);
-    const StopShape stop{cam.stopRadius, cam.blades, cam.bladeRotation};
-    const auto out = trace(cam.lens, cam.vertexZ, {o, d}, wavelengthOf(channel), true, &stop);
+    const StopShape stop{cam.stopRadius, cam.blades, cam.bladeRotation, &cam.aperture};
+    double pass = 1.0;
+    const auto out = trace(cam.lens, cam.vertexZ, {o, d}, wavelengthOf(channel), true, &stop, &pass);
     if (!out) return std::nullopt;
     const double cosTheta = std::abs(d.z), dz = cam.filmZ - rearZ;
     const double area = (b.z - b.x) * (b.w - b.y);
-    *weight = cosTheta * cosTheta * cosTheta * cosTheta * area / (dz * dz) * cam.weightScale;
+    *weight = pass * cosTheta * cosTheta * cosTheta * cosTheta * area / (dz * dz) * cam.weightScale;
     return out;
 }
 
@@ -332,7 +346,7 @@ glm::dvec4 pupilBound(const LensCamera& cam, double r0, double r1, double extent
     constexpr int kGrid = 48, kRadii = 3;
     const double cell = 2.0 * extent / kGrid;
     glm::dvec4 box(1e30, 1e30, -1e30, -1e30);
-    const StopShape stop{cam.stopRadius, cam.blades, cam.bladeRotation};
+    const StopShape stop{cam.stopRadius, cam.blades, cam.bladeRotation, &cam.aperture};
     const double rearZ = cam.vertexZ.back();
     for (int ri = 0; ri < kRadii; ++ri) {
         const double r = r0 + (r1 - r0) * ri / (kRadii - 1);
@@ -440,6 +454,7 @@ bool prepareLensCamera(const LensSystem& lens, const LensCameraSettings& setting
     }
     cam.lens.surfaces[std::size_t(stop)].aperture = 2.0 * cam.stopRadius;
     cam.blades = settings.blades >= 3 ? settings.blades : 0;
+    cam.aperture = settings.aperture;
     cam.bladeRotation = settings.bladeRotation;
     // Focus (thick lens, by moving the whole lens): the film at distance t behind the last vertex
     // sees sharp the axial point D in front of the film, D - L - t in front of the first vertex.

@@ -83,6 +83,15 @@ std::optional<LensRay> traceFromFilm(const LensSystem& lens, LensRay r, double n
 // A lens system as a camera (docs/lenses.md, "The lens camera"): focused by moving the whole lens
 // (the last thickness becomes the film's distance), stopped down, and with the bounds of its exit
 // pupil per film radius, so that the camera's rays aim only where they can pass.
+// An aperture image's transmission over the square around the stop's circle (row 0 at the top,
+// +y up), as renderer/gpu_scene.h's ApertureImage holds it.
+struct ApertureMask {
+    int width = 0, height = 0;
+    std::vector<float> values;  // width x height, in [0, 1]
+    // The nearest texel's value at p in [-1, 1]^2 (0 outside).
+    double at(double x, double y) const;
+};
+
 struct LensCameraSettings {
     double focusDistanceMm = 1e9;  // of the plane of focus, from the film along the axis
     double fNumber = 0.0;          // 0: wide open; wider than the lens allows: wide open
@@ -90,6 +99,7 @@ struct LensCameraSettings {
     int blades = 0;                // 0: the stop is round; >= 3: a regular polygon in its circle
     double bladeRotation = 0.0;    // radians; 0: a vertex along the lens's +x
     bool dispersion = true;        // trace each channel at its own wavelength (where a glass has an Abbe number)
+    ApertureMask aperture;         // width 0: none; else it shapes the stop instead of the blades
 };
 
 // Film radii binned for the exit-pupil bounds (the GPU's table has as many).
@@ -104,6 +114,7 @@ struct LensCamera {
     double stopRadius = 0.0;         // the stop's radius as stopped down (a polygon: its circumcircle)
     int blades = 0;
     double bladeRotation = 0.0;
+    ApertureMask aperture;           // the stop's transmission (width 0: none)
     bool dispersion = false;         // asked for, and some glass has an Abbe number
     double efl = 0.0;                // paraxial, at d
     double fNumber = 0.0;            // as stopped down (paraxial, at infinity focus)

@@ -198,16 +198,42 @@ bool Renderer::prepareLens(const Scene& scene, std::string* error) {
         return true;
     }
     const std::string path = resolveScenePath(scene, c.lens);
-    const LensCameraSettings settings = lensCameraSettings(c, scene.render.width, scene.render.height);
+    LensCameraSettings settings = lensCameraSettings(c, scene.render.width, scene.render.height);
     std::error_code ec;
     const auto stamp = std::filesystem::last_write_time(path, ec);
+    std::string apertureKey;
+    if (!c.apertureImage.empty()) {
+        const std::string file = resolveScenePath(scene, c.apertureImage);
+        std::error_code ignored;
+        const auto apertureStamp = std::filesystem::last_write_time(file, ignored);
+        apertureKey = file + " " + std::to_string(ignored ? -1LL : static_cast<long long>(apertureStamp.time_since_epoch().count()));
+    }
     char key[512];
     std::snprintf(key, sizeof key, "%lld %.17g %.17g %.17g %.17g %d %.17g %d",
                   ec ? -1LL : static_cast<long long>(stamp.time_since_epoch().count()), settings.focusDistanceMm,
                   settings.fNumber, settings.filmWidthMm, settings.filmHeightMm, settings.blades,
                   settings.bladeRotation, settings.dispersion ? 1 : 0);
-    const std::string fullKey = path + "\n" + key;
+    const std::string fullKey = path + "\n" + key + "\n" + apertureKey;
     if (fullKey == m_lensKey) return true;
+    if (!c.apertureImage.empty()) {
+        const std::string file = resolveScenePath(scene, c.apertureImage);
+        ImageData image;
+        ApertureImage aperture;
+        std::string why;
+        if (!m_readImage) {
+            *error = "camera.aperture_image: " + file + ": this build cannot read images";
+            return false;
+        }
+        if (!m_readImage(file, &image, &why)) {
+            *error = "camera.aperture_image: " + why;
+            return false;
+        }
+        if (!buildApertureImage(image, &aperture, &why)) {
+            *error = "camera.aperture_image: " + file + ": " + why;
+            return false;
+        }
+        settings.aperture = {aperture.width, aperture.height, std::move(aperture.mask)};
+    }
     LensSystem lens;
     std::string why;
     if (!readLensFile(path, &lens, &why)) {
@@ -278,6 +304,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
     const bool sameSize = scene.render.width == m_width && scene.render.height == m_height;
     if ((dirty & ~std::uint32_t(kDirtyCamera | kDirtySettings | kDirtyMaterials | kDirtyTransforms)) != 0 ||
         !sameSize || scene.materials.size() != m_scene.materials.size() ||
+        scene.camera.apertureImage != m_scene.camera.apertureImage ||
         scene.render.lightSelection != m_scene.render.lightSelection)
         return setScene(scene, error);
     if (!prepareLens(scene, error)) return false;

@@ -146,7 +146,8 @@ ShaderDefines featureDefines(const gpu::GpuFrame& frame, const CompiledScene& c,
             {"CAUSTIC_EMISSION_TEXTURES", emissionTextures ? "1u" : "0u"},
             {"CAUSTIC_MEDIA", std::to_string(mediaBits(frame, c)) + "u"},
             {"CAUSTIC_SINGLE_LIGHT", singleLight ? "1u" : "0u"},
-            {"CAUSTIC_LENS_SYSTEM", frame.camInfo.z != 0u ? "1u" : "0u"},
+            {"CAUSTIC_CAMERA", std::to_string((frame.camInfo.z != 0u ? CAMERA_LENS_SYSTEM : 0u) |
+                                              (frame.aperture.w != 0u ? CAMERA_APERTURE_IMAGE : 0u)) + "u"},
             {"CAUSTIC_TRAVERSAL", bruteForce ? "1u" : "2u"}};
     if (bake && bruteForce) defines.push_back({"CAUSTIC_BAKED_PRIMITIVES", bakedPrimitiveTests(c)});
     // A baked top level: at most 32 entries, of them at most 16 instances (traceScenePair keeps

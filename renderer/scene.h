@@ -47,6 +47,9 @@ struct Camera {
     float squeeze = 1.0f;              // anamorphic: the lens sample's x is divided by it, > 0
     int blades = 0;                    // 0: a round aperture; >= 3: a regular polygon
     float bladeRotationDegrees = 0.0f;
+    // A greyscale image over the square around the aperture's circle (relative to the scene file):
+    // its transmission shapes the bokeh (thin lens and lens system; replaces the blades). Empty: none.
+    std::string apertureImage;
     // A lens system instead of the thin lens (docs/lenses.md): a prescription file (relative to the
     // scene file); empty: the thin lens above. The film sits at `position`; the lens and
     // sensorWidthMm set the field of view, lensFStop the stop, and the focus is focalDistance's or

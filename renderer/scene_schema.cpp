@@ -220,6 +220,13 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
          .speed = 0.1f},
         {.key = "blade_rotation", .label = "Blade rotation", .kind = ParamKind::Float, .member = &C::bladeRotationDegrees,
          .unit = "deg", .doc = "at 0 a polygon vertex points along the image's +x (a lens system: its stop's)", .speed = 0.5f},
+        {.key = "aperture_image", .label = "Aperture image", .kind = ParamKind::File, .member = &C::apertureImage,
+         .doc = "a greyscale image (relative to the scene file) over the square around the aperture's circle, row 0 "
+                "at the top: its values as stored (the mean of its colour channels; 0 opaque, 1 open) shape the "
+                "bokeh instead of `blades`; the thin lens draws its samples in proportion to them, a lens system's "
+                "stop passes that fraction of each ray; at most 256 texels a side are kept (larger images are "
+                "averaged down)",
+         .omitted = [](const C& c) { return c.apertureImage.empty(); }, .nonEmpty = true, .defaultText = "none"},
         {.key = "lens", .label = "Lens", .kind = ParamKind::File, .member = &C::lens,
          .doc = "a lens prescription (`.lens`, relative to the scene file; docs/lenses.md, `assets/lenses/` holds "
                 "published designs) traced instead of the thin lens: the film sits at `position`, the lens and "

@@ -7,8 +7,9 @@
 // t = focalDistance / (dir . forward); the origin moves to a point on the lens and the ray aims at
 // that point of focus, so the plane of focus stays sharp and other depths blur into a circle of
 // confusion of radius aperture * |z - focal| / z (measured on the plane of focus).
-// The lens sample: Shirley-Chiu's concentric disk for a round aperture, or a uniform point in a
-// regular polygon of `blades` sides (rotated by blade rotation). Anamorphic: its x is divided by
+// The lens sample: Shirley-Chiu's concentric disk for a round aperture, a uniform point in a
+// regular polygon of `blades` sides (rotated by blade rotation), or a point of the aperture image
+// drawn in proportion to its transmission (integrator/aperture.glsl; the sample's weight stays 1). Anamorphic: its x is divided by
 // the squeeze factor before scaling by the aperture, so the bokeh is an oval `squeeze` times
 // taller than wide.
 // Pixel filters are importance-sampled (sample weights stay 1): box uniform over the pixel; tent
@@ -18,6 +19,7 @@
 #include "../geometry/intersect.glsl"
 #include "../lib/sampling.glsl"
 #include "../scene/features.glsl"
+#include "aperture.glsl"
 #include "lens_camera.glsl"
 
 // Inverse CDF of the tent filter on [-1, 1] for u in [0, 1).
@@ -63,8 +65,9 @@ Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
         // as d - offset / s, whose length stays near 1 (the far point's would overflow a float's
         // square beyond a focal distance of ~1e19).
         float s = frame.camLens.y / dot(r.d, frame.camForward.xyz);
-        vec2 lens = frame.camInfo.x >= 3u ? samplePolygon(uLens, frame.camInfo.x, frame.camLens.w)
-                                          : sampleConcentricDisk(uLens);
+        vec2 lens = HAS_CAMERA(CAMERA_APERTURE_IMAGE) && frame.aperture.w != 0u ? sampleApertureImage(uLens)
+                    : frame.camInfo.x >= 3u ? samplePolygon(uLens, frame.camInfo.x, frame.camLens.w)
+                                            : sampleConcentricDisk(uLens);
         lens.x /= frame.camLens.z;
         vec3 right = normalize(frame.camRight.xyz), up = normalize(frame.camUp.xyz);
         vec3 offset = aperture * (lens.x * right + lens.y * up);
@@ -76,10 +79,10 @@ Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
 
 // The integrator's camera ray and its weight per channel: the thin lens's (weight 1), or a lens
 // system's where the camera has one (integrator/lens_camera.glsl; compiled out of programs
-// specialised for scenes without, CAUSTIC_LENS_SYSTEM).
+// specialised for scenes without, CAUSTIC_CAMERA).
 Ray cameraRayWeighted(uvec2 pixel, vec2 uFilter, vec2 uLens, out vec3 weight) {
     weight = vec3(1.0);
-    if (CAUSTIC_LENS_SYSTEM != 0u && frame.camInfo.z != 0u) {
+    if (HAS_CAMERA(CAMERA_LENS_SYSTEM) && frame.camInfo.z != 0u) {
         vec2 size = vec2(frame.image.xy);
         vec2 p = vec2(pixel) + 0.5 + samplePixelFilter(uFilter);
         vec2 ndc = vec2(2.0 * p.x / size.x - 1.0, 1.0 - 2.0 * p.y / size.y);

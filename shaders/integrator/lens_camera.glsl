@@ -3,7 +3,7 @@
 // In the lens's frame (mm; the axis is z, the scene in front at smaller z, the film behind): a
 // film point, a point of its exit-pupil bound (a box in the rear vertex's plane, per film radius,
 // turned with the film point), the ray between them traced back to front through every surface
-// (the stop's opening a circle or a polygon of `blades`), then carried into the world: the film at
+// (the stop's opening a circle, a polygon of `blades` or the aperture image), then carried into the world: the film at
 // the camera's position, x along right, y along up, z against the view.
 // The weight, cos^4(theta) A / z^2 times the scale that makes its mean 1 at the film's centre, is
 // the film's exposure: natural and optical vignetting are the lens's, not painted. With
@@ -12,6 +12,7 @@
 #ifndef INTEGRATOR_LENS_CAMERA_GLSL
 #define INTEGRATOR_LENS_CAMERA_GLSL
 #include "../geometry/intersect.glsl"
+#include "aperture.glsl"
 
 layout(std140, binding = BINDING_LENS_UBO) uniform LensBlock {
     vec4 lensInfo;   // x: surfaces, y: the film's z, z: the film's radius (half diagonal), w: weight scale
@@ -22,19 +23,24 @@ layout(std140, binding = BINDING_LENS_UBO) uniform LensBlock {
     vec4 lensPupil[LENS_PUPIL_BINS];  // the exit pupil's bound per film-radius bin: (x0, y0, x1, y1)
 };
 
-bool lensInsideStop(vec2 p) {
+// How much of a ray passes the stop at p: 0 or 1 for its circle or polygon, the aperture image's
+// transmission where the camera has one.
+float lensStopTransmission(vec2 p) {
     float radius = lensFilm.w;
-    if (dot(p, p) > radius * radius) return false;
+    if (dot(p, p) > radius * radius) return 0.0;
+    if (HAS_CAMERA(CAMERA_APERTURE_IMAGE) && frame.aperture.w != 0u) return apertureTransmission(p / radius);
     uint blades = uint(lensStop.x);
-    if (blades < 3u) return true;
+    if (blades < 3u) return 1.0;
     float sector = 2.0 * PI / float(blades);
     float k = floor((atan(p.y, p.x) - lensStop.y) / sector);
     float mid = lensStop.y + (k + 0.5) * sector;
-    return p.x * cos(mid) + p.y * sin(mid) <= radius * cos(0.5 * sector);
+    return p.x * cos(mid) + p.y * sin(mid) <= radius * cos(0.5 * sector) ? 1.0 : 0.0;
 }
 
-// Through every surface from the film to the front; false where the lens blocks the ray.
-bool lensTrace(inout vec3 o, inout vec3 d, uint channel) {
+// Through every surface from the film to the front; false where the lens blocks the ray, and
+// the stop's transmission in `pass`.
+bool lensTrace(inout vec3 o, inout vec3 d, uint channel, out float pass) {
+    pass = 1.0;
     uint count = uint(lensInfo.x);
     for (uint step = 0u; step < count; ++step) {
         uint k = count - 1u - step;
@@ -63,7 +69,8 @@ bool lensTrace(inout vec3 o, inout vec3 d, uint channel) {
             n = (p - centre) / abs(s.x);
         }
         if (s.w > 0.0) {
-            if (!lensInsideStop(p.xy)) return false;
+            pass = lensStopTransmission(p.xy);
+            if (pass <= 0.0) return false;
         } else if (dot(p.xy, p.xy) > s.z * s.z) {
             return false;
         }
@@ -95,10 +102,11 @@ bool lensRayFromFilm(vec2 film, vec2 u, uint channel, out vec3 o, out vec3 d, ou
     vec2 rear = vec2(q.x * dir.x - q.y * dir.y, q.x * dir.y + q.y * dir.x);
     d = normalize(vec3(rear, lensFilm.z) - o);
     float cosTheta = abs(d.z);
-    if (!lensTrace(o, d, channel)) return false;
+    float pass;
+    if (!lensTrace(o, d, channel, pass)) return false;
     float dz = lensInfo.y - lensFilm.z;
     float c2 = cosTheta * cosTheta;
-    weight = c2 * c2 * (b.z - b.x) * (b.w - b.y) / (dz * dz) * lensInfo.w;
+    weight = pass * c2 * c2 * (b.z - b.x) * (b.w - b.y) / (dz * dz) * lensInfo.w;
     return true;
 }
 

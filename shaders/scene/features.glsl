@@ -47,8 +47,8 @@
 #ifndef CAUSTIC_MEDIA
 #define CAUSTIC_MEDIA 63u                  // bits MEDIA_*: what the scene's media need (integrator/medium.glsl)
 #endif
-#ifndef CAUSTIC_LENS_SYSTEM
-#define CAUSTIC_LENS_SYSTEM 1u             // 0: the camera is not a lens system (integrator/lens_camera.glsl)
+#ifndef CAUSTIC_CAMERA
+#define CAUSTIC_CAMERA 3u                  // bits CAMERA_*: what the camera needs (integrator/camera.glsl)
 #endif
 #ifndef CAUSTIC_SINGLE_LIGHT
 #define CAUSTIC_SINGLE_LIGHT 0u            // 1: exactly one light (the environment may be it)
@@ -67,6 +67,7 @@
 #define HAS_SAMPLER(t) ((CAUSTIC_SAMPLERS & (1u << (t))) != 0u)
 #define HAS_LIGHT_SELECTION(t) ((CAUSTIC_LIGHT_SELECTIONS & (1u << (t))) != 0u)
 #define HAS_MEDIA(bits) ((CAUSTIC_MEDIA & (bits)) != 0u)
+#define HAS_CAMERA(bits) ((CAUSTIC_CAMERA & (bits)) != 0u)
 // Whether kind `t` is the only one of its mask (a test of the run-time value can go).
 #define ONLY_KIND(mask, t) ((mask) == (1u << (t)))
 

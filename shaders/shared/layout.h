@@ -44,6 +44,9 @@ using uint = std::uint32_t;
 #define BINDING_LENS_UBO 1         // LensBlock: a lens system camera's surfaces and exit-pupil bounds (integrator/lens_camera.glsl)
 #define LENS_MAX_SURFACES 32       // renderer/lens.h, kLensMaxSurfaces
 #define LENS_PUPIL_BINS 64         // renderer/lens.h, kLensPupilBins
+// What a camera needs beyond the thin lens (bits of CAUSTIC_CAMERA, scene/features.glsl).
+#define CAMERA_LENS_SYSTEM 1u      // a lens system (LensBlock)
+#define CAMERA_APERTURE_IMAGE 2u   // an aperture image (GpuFrame::aperture)
 #define BINDING_PRIMITIVES 1
 #define BINDING_MATERIALS 2
 #define BINDING_LIGHTS 3
@@ -383,6 +386,9 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 //     equiangular sampling in media aims at, integrator/medium.glsl)
 //   mediumA, mediumS: the scene's medium (the one outside every object, where the camera is):
 //     rgb absorption sigma_a and w the Henyey-Greenstein g; rgb scattering sigma_s, w unused
+//   aperture: the camera's aperture image in the tables buffer: x: offset of its row CDF (z + 1
+//     entries), then its rows' CDFs (z (y + 1)), then its texels (y z, row 0 the top); y, z: its
+//     width and height; w: 1 when the camera has one (integrator/camera.glsl)
 //   envGuide: the environment map's guide tables in the tables buffer (environment.glsl,
 //     envFindInterval): x: offset of the row CDF's (2^z + 1 entries), y: offset
 //     of the column CDFs' (one of 2^w + 1 entries per row), z, w: log2 of their
@@ -390,7 +396,7 @@ CAUSTIC_STRUCT(GpuLightNode) { GPU_DECLARE(GPU_LIGHT_NODE_ROWS) };
 #define GPU_FRAME_ROWS(V4, U4, V3U, UUUU) \
     V4(camPosition) V4(camRight) V4(camUp) V4(camForward) U4(image) U4(counts) U4(dispatch) \
     U4(envInfo) V4(envRadiance) V4(envHorizon) V4(envZenith) V4(envMap) V4(camLens) U4(camInfo) \
-    U4(geometry) U4(tables) U4(sampling) V4(envSelect) V4(rayOffset) U4(options) U4(envGuide) V4(mediumA) V4(mediumS)
+    U4(geometry) U4(tables) U4(sampling) V4(envSelect) V4(rayOffset) U4(options) U4(envGuide) V4(mediumA) V4(mediumS) U4(aperture)
 CAUSTIC_STRUCT(GpuFrame) { GPU_DECLARE(GPU_FRAME_ROWS) };
 
 #ifdef __cplusplus

@@ -420,7 +420,7 @@ TEST_CASE("Bad scenes fail with the JSON path and a clear reason", "[scene_io]")
         {"duplicate key", scene(R"("camera": {"fov": 30, "up": [0, 1, 0], "fov": 40})"), "camera.fov", "duplicate key"},
         // Camera.
         {"unknown nested key", scene(R"("camera": {"fvo": 30})"), "camera.fvo",
-         "unknown key (allowed: position, look_at, up, fov, fov_axis, roll, aperture_radius, focal_distance, focus_point, squeeze, blades, blade_rotation, lens, lens_f_stop, sensor_width, lens_dispersion)"},
+         "unknown key (allowed: position, look_at, up, fov, fov_axis, roll, aperture_radius, focal_distance, focus_point, squeeze, blades, blade_rotation, aperture_image, lens, lens_f_stop, sensor_width, lens_dispersion)"},
         {"string for a number", scene(R"("camera": {"fov": "wide"})"), "camera.fov", "must be a number, got string \"wide\""},
         {"lens key without a lens", scene(R"("camera": {"lens_f_stop": 4})"), "camera.lens_f_stop",
          "only a camera with a `lens` takes lens_f_stop"},
