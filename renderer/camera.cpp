@@ -67,6 +67,23 @@ double apertureRadiusForFNumber(const CameraFrame& frame, double n) {
     return focalLengthMm(frame) / (2.0 * n * kMillimetresPerSceneUnit);
 }
 
+std::optional<WorldRay> lensPixelRay(const Camera& camera, const LensCamera& lens, glm::dvec2 pixel, int width, int height) {
+    const CameraFrame f = cameraFrame(camera, width, height);
+    const glm::dvec2 ndc(2.0 * pixel.x / width - 1.0, 1.0 - 2.0 * pixel.y / height);
+    const glm::dvec2 film(-ndc.x * lens.filmHalfWidth, -ndc.y * lens.filmHalfHeight);  // the lens turns the image over
+    std::optional<LensRay> ray;
+    double weight = 0.0;
+    ray = lensCameraRay(lens, film, glm::dvec2(0.5), -1, &weight);
+    for (int k = 0; k < 49 && !ray; ++k)
+        ray = lensCameraRay(lens, film, glm::dvec2((k % 7 + 0.5) / 7.0, (k / 7 + 0.5) / 7.0), -1, &weight);
+    if (!ray) return std::nullopt;
+    const double unit = 1.0 / kMillimetresPerSceneUnit;
+    WorldRay out;
+    out.origin = f.position + unit * (ray->o.x * f.right + ray->o.y * f.up + (lens.filmZ - ray->o.z) * f.forward);
+    out.direction = glm::normalize(ray->d.x * f.right + ray->d.y * f.up - ray->d.z * f.forward);
+    return out;
+}
+
 LensCameraSettings lensCameraSettings(const Camera& camera, int width, int height) {
     const CameraFrame frame = cameraFrame(camera, width, height);
     LensCameraSettings s;

@@ -66,4 +66,14 @@ double apertureRadiusForFNumber(const CameraFrame& frame, double n);
 // the image's longer side), the blades and dispersion.
 LensCameraSettings lensCameraSettings(const Camera& camera, int width, int height);
 
+// The ray of a lens-system camera (prepared for this camera: Renderer::lensCamera) through image
+// position `pixel` (as pixelDirection's), in the world: through the middle of that film point's
+// exit-pupil bound, or the first ray of a 7 x 7 grid over the bound that passes. Every ray of an
+// in-focus point meets it there, so picking and Shift+click focus work through the lens as the
+// shader renders it (integrator/lens_camera.glsl). Empty where no ray passes.
+struct WorldRay {
+    glm::dvec3 origin, direction;
+};
+std::optional<WorldRay> lensPixelRay(const Camera& camera, const LensCamera& lens, glm::dvec2 pixel, int width, int height);
+
 }  // namespace caustic

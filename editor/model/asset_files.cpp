@@ -31,6 +31,7 @@ bool isAssetFile(AssetKind kind, const std::string& path) {
             return false;
         case AssetKind::Mesh: return !e.empty() && isMeshFileExtensionSupported(path);
         case AssetKind::EnvironmentMap: return e == ".hdr" || e == ".exr";
+        case AssetKind::Lens: return e == ".lens";
     }
     return false;
 }

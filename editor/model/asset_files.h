@@ -1,6 +1,6 @@
 // The files a scene may name, for the inspector's file picker (issue 15): textures, meshes and
 // HDR environment maps found in the scene's folder and in the assets folder, filtered by
-// extension, each with the path the scene stores (relative to the scene's folder, as every path a
+// extension (lens prescriptions: .lens, docs/lenses.md), each with the path the scene stores (relative to the scene's folder, as every path a
 // scene names is: renderer/scene.h). No ImGui, no GL: unit-tested in tests/editor/test_asset_files.cpp.
 #pragma once
 
@@ -9,11 +9,11 @@
 
 namespace caustic::editor {
 
-enum class AssetKind { Texture, Mesh, EnvironmentMap };
+enum class AssetKind { Texture, Mesh, EnvironmentMap, Lens };
 
 // Whether a file of that name is listed for the kind (by its extension, case-insensitive):
 // textures .png .jpg .jpeg .exr .hdr .tga .bmp .tif .tiff; meshes what the importer reads
-// (renderer/mesh_import.h); environment maps .hdr .exr.
+// (renderer/mesh_import.h); environment maps .hdr .exr; lenses .lens.
 bool isAssetFile(AssetKind kind, const std::string& path);
 
 // The assets folder for a scene in `sceneFolder` (absolute): $CAUSTIC_ASSETS_DIR when set, else

@@ -96,7 +96,10 @@ std::pair<glm::vec3, glm::vec3> boundsOfUnitCube(const glm::mat4& m, bool flatZ)
 
 }  // namespace
 
-Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel) {
+Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel, const LensCamera* lens) {
+    if (lens && !camera.lens.empty())
+        if (const auto r = lensPixelRay(camera, *lens, glm::dvec2(pixel), width, height))
+            return {glm::vec3(r->origin), glm::vec3(r->direction)};
     const CameraFrame f = cameraFrame(camera, width, height);
     return {camera.position, glm::vec3(f.pixelDirection(glm::dvec2(pixel), width, height))};
 }

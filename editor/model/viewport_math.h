@@ -6,6 +6,7 @@
 #pragma once
 
 #include "editor/model/commands.h"
+#include "renderer/lens.h"
 #include "renderer/scene.h"
 
 #include <glm/glm.hpp>
@@ -24,7 +25,9 @@ struct Ray {
 
 // The ray through image position `pixel` (continuous, (0,0) = top-left corner of the image,
 // (width, height) = bottom-right) of a width x height render.
-Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel);
+// With `lens` (the renderer's prepared lens system, for a camera with one): the ray through the
+// lens (renderer/camera.h, lensPixelRay), the pinhole's where none passes.
+Ray cameraRay(const Camera& camera, int width, int height, glm::vec2 pixel, const LensCamera* lens = nullptr);
 
 struct PickHit {
     EntityRef ref;

@@ -25,6 +25,7 @@ const char* kindText(AssetKind kind) {
         case AssetKind::Texture: return "textures";
         case AssetKind::Mesh: return "model files";
         case AssetKind::EnvironmentMap: return "HDR maps (.hdr, .exr)";
+        case AssetKind::Lens: return "lens prescriptions (.lens)";
     }
     return "files";
 }

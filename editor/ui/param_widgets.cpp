@@ -198,7 +198,10 @@ void fileWidget(Edit& e, const Param<T>& p, std::string* value) {
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("relative to the scene file; Enter applies%s", p.nonEmpty ? ", empty removes it" : "");
     ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
-    const AssetKind kind = std::is_same_v<T, Environment> ? AssetKind::EnvironmentMap : AssetKind::Texture;
+    // The camera's `lens` picks from the lens library (assets/lenses/); every other file is an image.
+    const AssetKind kind = std::is_same_v<T, Environment> ? AssetKind::EnvironmentMap
+                           : std::is_same_v<T, Camera> && p.key == "lens" ? AssetKind::Lens
+                                                                           : AssetKind::Texture;
     if (const std::optional<AssetFile> picked = assetPickerButton(e.ui, label.c_str(), kind); picked && picked->stored != *value) {
         *value = picked->stored;
         e.changed = e.seal = true;

@@ -478,7 +478,9 @@ void drawViewportPanel(EditorUi& ui) {
     if (hovered && !gizmoBusy && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
-        const Ray ray = cameraRay(ui.app.state.scene.camera, rs.width, rs.height, pixel);
+        // Through the lens system where the camera has one (the renderer's, as it renders).
+        const Ray ray = cameraRay(ui.app.state.scene.camera, rs.width, rs.height, pixel,
+                                  ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr);
         // Hidden objects (H) cannot be picked: the scene without them, indices mapped back.
         std::vector<int> shown;
         std::optional<PickHit> hit = ui.app.hidden.empty() ? pick(ui.app.state.scene, ray)

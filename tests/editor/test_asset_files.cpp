@@ -43,6 +43,7 @@ TEST_CASE("the file picker lists the scene's and the assets folder's files of a 
     touchFile(root / "assets" / "tiles" / "albedo.png");
     touchFile(root / "assets" / "tiles" / "torus.obj");
     touchFile(root / "assets" / "notes.txt");
+    touchFile(root / "assets" / "lenses" / "dgauss.lens");
     const std::string scenes = (root / "scenes").string();
 
     CHECK(assetsFolderFor(scenes) == (root / "assets").string());
@@ -51,6 +52,8 @@ TEST_CASE("the file picker lists the scene's and the assets folder's files of a 
                                    "assets:sky.hdr=../assets/sky.hdr", "assets:tiles/albedo.png=../assets/tiles/albedo.png"});
     CHECK(stored(listAssetFiles(AssetKind::EnvironmentMap, scenes, assetsFolderFor(scenes))) ==
           std::vector<std::string>{"assets:sky.hdr=../assets/sky.hdr"});
+    CHECK(stored(listAssetFiles(AssetKind::Lens, scenes, assetsFolderFor(scenes))) ==
+          std::vector<std::string>{"assets:lenses/dgauss.lens=../assets/lenses/dgauss.lens"});
     CHECK(stored(listAssetFiles(AssetKind::Mesh, scenes, assetsFolderFor(scenes))) ==
           std::vector<std::string>{"assets:tiles/torus.obj=../assets/tiles/torus.obj"});
     // Deeper folders when asked; a file under both roots is listed once (the scene's folder's).
