@@ -1,9 +1,12 @@
 #include "editor/model/lookdev.h"
 
+#include "editor/model/viewport_math.h"
+#include "renderer/camera.h"
 #include "renderer/gpu_materials.h"
 #include "renderer/scene_schema.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace caustic::editor {
 namespace {
@@ -305,6 +308,51 @@ std::unique_ptr<Command> makeApplyPreset(const EditorState& s, int index, const 
     Material m = preset;
     m.name = s.scene.materials.at(static_cast<size_t>(index)).name;
     return makeSetMaterial(s, index, std::move(m));
+}
+
+Scene makeBokehPreviewScene(const Scene& edited, const LensCamera* lens, int width, int samples) {
+    Scene p;
+    p.sourcePath = edited.sourcePath;   // the lens file and the aperture image resolve from there
+    p.camera = edited.camera;
+    const double aspect = double(edited.render.width) / double(std::max(edited.render.height, 1));
+    p.render.width = width;
+    p.render.height = std::clamp(int(std::lround(width / aspect)), 8, 4 * width);
+    p.render.samples = samples;
+    p.render.maxDepth = 1;
+    p.render.seed = 0;
+    const CameraFrame frame = cameraFrame(p.camera, p.render.width, p.render.height);
+    const double depth = 10.0 * frame.focalDistance;
+    // The points' radiance: a defocused point of radius r spreads over a disc of about the
+    // entrance pupil's diameter A at that depth (the blur at 10 times the focus distance is 9 A
+    // across, in the scene), so radiance (9 A / r)^2 makes the discs' brightness about 1.
+    const double pupil = lens && !p.camera.lens.empty() ? lens->efl / lens->fNumber / kMillimetresPerSceneUnit
+                                                        : 2.0 * p.camera.apertureRadius;
+    const double radius = 0.002 * depth;
+    const float radiance = float(std::clamp(std::pow(9.0 * std::max(pupil, radius) / radius, 2.0), 1.0, 1e7));
+    Material point;
+    point.name = "bokeh point";
+    point.albedo = glm::vec3(0.0f);
+    point.emission = glm::vec3(radiance);
+    p.materials.push_back(point);
+    for (int j = 0; j < kBokehPreviewRows; ++j)
+        for (int i = 0; i < kBokehPreviewColumns; ++i) {
+            // Spread over the frame, the outer ones 8 % in from its edges.
+            const glm::vec2 pixel(float(p.render.width) * (0.08f + 0.84f * float(i) / float(kBokehPreviewColumns - 1)),
+                                  float(p.render.height) * (0.08f + 0.84f * float(j) / float(kBokehPreviewRows - 1)));
+            const Ray ray = cameraRay(p.camera, p.render.width, p.render.height, pixel, lens);
+            const double along = glm::dot(glm::dvec3(ray.direction), frame.forward);
+            if (!(along > 1e-6)) continue;
+            const glm::dvec3 at = glm::dvec3(ray.origin) + glm::dvec3(ray.direction) *
+                                  ((depth - glm::dot(glm::dvec3(ray.origin) - frame.position, frame.forward)) / along);
+            Object o;
+            o.name = "bokeh point " + std::to_string(j * kBokehPreviewColumns + i);
+            o.shape = Shape::Sphere;
+            o.material = point.name;
+            o.transform.translate = glm::vec3(at);
+            o.transform.scale = glm::vec3(float(radius));
+            p.objects.push_back(std::move(o));
+        }
+    return p;
 }
 
 Scene makePreviewScene(const Scene& edited, const Material& material, PreviewLighting lighting, int size, int samples) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "editor/model/editor_state.h"
+#include "renderer/lens.h"
 #include "renderer/scene.h"
 
 #include <memory>
@@ -59,6 +60,15 @@ enum class PreviewLighting { Scene, Studio };
 // the material and environment name resolve from the edited scene's folder (sourcePath is kept).
 Scene makePreviewScene(const Scene& edited, const Material& material, PreviewLighting lighting, int size = 128,
                        int samples = 64);
+// The camera's bokeh preview (the camera inspector): the edited camera as it is (thin lens or lens
+// system, its stop, blades, aperture image and focus) looking at a 5 x 3 grid of small bright
+// points spread over its frame at ten times its focus distance, on black, so each point's
+// defocused image shows the bokeh's shape at that place of the frame (cat's eyes towards the
+// edges). `lens`: the renderer's prepared lens system for a camera with one (its rays place the
+// points where the lens sees them; the pinhole of fov otherwise). width x (width / aspect) pixels.
+Scene makeBokehPreviewScene(const Scene& edited, const LensCamera* lens, int width = 256, int samples = 64);
+inline constexpr int kBokehPreviewColumns = 5, kBokehPreviewRows = 3;
+
 // The ball's material inside the preview scene (a fixed name that no scene material can clash
 // with in it).
 inline constexpr const char* kPreviewMaterialName = "preview ball";

@@ -53,7 +53,7 @@ bool chordPressed(const Chord& chord) {
 }
 
 AppState::AppState()
-    : preview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
+    : preview(std::make_unique<MaterialPreview>()), bokehPreview(std::make_unique<MaterialPreview>()), driver(std::make_unique<FrameDriver>()),
       meshImports(std::make_unique<MeshImports>()) {}
 AppState::~AppState() = default;
 
@@ -174,7 +174,8 @@ void reloadShaders(EditorUi& ui) {
     if (ui.app.display) ui.app.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against
     else ui.app.display = std::move(display);
     ui.app.session.sceneUploaded = false;   // the next frame uploads the scene to the new renderer
-    if (ui.app.preview) ui.app.preview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
+    if (ui.app.preview) ui.app.preview->reloadShaders();
+    if (ui.app.bokehPreview) ui.app.bokehPreview->reloadShaders();   // its own renderer, rebuilt from the new shaders on its next tick
     notify(ui, "shaders reloaded");
 }
 

@@ -51,6 +51,9 @@ struct AppState {
     std::unique_ptr<ViewportDenoiser> denoiser;   // viewport_denoise.h (view state, not saved)
     // The material preview ball (material_preview.h): rendered only while a material is shown.
     std::unique_ptr<MaterialPreview> preview;
+    // The camera's bokeh preview (the same machinery, lookdev.h makeBokehPreviewScene): rendered
+    // only while the camera inspector shows it.
+    std::unique_ptr<MaterialPreview> bokehPreview;
     std::vector<std::string> hidden;   // objects hidden in the viewport (H; view state, not saved)
     std::optional<std::string> renderToFile;   // written when the target sample count is reached
 

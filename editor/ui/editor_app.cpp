@@ -478,7 +478,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         double frameStart = now();
         while (!app->quit) {
             // Converged and idle: sleep until input instead of spinning.
-            const bool busy = app->session.busy(app->renderer.get(), app->state.scene) || app->preview->converging();
+            const bool busy = app->session.busy(app->renderer.get(), app->state.scene) || app->preview->converging() ||
+                              app->bokehPreview->converging();
             if (!busy && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
             if (glfwWindowShouldClose(window)) {
@@ -519,6 +520,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 renderFrame(*ui);
                 if (app->denoiser) app->denoiser->tick(*ui);
                 app->preview->tick(*ui);   // a few ms for the material preview, when one is shown
+                app->bokehPreview->tick(*ui);   // and for the camera's bokeh preview
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -548,6 +550,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         app->recent.save(app->recentListPath, &recentError);
         app->denoiser.reset();   // joins the worker; deletes its texture while GL is current
         app->preview.reset();    // its renderer and display, while GL is current
+        app->bokehPreview.reset();
         app->display.reset();
         app->renderer.reset();
         ImGui_ImplOpenGL3_Shutdown();

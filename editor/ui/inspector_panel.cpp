@@ -279,9 +279,22 @@ void cameraInspector(EditorUi& ui) {
     const int blades = c.blades;
     Edit e{ui};
     drawParams<Camera>(e, c);
+    // A lens system: what the renderer made of it (focal length, stops, focus), read-only.
+    if (!c.lens.empty()) {
+        ImGui::SeparatorText("As traced");
+        if (const LensCamera* lens = ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr) {
+            ImGui::TextWrapped("%s", lens->lens.name.c_str());
+            ImGui::Text("focal length %.1f mm, f/%.2f (wide open f/%.2f)", lens->efl, lens->fNumber, lens->fNumberOpen);
+            ImGui::Text("focused at %.3g m%s", lens->focusDistanceMm / kMillimetresPerSceneUnit,
+                        lens->notes.empty() ? "" : " (see the note below)");
+            for (const std::string& note : lens->notes) ImGui::TextDisabled("%s", note.c_str());
+        } else {
+            ImGui::TextDisabled("not loaded (see the status line)");
+        }
+    }
     // The same lens in a photographer's terms (renderer/camera.h): views of fov and the aperture
-    // radius, with scene units read as metres.
-    {
+    // radius, with scene units read as metres (the thin lens only).
+    if (c.lens.empty()) {
         ImGui::SeparatorText("Photographic (35 mm, metres)");
         const RenderSettings& rs = s.scene.render;
         const double aspect = double(rs.width) / double(rs.height);
@@ -309,6 +322,20 @@ void cameraInspector(EditorUi& ui) {
         frameSelection(ui);
     }
     // Saved views (camera_views.h): the editor's own, by scene file, not in the scene.
+    // The bokeh preview (lookdev.h): points across the frame behind the focus, through this camera.
+    if (ImGui::CollapsingHeader("Bokeh preview", ImGuiTreeNodeFlags_DefaultOpen) && ui.app.bokehPreview) {
+        MaterialPreview& p = *ui.app.bokehPreview;
+        p.requestScene(makeBokehPreviewScene(s.scene, ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr));
+        const float w = ImGui::GetContentRegionAvail().x;
+        const float h = w * float(p.height()) / float(std::max(p.width(), 1));
+        if (const unsigned tex = p.texture()) ImGui::Image(ImTextureRef(static_cast<ImTextureID>(tex)), ImVec2(w, h));
+        else ImGui::Dummy(ImVec2(w, h));
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("points of light across the frame at ten times the focus distance: the bokeh's shape at "
+                              "each place of the frame");
+        ImGui::TextDisabled("%d / %d spp", p.samples(), p.targetSamples());
+        if (!p.error().empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "preview: %s", p.error().c_str());
+    }
     ImGui::SeparatorText("Saved views");
     static char s_viewName[128] = "";
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);

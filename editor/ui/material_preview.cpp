@@ -16,6 +16,11 @@ void MaterialPreview::request(const Scene& edited, const Material& material) {
     m_requested = true;
 }
 
+void MaterialPreview::requestScene(Scene scene) {
+    m_wanted = std::move(scene);
+    m_requested = true;
+}
+
 unsigned MaterialPreview::texture() const { return m_display && m_shown ? m_display->texture() : 0u; }
 
 int MaterialPreview::samples() const { return m_renderer && m_shown ? m_renderer->samplesDone() : 0; }
@@ -73,8 +78,10 @@ void MaterialPreview::tick(EditorUi& ui) {
         }
     }
     if (!m_shown) return;
-    if (m_renderer->samplesDone() < kSamples) m_renderer->renderFor(kBudgetSeconds, kSamples - m_renderer->samplesDone());
-    m_display->update(m_renderer->accumulationTexture(), kSize, kSize, ui.app.state.view.toneMap, ui.app.state.view.exposure);
+    const int target = m_shown->render.samples;
+    if (m_renderer->samplesDone() < target) m_renderer->renderFor(kBudgetSeconds, target - m_renderer->samplesDone());
+    m_display->update(m_renderer->accumulationTexture(), m_shown->render.width, m_shown->render.height,
+                      ui.app.state.view.toneMap, ui.app.state.view.exposure);
 }
 
 void MaterialPreview::reloadShaders() {
@@ -87,7 +94,7 @@ void MaterialPreview::reloadShaders() {
 }
 
 bool MaterialPreview::converging() const {
-    return m_shownLastFrame && m_renderer && m_shown && m_error.empty() && m_renderer->samplesDone() < kSamples;
+    return m_shownLastFrame && m_renderer && m_shown && m_error.empty() && m_renderer->samplesDone() < m_shown->render.samples;
 }
 
 bool MaterialPreview::writeImage(const std::string& file, const EditorUi& ui, std::string* error) const {

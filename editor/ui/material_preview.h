@@ -32,6 +32,9 @@ public:
 
     // This frame shows `material` of `edited` (its textures resolve from the scene's folder).
     void request(const Scene& edited, const Material& material);
+    // This frame shows `scene` as it is (its size and sample count its own): the camera
+    // inspector's bokeh preview (lookdev.h, makeBokehPreviewScene) is a second MaterialPreview.
+    void requestScene(Scene scene);
     // After the viewport rendered: updates the preview's scene if it changed, renders for a few
     // milliseconds and tone maps (the viewport's tone curve and exposure).
     void tick(EditorUi& ui);
@@ -39,6 +42,9 @@ public:
     PreviewLighting lighting = PreviewLighting::Scene;
     unsigned texture() const;          // 0 until something is rendered
     int samples() const;               // of the current preview scene
+    int targetSamples() const { return m_shown ? m_shown->render.samples : kSamples; }
+    int width() const { return m_shown ? m_shown->render.width : kSize; }
+    int height() const { return m_shown ? m_shown->render.height : kSize; }
     bool current() const;              // the image is of the last requested material and lighting
     bool requested() const { return m_requested; }
     // Shown last frame and still short of its samples: the frame loop must not sleep for input.

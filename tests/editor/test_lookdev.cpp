@@ -3,6 +3,8 @@
 // ball's scene.
 #include "editor/model/editor_state.h"
 #include "editor/model/lookdev.h"
+#include "editor/model/viewport_math.h"
+#include "renderer/camera.h"
 #include "renderer/scene_io.h"
 
 #include <catch2/catch.hpp>
@@ -289,4 +291,39 @@ TEST_CASE("the focus overlay marks what lies on the plane of focus", "[editor][c
     moved = scene.camera;
     moved.position.x = 1.0f;
     CHECK_FALSE(focusEdited(scene.camera, moved));   // a move is no focus edit
+}
+
+TEST_CASE("the bokeh preview's scene: points across the frame behind the focus, seen by the edited camera",
+          "[editor][lookdev][camera]") {
+    EditorState st = fourSpheres();
+    st.scene.sourcePath = "/some/folder/scene.json";
+    st.scene.render.width = 300;
+    st.scene.render.height = 200;
+    st.scene.camera.apertureRadius = 0.05f;
+    st.scene.camera.blades = 6;
+    st.scene.camera.focalDistance = 2.0f;
+    const Scene p = makeBokehPreviewScene(st.scene, nullptr, 120, 16);
+    CHECK(p.camera == st.scene.camera);          // the lens as edited: aperture, blades, focus
+    CHECK(p.sourcePath == st.scene.sourcePath);  // a lens file or aperture image resolves from the scene
+    CHECK(p.render.width == 120);
+    CHECK(p.render.height == 80);                // the edited image's aspect
+    CHECK(p.render.samples == 16);
+    REQUIRE(p.objects.size() == std::size_t(kBokehPreviewColumns * kBokehPreviewRows));
+    REQUIRE(p.materials.size() == 1);
+    CHECK(p.materials[0].emission.x > 1.0f);     // bright enough to show through the blur
+    CHECK(p.lights.empty());
+    CHECK(p.environment.type == EnvironmentType::None);
+    const CameraFrame frame = cameraFrame(p.camera, p.render.width, p.render.height);
+    for (int j = 0; j < kBokehPreviewRows; ++j)
+        for (int i = 0; i < kBokehPreviewColumns; ++i) {
+            const Object& o = p.objects[std::size_t(j * kBokehPreviewColumns + i)];
+            // Ten times the focus distance away along the view, under its grid position.
+            CHECK(glm::dot(glm::dvec3(o.transform.translate) - frame.position, frame.forward) ==
+                  Approx(10.0 * frame.focalDistance).epsilon(1e-5));
+            const glm::vec2 pixel(120.0f * (0.08f + 0.84f * float(i) / float(kBokehPreviewColumns - 1)),
+                                  80.0f * (0.08f + 0.84f * float(j) / float(kBokehPreviewRows - 1)));
+            const auto hit = pick(p, cameraRay(p.camera, p.render.width, p.render.height, pixel));
+            REQUIRE(hit.has_value());
+            CHECK(hit->ref.index == j * kBokehPreviewColumns + i);
+        }
 }

@@ -12,6 +12,7 @@
 #include "tests/gpu/gl_fixture.h"
 
 #include "renderer/camera.h"
+#include "editor/model/lookdev.h"
 #include "editor/model/viewport_math.h"
 #include "renderer/lens.h"
 
@@ -284,4 +285,65 @@ TEST_CASE("lens camera: picking and Shift+click focus work through the real lens
     CHECK(offset < 0.02 * depth);    // breathing: the magnification changes by about 1 %
     // The focus distance is the picked point's depth from the film.
     CHECK(cam.focusDistanceMm == Approx(1000.0 * glm::dot(glm::dvec3(*picked) - f.position, f.forward)).epsilon(1e-6));
+}
+
+TEST_CASE("lens camera: the bokeh preview's points image to round discs at the centre and cat's eyes at the corners",
+          "[gpu][camera][lens][editor]") {
+    auto renderer = test::makeRenderer();
+    Scene edited = lensScene(lensPath("dgauss-50mm.lens"), 0.0f, 0);   // wide open: the barrel cuts
+    edited.render.width = 360;
+    edited.render.height = 240;
+    edited.camera.focalDistance = 0.5f;
+    std::string error;
+    REQUIRE(renderer->setScene(edited, &error));
+    const Scene preview = editor::makeBokehPreviewScene(edited, renderer->lensCamera(), 192, 128);
+    CHECK(preview.objects.size() == std::size_t(editor::kBokehPreviewColumns * editor::kBokehPreviewRows));
+    CHECK(preview.camera == edited.camera);
+    const Film wide = test::renderFilm(*renderer, preview, 128);
+    // Each point's blob: the brightness-weighted spread of its cell of the grid along the
+    // direction from the image's centre (radial) and across it (tangential).
+    const int cols = editor::kBokehPreviewColumns, rows = editor::kBokehPreviewRows;
+    auto spread = [&](const Film& film, int ci, int cj, double* radial, double* tangential) {
+        const int x0 = ci * film.width / cols, x1 = (ci + 1) * film.width / cols;
+        const int y0 = cj * film.height / rows, y1 = (cj + 1) * film.height / rows;
+        double sum = 0.0;
+        glm::dvec2 mean(0.0);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const double v = film.mean[film.index(x, y)].g;
+                sum += v;
+                mean += v * glm::dvec2(x + 0.5, y + 0.5);
+            }
+        REQUIRE(sum > 0.0);
+        mean /= sum;
+        glm::dvec2 axis = mean - glm::dvec2(film.width, film.height) * 0.5;
+        axis = glm::length(axis) > 1.0 ? glm::normalize(axis) : glm::dvec2(1.0, 0.0);
+        const glm::dvec2 across(-axis.y, axis.x);
+        double r2 = 0.0, t2 = 0.0;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const double v = film.mean[film.index(x, y)].g;
+                const glm::dvec2 d = glm::dvec2(x + 0.5, y + 0.5) - mean;
+                r2 += v * glm::dot(d, axis) * glm::dot(d, axis);
+                t2 += v * glm::dot(d, across) * glm::dot(d, across);
+            }
+        *radial = std::sqrt(r2 / sum);
+        *tangential = std::sqrt(t2 / sum);
+    };
+    double cr = 0.0, ct = 0.0, er = 0.0, et = 0.0;
+    spread(wide, cols / 2, rows / 2, &cr, &ct);
+    spread(wide, 0, 0, &er, &et);
+    INFO("centre blob " << cr << " x " << ct << " px (radial x tangential), corner blob " << er << " x " << et);
+    CHECK(cr > 3.0);                              // defocused: a disc, not a point
+    CHECK(cr == Approx(ct).epsilon(0.1));         // round at the centre
+    CHECK(er < 0.8 * et);                         // a cat's eye at the corner, narrow radially
+    // Stopped down to f/8, the barrel no longer cuts the corner's bundle: round again.
+    Scene stopped = edited;
+    stopped.camera.lensFStop = 8.0f;
+    REQUIRE(renderer->setScene(stopped, &error));
+    const Film small = test::renderFilm(*renderer, editor::makeBokehPreviewScene(stopped, renderer->lensCamera(), 192, 128), 128);
+    double sr = 0.0, st = 0.0;
+    spread(small, 0, 0, &sr, &st);
+    INFO("stopped down to f/8: corner blob " << sr << " x " << st);
+    CHECK(sr > 0.85 * st);
 }
