@@ -323,7 +323,8 @@ void cameraInspector(EditorUi& ui) {
     }
     // Saved views (camera_views.h): the editor's own, by scene file, not in the scene.
     // The bokeh preview (lookdev.h): points across the frame behind the focus, through this camera.
-    if (ImGui::CollapsingHeader("Bokeh preview", ImGuiTreeNodeFlags_DefaultOpen) && ui.app.bokehPreview) {
+    // Closed until opened: its first render builds a program of its own (seconds on llvmpipe).
+    if (ImGui::CollapsingHeader("Bokeh preview") && ui.app.bokehPreview) {
         MaterialPreview& p = *ui.app.bokehPreview;
         p.requestScene(makeBokehPreviewScene(s.scene, ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr));
         const float w = ImGui::GetContentRegionAvail().x;

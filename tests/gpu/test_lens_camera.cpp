@@ -303,7 +303,7 @@ TEST_CASE("lens camera: the bokeh preview's points image to round discs at the c
     // Each point's blob: the brightness-weighted spread of its cell of the grid along the
     // direction from the image's centre (radial) and across it (tangential).
     const int cols = editor::kBokehPreviewColumns, rows = editor::kBokehPreviewRows;
-    auto spread = [&](const Film& film, int ci, int cj, double* radial, double* tangential) {
+    auto spread = [&](const Film& film, int ci, int cj, double* radial, double* tangential, glm::dvec2* centroid) {
         const int x0 = ci * film.width / cols, x1 = (ci + 1) * film.width / cols;
         const int y0 = cj * film.height / rows, y1 = (cj + 1) * film.height / rows;
         double sum = 0.0;
@@ -316,6 +316,7 @@ TEST_CASE("lens camera: the bokeh preview's points image to round discs at the c
             }
         REQUIRE(sum > 0.0);
         mean /= sum;
+        if (centroid) *centroid = mean;
         glm::dvec2 axis = mean - glm::dvec2(film.width, film.height) * 0.5;
         axis = glm::length(axis) > 1.0 ? glm::normalize(axis) : glm::dvec2(1.0, 0.0);
         const glm::dvec2 across(-axis.y, axis.x);
@@ -331,19 +332,55 @@ TEST_CASE("lens camera: the bokeh preview's points image to round discs at the c
         *tangential = std::sqrt(t2 / sum);
     };
     double cr = 0.0, ct = 0.0, er = 0.0, et = 0.0;
-    spread(wide, cols / 2, rows / 2, &cr, &ct);
-    spread(wide, 0, 0, &er, &et);
-    INFO("centre blob " << cr << " x " << ct << " px (radial x tangential), corner blob " << er << " x " << et);
+    glm::dvec2 cornerPixel(0.0);
+    spread(wide, cols / 2, rows / 2, &cr, &ct, nullptr);
+    spread(wide, 0, 0, &er, &et, &cornerPixel);
+    // The same shapes from the exit-pupil bound alone (renderer/lens.h): the spread of the pupil
+    // points whose rays pass, for the film points under the blobs, and their area (the passing
+    // share of the bound times its area).
+    const LensCamera& cam = *renderer->lensCamera();
+    auto pupil = [&](double r) {
+        const glm::dvec4 b = cam.pupilBounds[std::size_t(std::min(int(r / cam.filmRadius * kLensPupilBins), kLensPupilBins - 1))];
+        glm::dvec2 mean(0.0), sq(0.0);
+        int count = 0;
+        constexpr int n = 160;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const glm::dvec2 u((i + 0.5) / n, (j + 0.5) / n);
+                double w = 0.0;
+                if (!lensCameraRay(cam, glm::dvec2(r, 0.0), u, -1, &w)) continue;
+                const glm::dvec2 q(b.x + u.x * (b.z - b.x), b.y + u.y * (b.w - b.y));
+                mean += q;
+                sq += q * q;
+                ++count;
+            }
+        mean /= double(count);
+        const glm::dvec2 sd = glm::sqrt(sq / double(count) - mean * mean);
+        return glm::dvec3(sd, double(count) / (n * n) * (b.z - b.x) * (b.w - b.y));
+    };
+    const glm::dvec2 cornerNdc(2.0 * cornerPixel.x / wide.width - 1.0, 1.0 - 2.0 * cornerPixel.y / wide.height);
+    const double cornerFilm = glm::length(cornerNdc * glm::dvec2(cam.filmHalfWidth, cam.filmHalfHeight));
+    const glm::dvec3 pc = pupil(0.0), pe = pupil(cornerFilm);
+    INFO("centre blob " << cr << " x " << ct << " px (radial x tangential), corner blob " << er << " x " << et
+                        << "; the passing pupil: centre " << pc.x << " x " << pc.y << " mm, area " << pc.z
+                        << " mm^2, corner " << pe.x << " x " << pe.y << ", area " << pe.z);
     CHECK(cr > 3.0);                              // defocused: a disc, not a point
     CHECK(cr == Approx(ct).epsilon(0.1));         // round at the centre
     CHECK(er < 0.8 * et);                         // a cat's eye at the corner, narrow radially
+    // The rendered cat's eye has the passing pupil's proportions, and its size relative to the
+    // centre's disc is the passing pupil's.
+    CHECK(er / et == Approx(pe.x / pe.y).epsilon(0.1));
+    CHECK(er * et / (cr * ct) == Approx(pe.x * pe.y / (pc.x * pc.y)).epsilon(0.15));
+    std::printf("bokeh preview, double Gauss wide open: corner / centre blob area (second moments) %.3f rendered, "
+                "%.3f from the pupil bound; passing pupil area %.1f / %.1f mm^2\n", er * et / (cr * ct),
+                pe.x * pe.y / (pc.x * pc.y), pe.z, pc.z);
     // Stopped down to f/8, the barrel no longer cuts the corner's bundle: round again.
     Scene stopped = edited;
     stopped.camera.lensFStop = 8.0f;
     REQUIRE(renderer->setScene(stopped, &error));
     const Film small = test::renderFilm(*renderer, editor::makeBokehPreviewScene(stopped, renderer->lensCamera(), 192, 128), 128);
     double sr = 0.0, st = 0.0;
-    spread(small, 0, 0, &sr, &st);
+    spread(small, 0, 0, &sr, &st, nullptr);
     INFO("stopped down to f/8: corner blob " << sr << " x " << st);
     CHECK(sr > 0.85 * st);
 }
