@@ -198,7 +198,7 @@ glm::dvec2 exitPupil(const LensSystem& lens, double stopRadius) {
 
 }  // namespace
 
-TEST_CASE("lens camera: focused by moving the lens, a point at the focus distance images to a spot; defocus gives "
+TEST_CASE("lens camera: focused by moving the lens, a point at the focus distance images to a spot, and defocus gives "
           "geometric optics' circle of confusion", "[cpu][lens]") {
     // (Not the singlet: its spherical aberration makes the defocused disc uneven even at f/8.)
     for (const char* file : {"dgauss-50mm.lens", "telephoto-250mm.lens", "wide-22mm.lens"}) {
