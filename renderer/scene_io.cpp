@@ -502,7 +502,8 @@ void readParam(const Param<T>& p, const Json& value, const std::string& path, T&
                     // A file name written only when set: an empty string is an error rather than a
                     // quiet "no texture" (leaving the key out says that).
                     if (p.nonEmpty && (out.*memberPtr).empty())
-                        fail(path, "must not be empty (leave the key out for no texture)");
+                        fail(path, std::string("must not be empty (leave the key out for ") +
+                                       (p.key == "lens" ? "the thin lens" : p.key == "aperture_image" ? "a round aperture" : "no texture") + ")");
                 }
             }
         },

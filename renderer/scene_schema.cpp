@@ -193,10 +193,9 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
          .doc = "turns the image counter-clockwise about the view direction", .speed = 0.2f},
         {.key = "aperture_radius", .label = "Aperture radius", .kind = ParamKind::Float, .member = &C::apertureRadius,
          .range = atLeast(0.0), .unit = "scene units",
-         .doc = "radius of the thin lens; `0` is a pinhole (everything sharp)",
-         .applies = [](const C& c) { return c.lens.empty(); },
-         .onlyWhen = [](const C&) { return std::string("a camera with a `lens` takes its aperture from lens_f_stop"); },
-         .speed = 0.001f},
+         .doc = "radius of the thin lens; `0` is a pinhole (everything sharp); with a `lens` it is read and ignored "
+                "(the stop is `lens_f_stop`), so `--set camera.lens=...` works on a thin-lens scene",
+         .applies = [](const C& c) { return c.lens.empty(); }, .speed = 0.001f},
         {.key = "focal_distance", .label = "Focal distance", .kind = ParamKind::Float, .member = &C::focalDistance,
          .range = atLeast(0.0), .unit = "scene units",
          .doc = "distance of the plane of focus along the view direction; `0` means the distance to `look_at`",
@@ -209,10 +208,8 @@ std::span<const Param<Camera>> schemaOf<Camera>() {
         {.key = "squeeze", .label = "Squeeze", .kind = ParamKind::Float, .member = &C::squeeze,
          .range = greaterThan(0.0),
          .doc = "anamorphic squeeze: the lens sample's x is divided by it, so out-of-focus highlights are "
-                "`squeeze` times taller than wide (thin lens only)",
-         .applies = [](const C& c) { return c.lens.empty(); },
-         .onlyWhen = [](const C&) { return std::string("squeeze is the thin lens's; a lens system has none"); },
-         .speed = 0.01f},
+                "`squeeze` times taller than wide (the thin lens's: with a `lens` it is read and ignored)",
+         .applies = [](const C& c) { return c.lens.empty(); }, .speed = 0.01f},
         {.key = "blades", .label = "Blades", .kind = ParamKind::Int, .member = &C::blades,
          .range = between(0.0, 64.0),
          .doc = "`0`: a round aperture; 3 or more: a regular polygon with that many blades (polygonal bokeh); 1 and 2 "

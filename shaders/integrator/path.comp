@@ -69,7 +69,14 @@ void main() {
         vec3 weight;
         Ray ray = sampleCameraRay(pixel, pixelIndex, s, smp, weight);
         PathAov aov;
-        vec3 L = weight * pathRadiance(ray, smp, aov);
+        vec3 L = vec3(0.0);
+        if (weight != vec3(0.0)) {
+            L = weight * pathRadiance(ray, smp, aov);
+        } else {
+            // A ray the lens system blocks: a sample of 0, not traced.
+            aov.albedo = vec3(0.0);
+            aov.normal = vec3(0.0);
+        }
         addSample(px, L, aov);
     }
 #endif
