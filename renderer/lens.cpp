@@ -341,12 +341,17 @@ std::optional<LensRay> lensCameraRay(const LensCamera& cam, glm::dvec2 film, glm
 namespace {
 
 // Bounds of the exit pupil for film radii [r0, r1] (on +x), from a grid of points over the
-// square of half side `extent` in the rear vertex's plane; grown by one cell.
+// square of half side `extent` in the rear vertex's plane; grown by one cell. The stop counts as
+// its circle (blades and an aperture image lie inside it).
 glm::dvec4 pupilBound(const LensCamera& cam, double r0, double r1, double extent, const std::vector<int>& channels) {
     constexpr int kGrid = 48, kRadii = 3;
     const double cell = 2.0 * extent / kGrid;
     glm::dvec4 box(1e30, 1e30, -1e30, -1e30);
-    const StopShape stop{cam.stopRadius, cam.blades, cam.bladeRotation, &cam.aperture};
+    // The stop as its whole circle: the bounds are found for film points on +x and turned with
+    // the film point, and a polygon or an aperture image is not symmetric under that turn (a
+    // hexagon's box from +x is cos 30 degrees too short across it at 30 degrees); the circle holds
+    // either at any angle.
+    const StopShape stop{cam.stopRadius, 0, 0.0, nullptr};
     const double rearZ = cam.vertexZ.back();
     for (int ri = 0; ri < kRadii; ++ri) {
         const double r = r0 + (r1 - r0) * ri / (kRadii - 1);

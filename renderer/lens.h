@@ -122,7 +122,8 @@ struct LensCamera {
     double focusDistanceMm = 0.0;    // what it focuses at (its closest focus where asked nearer)
     // Per bin of film radius [i, i + 1) filmRadius / bins: the box (x0, y0, x1, y1) in the plane of
     // the rear vertex through which rays from film points on the +x axis at those radii can pass
-    // (at any of the traced wavelengths); empty (x0 > x1) where none passes.
+    // (at any of the traced wavelengths, through the stop's whole circle: blades and an aperture
+    // image are not symmetric under the turn to other film angles); empty (x0 > x1) where none passes.
     std::vector<glm::dvec4> pupilBounds;
     double weightScale = 1.0;        // makes the mean weight at the film's centre 1
     std::vector<std::string> notes;  // what was adjusted (a focus nearer than the closest, an f-number wider than open)

@@ -297,6 +297,24 @@ TEST_CASE("lens camera: the exit-pupil bounds hold every ray that passes, the we
                          ((hexagon.pupilBounds[0].z - hexagon.pupilBounds[0].x) * (hexagon.pupilBounds[0].w - hexagon.pupilBounds[0].y)) /
                          ((round.pupilBounds[0].z - round.pupilBounds[0].x) * (round.pupilBounds[0].w - round.pupilBounds[0].y));
     CHECK(ratio == Approx(1.5 * std::sqrt(3.0) / std::numbers::pi).epsilon(0.02));
+    // The bounds, found on +x and turned with the film point, hold a polygonal stop at every
+    // angle: near the axis the hexagon passes the same share whatever the film point's angle
+    // (the box of its +x view was cos 30 degrees too short at 30 degrees).
+    auto passingArea = [&](const LensCamera& cam, double angle) {
+        const glm::dvec2 film = 0.5 * glm::dvec2(std::cos(angle), std::sin(angle));
+        const glm::dvec4 b = cam.pupilBounds[0];
+        int count = 0;
+        constexpr int n = 200;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                double w = 0.0;
+                count += lensCameraRay(cam, film, glm::dvec2((i + 0.5) / n, (j + 0.5) / n), -1, &w).has_value();
+            }
+        return double(count) / (n * n) * (b.z - b.x) * (b.w - b.y);
+    };
+    const double at0 = passingArea(hexagon, 0.0);
+    for (double degrees : {15.0, 30.0, 45.0, 90.0})
+        CHECK(passingArea(hexagon, degrees * std::numbers::pi / 180.0) == Approx(at0).epsilon(0.01));
 }
 
 TEST_CASE("lens camera: cat's eyes: off axis the barrel cuts the pupil radially, and the bokeh's area is the "
