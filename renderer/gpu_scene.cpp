@@ -262,23 +262,7 @@ bool Builder::run() {
             return false;
         }
     }
-    if (!scene.camera.apertureImage.empty()) {
-        const std::string file = resolveScenePath(scene, scene.camera.apertureImage);
-        ImageData image;
-        std::string why;
-        if (!readImage) {
-            *error = "camera.aperture_image: " + file + ": this build cannot read images";
-            return false;
-        }
-        if (!readImage(file, &image, &why)) {
-            *error = "camera.aperture_image: " + why;
-            return false;
-        }
-        if (!buildApertureImage(image, &out.aperture, &why)) {
-            *error = "camera.aperture_image: " + file + ": " + why;
-            return false;
-        }
-    }
+    if (!scene.camera.apertureImage.empty() && !readApertureImage(scene, readImage, &out.aperture, error)) return false;
     if (env.type != EnvironmentType::None) {
         glm::vec3 average = env.type == EnvironmentType::Constant ? env.radiance
                             : env.type == EnvironmentType::Map   ? out.envMap.average
@@ -325,6 +309,25 @@ bool Builder::run() {
 
 using scene_compile::Builder;
 
+
+bool readApertureImage(const Scene& scene, const ImageReader& readImage, ApertureImage* out, std::string* error) {
+    const std::string file = resolveScenePath(scene, scene.camera.apertureImage);
+    ImageData image;
+    std::string why;
+    if (!readImage) {
+        *error = "camera.aperture_image: " + file + ": this build cannot read images";
+        return false;
+    }
+    if (!readImage(file, &image, &why)) {
+        *error = "camera.aperture_image: " + why;
+        return false;
+    }
+    if (!buildApertureImage(image, out, &why)) {
+        *error = "camera.aperture_image: " + file + ": " + why;
+        return false;
+    }
+    return true;
+}
 
 bool buildApertureImage(const ImageData& image, ApertureImage* out, std::string* error) {
     if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||

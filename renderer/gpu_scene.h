@@ -59,6 +59,9 @@ struct ApertureImage {
 };
 // False (with the reason) for an image with no texel above 0.
 bool buildApertureImage(const ImageData& image, ApertureImage* out, std::string* error);
+// The scene camera's aperture image read (through `readImage`) and built; errors name
+// camera.aperture_image and the file.
+bool readApertureImage(const Scene& scene, const ImageReader& readImage, ApertureImage* out, std::string* error);
 
 struct CompiledScene {
     std::vector<gpu::GpuPrimitive> primitives;

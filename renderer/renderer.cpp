@@ -216,22 +216,8 @@ bool Renderer::prepareLens(const Scene& scene, std::string* error) {
     const std::string fullKey = path + "\n" + key + "\n" + apertureKey;
     if (fullKey == m_lensKey) return true;
     if (!c.apertureImage.empty()) {
-        const std::string file = resolveScenePath(scene, c.apertureImage);
-        ImageData image;
         ApertureImage aperture;
-        std::string why;
-        if (!m_readImage) {
-            *error = "camera.aperture_image: " + file + ": this build cannot read images";
-            return false;
-        }
-        if (!m_readImage(file, &image, &why)) {
-            *error = "camera.aperture_image: " + why;
-            return false;
-        }
-        if (!buildApertureImage(image, &aperture, &why)) {
-            *error = "camera.aperture_image: " + file + ": " + why;
-            return false;
-        }
+        if (!readApertureImage(scene, m_readImage, &aperture, error)) return false;
         settings.aperture = {aperture.width, aperture.height, std::move(aperture.mask)};
     }
     LensSystem lens;

@@ -8,6 +8,7 @@
 //     stated f-number;
 //   - near the axis, real rays focus at the paraxial back focal distance.
 #include "renderer/lens.h"
+#include "tests/support/lens_pupil.h"
 
 #include <catch2/catch.hpp>
 
@@ -320,27 +321,10 @@ TEST_CASE("lens camera: the exit-pupil bounds hold every ray that passes, the we
 TEST_CASE("lens camera: cat's eyes: off axis the barrel cuts the pupil radially, and the bokeh's area is the "
           "passing rays' share of the bound", "[cpu][lens]") {
     const LensCamera cam = camera(shipped("dgauss-50mm.lens"), 5000.0, 0.0);
-    // The passing rays' points in the rear plane, for a film point at radius r on +x: their
-    // spread along x (radial) and y (tangential), and their area.
+    // The passing rays' points in the rear plane (tests/support/lens_pupil.h).
     auto shape = [&](double r) {
-        glm::dvec2 mean(0.0), sq(0.0);
-        int count = 0;
-        const glm::dvec4 b = cam.pupilBounds[std::size_t(std::min(int(r / cam.filmRadius * kLensPupilBins), kLensPupilBins - 1))];
-        constexpr int n = 200;
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const glm::dvec2 u((i + 0.5) / n, (j + 0.5) / n);
-                double w = 0.0;
-                if (!lensCameraRay(cam, glm::dvec2(r, 0.0), u, -1, &w)) continue;
-                const glm::dvec2 q(b.x + u.x * (b.z - b.x), b.y + u.y * (b.w - b.y));
-                mean += q;
-                sq += q * q;
-                ++count;
-            }
-        mean /= double(count);
-        const glm::dvec2 sd = glm::sqrt(sq / double(count) - mean * mean);
-        const double area = double(count) / (n * n) * (b.z - b.x) * (b.w - b.y);
-        return glm::dvec3(sd, area);
+        const test::PupilShape p = test::passingPupil(cam, r);
+        return glm::dvec3(p.radial, p.tangential, p.area);
     };
     const glm::dvec3 centre = shape(0.0), edge = shape(0.95 * cam.filmRadius);
     std::printf("dgauss-50mm wide open: pupil at the centre %.3f x %.3f mm (sd), area %.1f mm^2; at the corner "

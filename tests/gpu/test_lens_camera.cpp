@@ -10,6 +10,7 @@
 //   - the editor picks through the lens (editor::cameraRay with the renderer's lens system), and a
 //     Shift+click focus there makes that pixel's rays meet on the picked point's plane.
 #include "tests/gpu/gl_fixture.h"
+#include "tests/support/lens_pupil.h"
 
 #include "renderer/camera.h"
 #include "editor/model/lookdev.h"
@@ -340,23 +341,8 @@ TEST_CASE("lens camera: the bokeh preview's points image to round discs at the c
     // share of the bound times its area).
     const LensCamera& cam = *renderer->lensCamera();
     auto pupil = [&](double r) {
-        const glm::dvec4 b = cam.pupilBounds[std::size_t(std::min(int(r / cam.filmRadius * kLensPupilBins), kLensPupilBins - 1))];
-        glm::dvec2 mean(0.0), sq(0.0);
-        int count = 0;
-        constexpr int n = 160;
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const glm::dvec2 u((i + 0.5) / n, (j + 0.5) / n);
-                double w = 0.0;
-                if (!lensCameraRay(cam, glm::dvec2(r, 0.0), u, -1, &w)) continue;
-                const glm::dvec2 q(b.x + u.x * (b.z - b.x), b.y + u.y * (b.w - b.y));
-                mean += q;
-                sq += q * q;
-                ++count;
-            }
-        mean /= double(count);
-        const glm::dvec2 sd = glm::sqrt(sq / double(count) - mean * mean);
-        return glm::dvec3(sd, double(count) / (n * n) * (b.z - b.x) * (b.w - b.y));
+        const test::PupilShape p = test::passingPupil(cam, r, 160);
+        return glm::dvec3(p.radial, p.tangential, p.area);
     };
     const glm::dvec2 cornerNdc(2.0 * cornerPixel.x / wide.width - 1.0, 1.0 - 2.0 * cornerPixel.y / wide.height);
     const double cornerFilm = glm::length(cornerNdc * glm::dvec2(cam.filmHalfWidth, cam.filmHalfHeight));
