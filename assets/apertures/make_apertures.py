@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the shipped aperture images (greyscale 8-bit PNGs, 128 x 128, 4 x 4 supersampled edges):
 star.png (a five-pointed star), heart.png (the heart curve x = 16 sin^3 t, y = 13 cos t - 5 cos 2t -
-2 cos 3t - cos 4t) and ring.png (an annulus: a mirror lens's doughnut bokeh). Standard library only:
+2 cos 3t - cos 4t), ring.png (an annulus: a mirror lens's doughnut bokeh) and cats-eye.png (two
+discs' intersection: the cat's eye of a vignetted lens everywhere in the frame, for the thin lens). Standard library only:
 python3 assets/apertures/make_apertures.py"""
 import math
 import os
@@ -53,3 +54,4 @@ here = os.path.dirname(os.path.abspath(__file__))
 write_png(os.path.join(here, "star.png"), image(lambda x, y: inside_polygon(x, y, star)))
 write_png(os.path.join(here, "heart.png"), image(lambda x, y: inside_polygon(x, y, heart)))
 write_png(os.path.join(here, "ring.png"), image(lambda x, y: 0.45 <= math.hypot(x, y) <= 0.97))
+write_png(os.path.join(here, "cats-eye.png"), image(lambda x, y: math.hypot(x - 0.45, y) <= 0.97 and math.hypot(x + 0.45, y) <= 0.97))
