@@ -700,7 +700,7 @@ TEST_CASE("The example in docs/scene-format.md loads", "[scene_io]") {
     CHECK(example.environment.type == EnvironmentType::Sky);
 }
 
-TEST_CASE("a lens-system camera reads and writes its keys; the thin lens's aperture is read and ignored beside it",
+TEST_CASE("a lens-system camera reads and writes its keys, and the thin lens's aperture is read and ignored beside it",
           "[cpu][scene][lens]") {
     const SceneLoadResult r = parseScene(R"({"version": 1, "camera": {"position": [0, 1, 5], "aperture_radius": 0.2,
         "squeeze": 1.5, "lens": "../assets/lenses/dgauss-50mm.lens", "lens_f_stop": 2.8, "sensor_width": 24,
