@@ -340,34 +340,30 @@ std::optional<LensRay> lensCameraRay(const LensCamera& cam, glm::dvec2 film, glm
 
 namespace {
 
-// Bounds of the exit pupil for film radii [r0, r1] (on +x), from a grid of points over the
-// square of half side `extent` in the rear vertex's plane; grown by one cell. The stop counts as
-// its circle (blades and an aperture image lie inside it).
-glm::dvec4 pupilBound(const LensCamera& cam, double r0, double r1, double extent, const std::vector<int>& channels) {
-    constexpr int kGrid = 48, kRadii = 3;
-    const double cell = 2.0 * extent / kGrid;
+// The grid over the rear vertex's plane the exit-pupil bounds are found with: kPupilGrid x
+// kPupilGrid points over the square of half side `extent`.
+constexpr int kPupilGrid = 48;
+
+// The box (x0, y0, x1, y1) of the grid points whose rays from the film point at radius r on +x
+// pass (at any of `channels`' lines; empty: x0 > x1). The stop counts as its whole circle: the
+// bounds are found on +x and turned with the film point, and a polygon or an aperture image is
+// not symmetric under that turn (a hexagon's box from +x is cos 30 degrees too short across it at
+// 30 degrees); the circle holds either at any angle. The lens and the circle are symmetric about
+// y = 0, so the upper half of the grid is traced and mirrored.
+glm::dvec4 pupilBox(const LensCamera& cam, double r, double extent, const std::vector<int>& channels) {
+    const double cell = 2.0 * extent / kPupilGrid;
     glm::dvec4 box(1e30, 1e30, -1e30, -1e30);
-    // The stop as its whole circle: the bounds are found for film points on +x and turned with
-    // the film point, and a polygon or an aperture image is not symmetric under that turn (a
-    // hexagon's box from +x is cos 30 degrees too short across it at 30 degrees); the circle holds
-    // either at any angle.
     const StopShape stop{cam.stopRadius, 0, 0.0, nullptr};
-    const double rearZ = cam.vertexZ.back();
-    for (int ri = 0; ri < kRadii; ++ri) {
-        const double r = r0 + (r1 - r0) * ri / (kRadii - 1);
-        const glm::dvec3 o(r, 0.0, cam.filmZ);
-        for (int j = 0; j < kGrid; ++j)
-            for (int i = 0; i < kGrid; ++i) {
-                const glm::dvec3 p(-extent + (i + 0.5) * cell, -extent + (j + 0.5) * cell, rearZ);
-                const LensRay ray{o, glm::normalize(p - o)};
-                bool passes = false;
-                for (int c : channels) passes = passes || trace(cam.lens, cam.vertexZ, ray, wavelengthOf(c), true, &stop);
-                if (!passes) continue;
-                box = glm::dvec4(std::min(box.x, p.x), std::min(box.y, p.y), std::max(box.z, p.x), std::max(box.w, p.y));
-            }
-    }
-    if (box.x > box.z) return box;
-    return box + glm::dvec4(-cell, -cell, cell, cell);
+    const glm::dvec3 o(r, 0.0, cam.filmZ);
+    for (int j = kPupilGrid / 2; j < kPupilGrid; ++j)
+        for (int i = 0; i < kPupilGrid; ++i) {
+            const glm::dvec3 p(-extent + (i + 0.5) * cell, -extent + (j + 0.5) * cell, cam.vertexZ.back());
+            const LensRay ray{o, glm::normalize(p - o)};
+            bool passes = false;
+            for (int c : channels) passes = passes || trace(cam.lens, cam.vertexZ, ray, wavelengthOf(c), true, &stop);
+            if (passes) box = glm::dvec4(std::min(box.x, p.x), std::min(box.y, -p.y), std::max(box.z, p.x), std::max(box.w, p.y));
+        }
+    return box;
 }
 
 // The rms radius, on a film `film` mm behind the last vertex, of the real rays (at d) from the
@@ -503,7 +499,7 @@ bool prepareLensCamera(const LensSystem& lens, const LensCameraSettings& setting
         const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
         double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
         double f1 = spot(x1), f2 = spot(x2);
-        for (int k = 0; k < 48; ++k) {
+        for (int k = 0; k < 32; ++k) {   // the bracket shrinks to 6 % x 0.618^32, 1e-8 of the distance
             if (f1 < f2) {
                 hi = x2;
                 x2 = x1;
@@ -541,11 +537,20 @@ bool prepareLensCamera(const LensSystem& lens, const LensCameraSettings& setting
     const std::vector<int> channels = cam.dispersion ? std::vector<int>{0, 1, 2} : std::vector<int>{1};
     // The pupil bounds: the rear element's clear aperture, half as large again, holds every ray
     // that can pass (the rear element is the last thing a film ray crosses, whatever its angle).
+    // Each bin's box: the union of the boxes at its two ends and its middle (the ends shared
+    // with the neighbours), grown by one grid cell.
     const double extent = 0.75 * lens.surfaces.back().aperture;
+    std::vector<glm::dvec4> boxes(2 * kLensPupilBins + 1);
+    for (std::size_t k = 0; k < boxes.size(); ++k)
+        boxes[k] = pupilBox(cam, cam.filmRadius * double(k) / (2.0 * kLensPupilBins), extent, channels);
+    const double cell = 2.0 * extent / kPupilGrid;
     cam.pupilBounds.resize(kLensPupilBins);
-    for (int i = 0; i < kLensPupilBins; ++i)
-        cam.pupilBounds[std::size_t(i)] = pupilBound(cam, cam.filmRadius * i / kLensPupilBins,
-                                                    cam.filmRadius * (i + 1) / kLensPupilBins, extent, channels);
+    for (std::size_t i = 0; i < std::size_t(kLensPupilBins); ++i) {
+        glm::dvec4 box = boxes[2 * i];
+        for (std::size_t k = 2 * i + 1; k <= 2 * i + 2; ++k)
+            box = glm::dvec4(glm::min(glm::dvec2(box), glm::dvec2(boxes[k])), glm::max(glm::dvec2(box.z, box.w), glm::dvec2(boxes[k].z, boxes[k].w)));
+        cam.pupilBounds[i] = box.x > box.z ? box : box + glm::dvec4(-cell, -cell, cell, cell);
+    }
     // Exposure: the mean weight at the film's centre is 1 (over the traced wavelengths).
     cam.weightScale = 1.0;
     double sum = 0.0;
