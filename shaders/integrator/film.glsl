@@ -36,6 +36,11 @@ void addSample(inout PixelSums p, vec3 L, PathAov aov) {
     p.sumSq += vec4(L * L, 0.0);
 }
 
+// Adds a sample of a camera ray the lens system blocked: a radiance of 0 that counts in the
+// pixel's mean, and nothing in the AOVs (it saw no surface; counting it would darken the albedo
+// guide where the lens vignettes).
+void addBlockedSample(inout PixelSums p) { p.sum += vec4(0.0, 0.0, 0.0, 1.0); }
+
 PixelSums loadPixelSums(ivec2 ip) {
     PixelSums px;
     px.sum = imageLoad(accumImage, ip);

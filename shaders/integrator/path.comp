@@ -55,12 +55,15 @@ void main() {
         vec3 weight;
         PathState st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp, weight));
         st.beta = weight;
+        bool blocked = weight == vec3(0.0);   // by a lens system: it runs as a path of weight 0
         while (true) {
             if (!pathStep(st, smp)) continue;
-            addSample(px, st.L, st.aov);
+            if (blocked) addBlockedSample(px);
+            else addSample(px, st.L, st.aov);
             if (++s >= frame.dispatch.x) break;
             st = pathBegin(sampleCameraRay(pixel, pixelIndex, s, smp, weight));
             st.beta = weight;
+            blocked = weight == vec3(0.0);
         }
     }
 #else
@@ -68,16 +71,13 @@ void main() {
         Sampler smp;
         vec3 weight;
         Ray ray = sampleCameraRay(pixel, pixelIndex, s, smp, weight);
-        PathAov aov;
-        vec3 L = vec3(0.0);
         if (weight != vec3(0.0)) {
-            L = weight * pathRadiance(ray, smp, aov);
+            PathAov aov;
+            vec3 L = weight * pathRadiance(ray, smp, aov);
+            addSample(px, L, aov);
         } else {
-            // A ray the lens system blocks: a sample of 0, not traced.
-            aov.albedo = vec3(0.0);
-            aov.normal = vec3(0.0);
+            addBlockedSample(px);   // a ray the lens system blocks: a sample of 0, not traced
         }
-        addSample(px, L, aov);
     }
 #endif
     countRays(g_rayCount);

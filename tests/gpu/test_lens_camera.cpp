@@ -370,3 +370,37 @@ TEST_CASE("lens camera: the bokeh preview's points image to round discs at the c
     INFO("stopped down to f/8: corner blob " << sr << " x " << st);
     CHECK(sr > 0.85 * st);
 }
+
+TEST_CASE("lens camera: rays the lens blocks count as dark samples but not in the albedo and normal AOVs",
+          "[gpu][camera][lens][aov]") {
+    // A grey wall filling the view of the double Gauss, wide open: the corners are vignetted (a
+    // third or more of their rays blocked), darker in the image, and their albedo is still the wall's.
+    Scene s;
+    s.render.width = 48;
+    s.render.height = 32;
+    s.render.maxDepth = 1;
+    s.materials.push_back({"grey", MaterialType::Diffuse, glm::vec3(0.5f), glm::vec3(0.0f)});
+    Object wall;
+    wall.shape = Shape::Quad;
+    wall.material = "grey";
+    wall.transform.scale = glm::vec3(20.0f);
+    s.objects.push_back(wall);
+    s.environment.type = EnvironmentType::Constant;
+    s.environment.radiance = glm::vec3(1.0f);
+    s.camera.position = glm::vec3(0.0f, 0.0f, 3.0f);
+    s.camera.lookAt = glm::vec3(0.0f);
+    s.camera.lens = lensPath("dgauss-50mm.lens");
+    for (bool regenerate : {true, false}) {
+        IntegratorConfig config = test::testConfig();
+        config.regenerate = regenerate;
+        auto renderer = test::makeRenderer(config);
+        const Film film = test::renderFilm(*renderer, s, 16);
+        double worst = 0.0;
+        for (std::size_t i = 0; i < film.albedo.size(); ++i) worst = std::max(worst, double(std::abs(film.albedo[i].g - 0.5f)));
+        const glm::vec3 centre = film.mean[film.index(24, 16)], corner = film.mean[film.index(0, 0)];
+        INFO((regenerate ? "regeneration" : "whole paths") << ": albedo AOV off the wall's by up to " << worst
+                                                           << "; radiance at the centre " << centre.g << ", corner " << corner.g);
+        CHECK(worst < 1e-3);
+        CHECK(corner.g < 0.8f * centre.g);   // the corner is vignetted in the image itself
+    }
+}
