@@ -41,7 +41,7 @@ using uint = std::uint32_t;
 #define BINDING_ALBEDO_IMAGE 2     // image2D rgba32f: rgb = sum of first non-specular albedos, a = count
 #define BINDING_NORMAL_IMAGE 3     // image2D rgba32f: rgb = sum of first non-specular world normals, a = count
 #define BINDING_FRAME_UBO 0
-#define BINDING_LENS_UBO 1         // LensBlock: a lens system camera's surfaces and exit-pupil bounds (integrator/lens_camera.glsl)
+#define BINDING_LENS_UBO 1         // LensBlock (uniform-block bindings are numbered apart from the storage buffers below): a lens system camera's surfaces and exit-pupil bounds (integrator/lens_camera.glsl)
 #define LENS_MAX_SURFACES 32       // renderer/lens.h, kLensMaxSurfaces
 #define LENS_PUPIL_BINS 64         // renderer/lens.h, kLensPupilBins
 // What a camera needs beyond the thin lens (bits of CAUSTIC_CAMERA, scene/features.glsl).
