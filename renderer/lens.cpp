@@ -92,7 +92,7 @@ bool parseLensSystem(const std::string& text, const std::string& path, LensSyste
         s.ior = values[2];
         s.aperture = values[3];
         s.abbe = values.size() == 5 ? values[4] : 0.0;
-        if (std::abs(s.radius) > 1e6) return fail("radius " + token + " beyond 1e6 mm (use 0 for a flat surface)");
+        if (std::abs(s.radius) > 1e6) return fail("a radius beyond 1e6 mm (use 0 for a flat surface)");
         if (s.thickness < 0.0 || s.thickness > kMaxLength)
             return fail("thickness must be in [0, " + std::to_string(int(kMaxLength)) + "] mm");
         if (!(s.aperture > 0.0) || s.aperture > kMaxLength) return fail("aperture diameter must be in (0, 1000] mm");
@@ -137,27 +137,38 @@ bool readLensFile(const std::string& path, LensSystem* out, std::string* error) 
     return parseLensSystem(text.str(), path, out, error);
 }
 
-std::optional<ParaxialLens> paraxialAnalysis(const LensSystem& lens) {
-    // The y-nu trace of a ray parallel to the axis at height 1: at each surface of curvature c
-    // between indices n and n', nu' = nu - y (n' - n) c; to the next surface y += t nu' / n'.
-    const int stop = lens.stopIndex();
-    double y = 1.0, nu = 0.0, n = 1.0, yStop = 0.0;
+namespace {
+
+// A paraxial ray (height y, reduced angle nu = n u) from the air in front of the first vertex to
+// the air behind the last (the y-nu method), at wavelength nm: its height and angle there, and its
+// height at the stop's plane in *atStop (where given).
+glm::dvec2 traceParaxial(const LensSystem& lens, double nm, double y, double nu, double* atStop = nullptr) {
+    double n = 1.0;
     const std::size_t last = lens.surfaces.size() - 1;
     for (std::size_t i = 0; i <= last; ++i) {
         const LensSurface& s = lens.surfaces[i];
-        if (int(i) == stop) yStop = y;
-        const double c = s.radius == 0.0 ? 0.0 : 1.0 / s.radius;
-        nu -= y * (s.ior - n) * c;
-        n = s.ior;
+        if (s.stop && atStop) *atStop = y;
+        const double n2 = indexAt(s, nm);
+        nu -= y * (n2 - n) * (s.radius == 0.0 ? 0.0 : 1.0 / s.radius);
+        n = n2;
         if (i < last) y += s.thickness * nu / n;
     }
-    const double u = nu / n;  // the angle behind the last surface (n = its medium's index)
-    if (!(std::abs(u) > 1e-12)) return std::nullopt;  // afocal
-    ParaxialLens p;
-    p.efl = -1.0 / u;
-    p.bfd = -y / u;
+    return {y, nu / n};
+}
+
+}  // namespace
+
+std::optional<ParaxialLens> paraxialAnalysis(const LensSystem& lens) {
+    // The matrix's first column is the ray parallel to the axis at height 1.
     const LensMatrix m = paraxialMatrix(lens);
-    p.ffd = std::abs(m.c) > 0.0 ? -m.d / m.c : 0.0;
+    if (!(std::abs(m.c) > 1e-12)) return std::nullopt;  // afocal
+    ParaxialLens p;
+    p.efl = -1.0 / m.c;
+    p.bfd = -m.a / m.c;
+    p.ffd = -m.d / m.c;
+    double yStop = 0.0;
+    traceParaxial(lens, kLineD, 1.0, 0.0, &yStop);
+    const int stop = lens.stopIndex();
     if (stop >= 0 && std::abs(yStop) > 1e-12) {
         p.entrancePupilDiameter = lens.surfaces[std::size_t(stop)].aperture / std::abs(yStop);
         p.fNumber = p.efl / p.entrancePupilDiameter;
@@ -173,29 +184,9 @@ double indexAt(const LensSurface& s, double nm) {
 }
 
 LensMatrix paraxialMatrix(const LensSystem& lens, double nm) {
-    // Two paraxial rays (y-nu): (1, 0) and (0, 1) give the matrix's columns.
-    LensMatrix m;
-    for (int column = 0; column < 2; ++column) {
-        double y = column == 0 ? 1.0 : 0.0, nu = column == 0 ? 0.0 : 1.0, n = 1.0;
-        const std::size_t last = lens.surfaces.size() - 1;
-        for (std::size_t i = 0; i <= last; ++i) {
-            const LensSurface& s = lens.surfaces[i];
-            const double n2 = indexAt(s, nm);
-            const double c = s.radius == 0.0 ? 0.0 : 1.0 / s.radius;
-            nu -= y * (n2 - n) * c;
-            n = n2;
-            if (i < last) y += s.thickness * nu / n;
-        }
-        const double u = nu / n;
-        if (column == 0) {
-            m.a = y;
-            m.c = u;
-        } else {
-            m.b = y;
-            m.d = u;
-        }
-    }
-    return m;
+    // The rays (1, 0) and (0, 1) give the matrix's columns.
+    const glm::dvec2 first = traceParaxial(lens, nm, 1.0, 0.0), second = traceParaxial(lens, nm, 0.0, 1.0);
+    return {first.x, second.x, first.y, second.y};
 }
 
 namespace {

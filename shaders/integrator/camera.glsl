@@ -9,9 +9,9 @@
 // confusion of radius aperture * |z - focal| / z (measured on the plane of focus).
 // The lens sample: Shirley-Chiu's concentric disk for a round aperture, a uniform point in a
 // regular polygon of `blades` sides (rotated by blade rotation), or a point of the aperture image
-// drawn in proportion to its transmission (integrator/aperture.glsl; the sample's weight stays 1). Anamorphic: its x is divided by
-// the squeeze factor before scaling by the aperture, so the bokeh is an oval `squeeze` times
-// taller than wide.
+// drawn in proportion to its transmission (integrator/aperture.glsl; the sample's weight stays
+// 1). Anamorphic: its x is divided by the squeeze factor before scaling by the aperture, so the
+// bokeh is an oval `squeeze` times taller than wide.
 // Pixel filters are importance-sampled (sample weights stay 1): box uniform over the pixel; tent
 // of radius 1 by inverting its CDF; Gaussian sigma 0.5 by Box-Muller, truncated at 1.5 pixels.
 #ifndef INTEGRATOR_CAMERA_GLSL
@@ -51,10 +51,16 @@ vec2 samplePolygon(vec2 u, uint n, float rotation) {
     return su * ((1.0 - u.y) * v0 + u.y * v1);
 }
 
-Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
+// The sample's position in the image in normalised device coordinates ([-1, 1]^2, +y up): the
+// pixel's centre plus the pixel filter's offset.
+vec2 cameraNdc(uvec2 pixel, vec2 uFilter) {
     vec2 size = vec2(frame.image.xy);
     vec2 p = vec2(pixel) + 0.5 + samplePixelFilter(uFilter);
-    vec2 ndc = vec2(2.0 * p.x / size.x - 1.0, 1.0 - 2.0 * p.y / size.y);
+    return vec2(2.0 * p.x / size.x - 1.0, 1.0 - 2.0 * p.y / size.y);
+}
+
+Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
+    vec2 ndc = cameraNdc(pixel, uFilter);
     Ray r;
     r.o = frame.camPosition.xyz;
     r.d = normalize(frame.camForward.xyz + ndc.x * frame.camRight.xyz + ndc.y * frame.camUp.xyz);
@@ -82,12 +88,7 @@ Ray cameraRay(uvec2 pixel, vec2 uFilter, vec2 uLens) {
 // specialised for scenes without, CAUSTIC_CAMERA).
 Ray cameraRayWeighted(uvec2 pixel, vec2 uFilter, vec2 uLens, out vec3 weight) {
     weight = vec3(1.0);
-    if (HAS_CAMERA(CAMERA_LENS_SYSTEM) && frame.camInfo.z != 0u) {
-        vec2 size = vec2(frame.image.xy);
-        vec2 p = vec2(pixel) + 0.5 + samplePixelFilter(uFilter);
-        vec2 ndc = vec2(2.0 * p.x / size.x - 1.0, 1.0 - 2.0 * p.y / size.y);
-        return lensCameraRay(ndc, uLens, weight);
-    }
+    if (HAS_CAMERA(CAMERA_LENS_SYSTEM) && frame.camInfo.z != 0u) return lensCameraRay(cameraNdc(pixel, uFilter), uLens, weight);
     return cameraRay(pixel, uFilter, uLens);
 }
 
