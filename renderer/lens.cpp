@@ -580,7 +580,7 @@ double lensPassFraction(const LensCamera& cam, int n) {
 }
 
 std::vector<glm::vec4> lensUniformBlock(const LensCamera& cam) {
-    std::vector<glm::vec4> block(3 + 2 * kLensMaxSurfaces + kLensPupilBins, glm::vec4(0.0f));
+    std::vector<glm::vec4> block(kLensBlockRows, glm::vec4(0.0f));
     const std::size_t n = cam.lens.surfaces.size();
     block[0] = glm::vec4(float(n), float(cam.filmZ), float(cam.filmRadius), float(cam.weightScale));
     block[1] = glm::vec4(float(cam.filmHalfWidth), float(cam.filmHalfHeight), float(cam.vertexZ.back()),

@@ -105,6 +105,8 @@ struct LensCameraSettings {
 // Film radii binned for the exit-pupil bounds (the GPU's table has as many).
 inline constexpr int kLensPupilBins = 64;
 inline constexpr int kLensMaxSurfaces = 32;
+// The shader's lens block: 3 rows of constants, 2 per surface, 1 per pupil bin (vec4s).
+inline constexpr int kLensBlockRows = 3 + 2 * kLensMaxSurfaces + kLensPupilBins;
 
 struct LensCamera {
     LensSystem lens;                 // as focused and stopped down
@@ -143,8 +145,7 @@ std::optional<LensRay> lensCameraRay(const LensCamera& camera, glm::dvec2 film, 
 // many pupil samples each (at d).
 double lensPassFraction(const LensCamera& camera, int n = 16);
 
-// The lens block the shader reads (integrator/lens_camera.glsl, LensBlock): 3 + 2 kLensMaxSurfaces
-// + kLensPupilBins vec4s.
+// The lens block the shader reads (integrator/lens_camera.glsl, LensBlock): kLensBlockRows vec4s.
 std::vector<glm::vec4> lensUniformBlock(const LensCamera& camera);
 
 // The z of each surface's vertex, the first at 0.

@@ -113,7 +113,7 @@ std::unique_ptr<Renderer> Renderer::create(const std::string& shaderDir, const I
     glCreateBuffers(1, &r->m_lightTree);
     glCreateBuffers(1, &r->m_lensUbo);
     {
-        const std::vector<glm::vec4> zeros(3 + 2 * kLensMaxSurfaces + kLensPupilBins, glm::vec4(0.0f));
+        const std::vector<glm::vec4> zeros(kLensBlockRows, glm::vec4(0.0f));
         glNamedBufferData(r->m_lensUbo, GLsizeiptr(zeros.size() * sizeof(glm::vec4)), zeros.data(), GL_STATIC_DRAW);
     }
     glCreateBuffers(1, &r->m_primitiveHits);
@@ -190,7 +190,7 @@ bool Renderer::prepareLens(const Scene& scene, std::string* error) {
     const Camera& c = scene.camera;
     if (c.lens.empty()) {
         if (!m_lensKey.empty()) {
-            const std::vector<glm::vec4> zeros(3 + 2 * kLensMaxSurfaces + kLensPupilBins, glm::vec4(0.0f));
+            const std::vector<glm::vec4> zeros(kLensBlockRows, glm::vec4(0.0f));
             glNamedBufferData(m_lensUbo, GLsizeiptr(zeros.size() * sizeof(glm::vec4)), zeros.data(), GL_STATIC_DRAW);
         }
         m_lensKey.clear();
