@@ -135,6 +135,8 @@ public:
     Film readFilm() const;
     Accumulators readAccumulators() const;   // the sums as they are (part files)
     const CompiledScene& compiled() const { return m_compiled; }
+    // The scene it renders: the last one setScene or update accepted.
+    const Scene& scene() const { return m_scene; }
     // The camera's lens system as the shader traces it (null when the camera has none).
     const LensCamera* lensCamera() const { return m_lensCamera.get(); }
     // The imported meshes and their BVHs kept between compiles: the editor inserts meshes it

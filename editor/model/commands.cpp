@@ -90,10 +90,17 @@ std::uint32_t listChangeDirty(EntityKind kind) {
     }
 }
 
+bool sameFiles(const Material& a, const Material& b) {
+    return a.albedoTexture == b.albedoTexture && a.normalTexture == b.normalTexture &&
+           a.roughnessTexture == b.roughnessTexture && a.emissionTexture == b.emissionTexture;
+}
+
 // A material edit that no object sees (its name, before or after, is nobody's material) changes
-// nothing on screen: kDirtyUnseen instead of a re-upload and restart.
+// nothing on screen: kDirtyUnseen instead of a re-upload and restart. Unless it changes a texture
+// file: the renderer reads every material's textures, used or not (as batch mode does), so such
+// an edit can make the scene unrenderable, or renderable again, and must be tried at once.
 std::uint32_t materialDirty(const Scene& scene, const Material& a, const Material& b, std::uint32_t d) {
-    if (!(d & kDirtyMaterials)) return d;
+    if (!(d & kDirtyMaterials) || !sameFiles(a, b)) return d;
     for (const Object& o : scene.objects)
         if (o.material == a.name || o.material == b.name) return d;
     return (d & ~std::uint32_t(kDirtyMaterials)) | kDirtyUnseen;
@@ -249,7 +256,8 @@ std::string SetCommand<T>::name() const {
 // a full recompile (kDirtyUnseen is handed over as one); until then nothing on screen changed.
 template <class T>
 std::uint32_t listEditDirty(const Scene& scene, const T& value) {
-    if constexpr (std::is_same_v<T, Material>) return materialDirty(scene, value, value, kDirtyMaterials);
+    if constexpr (std::is_same_v<T, Material>)
+        return sameFiles(value, Material{}) ? materialDirty(scene, value, value, kDirtyMaterials) : kDirtyMaterials;
     else { (void)scene; (void)value; return listChangeDirty(Access<T>::kind); }
 }
 

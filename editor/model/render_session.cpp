@@ -38,17 +38,52 @@ void RenderSession::endFrame(double seconds) {
     if (renderedThisFrame) overheadSeconds = 0.8 * overheadSeconds + 0.2 * std::max(0.0, frameSeconds - renderSeconds);
 }
 
-RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double now, bool holdUpdates) {
+namespace {
+
+class RendererSink final : public SceneSink {
+public:
+    explicit RendererSink(Renderer& r) : m_r(r) {}
+    bool setScene(const Scene& scene, std::string* error) override { return m_r.setScene(scene, error); }
+    bool update(const Scene& scene, std::uint32_t dirty, std::string* error) override {
+        return m_r.update(scene, dirty, error);
+    }
+    int samplesDone() const override { return m_r.samplesDone(); }
+
+private:
+    Renderer& m_r;
+};
+
+}  // namespace
+
+Scene RenderSession::viewportScene(const EditorState& state, glm::ivec2 size) {
+    Scene scene = hidden.empty() ? state.scene : withoutHidden(state.scene, hidden, &renderedObjects);
+    if (hidden.empty()) renderedObjects.clear();
+    scene.render.width = size.x;
+    scene.render.height = size.y;
+    return scene;
+}
+
+RenderStep RenderSession::sync(SceneSink& sink, EditorState& state, double now, bool holdUpdates) {
     RenderStep out;
-    const RenderSettings& rs = state.scene.render;
     const glm::ivec2 full = viewportResolution(state.scene);
     const long long fullPixels = static_cast<long long>(full.x) * full.y;
     // While something is dragged, shrink the image if one full sample would not fit the budget.
     // The path tracer gets what the rest of the frame leaves of it, less a margin for the spread
     // of both.
-    const double budget = idle(now) ? kIdleBudget : std::clamp(kFrameTarget - overheadSeconds - 0.002, 0.004, kFrameTarget);
-    // Edits that change nothing on screen (the target samples, unused materials) restart nothing.
-    std::uint32_t dirty = dirtyForRenderer(state.takeDirty(), &m_deferredDirty) | std::exchange(heldDirty, kDirtyNone);
+    const double budget = frameBudget(now);
+    // Edits that change nothing on screen (the target samples, unused materials) restart nothing,
+    // unless the renderer is behind the model: then any edit but the target may be what makes the
+    // scene acceptable again (an unused material's texture cleared, say), and the renderer's
+    // scene differs from the model's in more than the edit, so the whole scene goes.
+    const std::uint32_t edits = state.takeDirty();
+    std::uint32_t dirty = kDirtyNone;
+    if (behind) {
+        if ((edits & ~std::uint32_t(kDirtyTarget)) != 0) dirty = kDirtyAll;
+        m_deferredDirty = kDirtyNone;
+    } else {
+        dirty = dirtyForRenderer(edits, &m_deferredDirty);
+    }
+    dirty |= std::exchange(heldDirty, kDirtyNone);
     // A mesh the scene uses changed on disk: it is imported again in the background, and the
     // scene's updates wait for it, since a compile now would import it here, freezing the window.
     const bool holding = sceneUploaded && holdUpdates;
@@ -65,34 +100,50 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     // (or at once when the renderer has nothing at this size yet).
     int divisor = previewDivisor;
     if (recentlyInteracting) divisor = std::max(previewDivisor, pacer.previewDivisor(fullPixels, budget));
-    else if (previewDivisor > 1 && renderer.samplesDone() >= 1) divisor = previewDivisor / 2;
+    else if (previewDivisor > 1 && sink.samplesDone() >= 1) divisor = previewDivisor / 2;
     divisor = std::max(1, divisor);
     const glm::ivec2 size = glm::max(full / divisor, glm::ivec2(1));
     if ((divisor != previewDivisor || size != renderedSize) && !holding) dirty |= kDirtySettings;
     if (hidden != m_appliedHidden && !holding) dirty |= kDirtyGeometry;   // objects left out or back
-    if (dirty != kDirtyNone || !sceneUploaded) {
-        Scene scene = hidden.empty() ? state.scene : withoutHidden(state.scene, hidden, &renderedObjects);
-        if (hidden.empty()) renderedObjects.clear();
+    // A partial update of a renderer that is behind would pair the model's scene with compiled
+    // parts of the last good one.
+    if (behind && dirty != kDirtyNone) dirty = kDirtyAll;
+    // A scene refused before any was accepted is tried again at the next edit, not every frame.
+    if (dirty != kDirtyNone || (!sceneUploaded && !behind)) {
+        const Scene scene = viewportScene(state, size);
         m_appliedHidden = hidden;
-        scene.render.width = size.x;
-        scene.render.height = size.y;
         std::string error;
-        const bool ok = sceneUploaded ? renderer.update(scene, dirty, &error) : renderer.setScene(scene, &error);
+        const bool ok = sceneUploaded ? sink.update(scene, dirty, &error) : sink.setScene(scene, &error);
         ++accumulationGeneration;   // accumulation restarted: older denoised images are stale
         out.restarted = true;
         if (ok) {
             sceneUploaded = true;
+            behind = false;
             previewDivisor = divisor;
             renderedSize = size;
             renderError.clear();
             sampleRate.restart(now);
             out.compiled = true;
         } else {
-            // The renderer keeps the last scene it could compile; the message stays on screen.
+            // The renderer keeps the last scene it could compile; the message stays on screen
+            // until an edit makes the scene acceptable.
+            behind = true;
             renderError = error;
             out.error = error;
         }
     }
+    return out;
+}
+
+double RenderSession::frameBudget(double now) const {
+    return idle(now) ? kIdleBudget : std::clamp(kFrameTarget - overheadSeconds - 0.002, 0.004, kFrameTarget);
+}
+
+RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double now, bool holdUpdates) {
+    RendererSink sink(renderer);
+    RenderStep out = sync(sink, state, now, holdUpdates);
+    const RenderSettings& rs = state.scene.render;
+    const double budget = frameBudget(now);
     if (!sceneUploaded) return out;
     const int width = renderedSize.x, height = renderedSize.y;
     const int goal = target(state.scene);
@@ -130,7 +181,8 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         out.height = height;
         if (!firstSampleInTiles) m_displayedWholeImageOf = state.generation();
     }
-    out.targetReached = previewDivisor == 1 && renderedSize == glm::ivec2(rs.width, rs.height) &&
+    // The last good scene's image is not the model's: Render to file waits for the model's.
+    out.targetReached = !behind && previewDivisor == 1 && renderedSize == glm::ivec2(rs.width, rs.height) &&
                         renderer.samplesDone() >= rs.samples;
     return out;
 }

@@ -51,12 +51,28 @@ struct RenderStep {
     bool targetReached = false; // full resolution with all its target samples (Render to file)
 };
 
+// Where the session sends the scene: the renderer (step) or, in the model's tests, a stand-in that
+// compiles on the CPU only (tests/editor/test_scene_sync.cpp). Both keep the last scene they
+// accepted when they refuse one.
+class SceneSink {
+public:
+    virtual ~SceneSink() = default;
+    virtual bool setScene(const Scene& scene, std::string* error) = 0;
+    virtual bool update(const Scene& scene, std::uint32_t dirty, std::string* error) = 0;
+    virtual int samplesDone() const = 0;
+};
+
 class RenderSession {
 public:
     // Sends pending edits of `state` (takeDirty) to `renderer` and renders this frame's samples.
     // `now`: seconds on the frame loop's clock. `holdUpdates`: scene updates wait (meshes are
     // being imported again in the background); the renderer keeps rendering what it has.
     RenderStep step(Renderer& renderer, EditorState& state, double now, bool holdUpdates);
+    // The first half of step: pending edits to `sink` (no samples rendered).
+    RenderStep sync(SceneSink& sink, EditorState& state, double now, bool holdUpdates);
+    // The scene the renderer gets for the model's: the viewport's size and divisor, hidden objects
+    // left out.
+    Scene viewportScene(const EditorState& state, glm::ivec2 size);
     // After the frame is shown: its wall-clock length, for the overhead estimate.
     void endFrame(double frameSeconds);
     // The panel's size in pixels that the image is drawn into (0 x 0: the output resolution), and
@@ -91,6 +107,10 @@ public:
     glm::ivec2 renderedSize{0, 0};    // the size the renderer renders at (viewport size / divisor)
     std::optional<int> sampleCap;     // scripts stop at an exact sample count
     std::string renderError;          // the renderer's last failure (scene compile, shader reload)
+    // The renderer refused the model's scene and renders the last one it accepted, if any
+    // (renderError says why): the viewport says so, every later edit is tried on the whole scene
+    // until one is accepted, and Save warns. Never true when the renderer has the model's scene.
+    bool behind = false;
     double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
     SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
     std::uint64_t droppedSamples = 0;
@@ -111,6 +131,9 @@ public:
     std::vector<int> renderedObjects;
 
 private:
+    // The path tracer's share of this frame (seconds).
+    double frameBudget(double now) const;
+
     int m_panelWidth = 0, m_panelHeight = 0;
     double m_lastInput = 0.0;
     bool m_fit = true;

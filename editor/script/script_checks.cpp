@@ -90,9 +90,19 @@ ScriptStep expectHidden(ScriptContext& c) {
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + ", have " + std::to_string(n));
 }
 
+// What the renderer has, not what the model says it should have.
 ScriptStep expectRenderedObjects(ScriptContext& c) {
-    const std::size_t n = c.app.session.renderedObjects.empty() ? c.app.state.scene.objects.size() : c.app.session.renderedObjects.size();
+    if (!c.app.renderer) return check(c, false, "no renderer");
+    const std::size_t n = c.app.renderer->scene().objects.size();
     return check(c, n == static_cast<std::size_t>(c.num(0)), "expected " + c.a[0] + ", have " + std::to_string(n));
+}
+
+// current: the renderer renders the model's scene; last_good: it was refused, the viewport says so.
+ScriptStep expectViewportScene(ScriptContext& c) {
+    const bool behind = c.app.session.behind;
+    if (c.a[0] != "current" && c.a[0] != "last_good") return check(c, false, "expected current or last_good");
+    return check(c, behind == (c.a[0] == "last_good"),
+                 behind ? "the viewport shows the last good scene: " + c.app.session.renderError : "the viewport shows the current scene");
 }
 
 ScriptStep expectModal(ScriptContext& c) {
@@ -144,6 +154,7 @@ const ScriptCommand kCommands[] = {
     {"expect_keymap", 1, 1, "", expectKeymap},         // default | blender: the key map in use (kept between sessions)
     {"expect_hidden", 1, 1, "n", expectHidden},        // N objects are hidden in the viewport
     {"expect_rendered_objects", 1, 1, "n", expectRenderedObjects},   // the viewport's renderer has N objects
+    {"expect_viewport_scene", 1, 1, "", expectViewportScene},   // current | last_good: what the viewport renders
     {"expect_modal", 1, 1, "", expectModal},           // yes | no: a G / R / S transform is in progress
     {"expect_denoised", 1, 1, "", expectDenoised},     // yes | no: the viewport shows a denoised image
     {"expect_modified", 1, 1, "", expectModified},     // yes | no: the scene has unsaved changes

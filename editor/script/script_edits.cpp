@@ -229,6 +229,19 @@ ScriptStep pickerEntry(ScriptContext& c, bool pick) {
     return ScriptStep::done();
 }
 
+// A texture slot of the selected material set to PATH as typed into its field ("" clears it).
+ScriptStep setTexture(ScriptContext& c) {
+    EditorState& s = c.app.state;
+    if (s.selection.kind != EntityKind::Material) { c.fail("no material is selected"); return ScriptStep::done(); }
+    Material m = s.scene.materials[size_t(s.selection.index)];
+    const std::string& slot = c.a[0];
+    std::string* field = slot == "albedo_texture" ? &m.albedoTexture : slot == "normal_texture" ? &m.normalTexture
+                       : slot == "roughness_texture" ? &m.roughnessTexture : slot == "emission_texture" ? &m.emissionTexture : nullptr;
+    if (!field) { c.fail("unknown slot '" + slot + "'"); return ScriptStep::done(); }
+    *field = c.a[1];
+    return applyEdit(c, makeSetMaterial(s, s.selection.index, m));
+}
+
 ScriptStep pickFile(ScriptContext& c) { return pickerEntry(c, true); }
 ScriptStep expectPickerLists(ScriptContext& c) { return pickerEntry(c, false); }
 
@@ -253,6 +266,7 @@ const ScriptCommand kCommands[] = {
     // pick_file SLOT NAME: the file picker's entry NAME for a slot (albedo_texture, normal_texture,
     // roughness_texture of the selected material; environment)
     {"pick_file", 2, 2, "", pickFile},
+    {"set_texture", 2, 2, "", setTexture},             // set_texture SLOT PATH: typed into the selected material's field
     {"expect_picker_lists", 2, 2, "", expectPickerLists},   // the picker for SLOT lists NAME
 };
 

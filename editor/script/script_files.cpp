@@ -31,9 +31,32 @@ ScriptStep waitOpen(ScriptContext& c) {
     return ScriptStep::doneIf(c.run.waitFor(c.ui, c.line, !c.app.meshImports->opening(), timeout, "still opening"));
 }
 
+// As Save / Save As: saves, or opens the "Save scene?" prompt (answer_save answers it).
 ScriptStep save(ScriptContext& c) {
     const std::string file = c.a.empty() ? c.app.state.path : c.resolve(c.a[0]);
-    if (!saveFile(c.ui, file)) c.fail(c.app.lastMessage);
+    std::string error;
+    if (requestSave(c.ui, file, &error) == SaveResult::Failed) c.fail(error);
+    return ScriptStep::done();
+}
+
+ScriptStep check(ScriptContext& c, bool ok, const std::string& why) {
+    if (!ok) c.fail(why);
+    return ScriptStep::done();
+}
+
+// The "Save scene?" prompt is open and says TEXT (or is not open: `no`).
+ScriptStep expectSavePrompt(ScriptContext& c) {
+    const SavePrompt& p = c.ui.savePrompt;
+    if (c.a[0] == "no") return check(c, !p.isOpen(), "the save prompt is open for " + p.file);
+    if (!p.isOpen()) return check(c, false, "no save prompt is open");
+    const std::string said = p.refusedBecause + "\n" + p.missingFolder;
+    return check(c, said.find(c.a[0]) != std::string::npos, "the save prompt says: " + said);
+}
+
+// Presses the prompt's Save (save) or Cancel (cancel).
+ScriptStep answerSave(ScriptContext& c) {
+    if (!c.ui.savePrompt.isOpen()) { c.fail("no save prompt is open"); return ScriptStep::done(); }
+    answerSavePrompt(c.ui, c.a[0] == "save");
     return ScriptStep::done();
 }
 
@@ -172,7 +195,9 @@ ScriptStep recover(ScriptContext& c) {
 const ScriptCommand kCommands[] = {
     {"open", 1, 1, "", open},                          // open a scene (its meshes import in the background)
     {"wait_open", 0, 1, "n", waitOpen},                // wait until the open finished: adopted, refused or dropped [timeout s]
-    {"save", 0, 1, "", save},                          // save [as file]
+    {"save", 0, 1, "", save},                          // save [as file] (may open the save prompt)
+    {"expect_save_prompt", 1, 1, "", expectSavePrompt},   // the save prompt is open and says TEXT; `no`: not open
+    {"answer_save", 1, 1, "", answerSave},             // save | cancel: answer the save prompt
     {"write_image", 1, 1, "", writeImage},             // the film, tone mapped as in batch mode (PNG)
     {"screenshot", 1, 1, "", screenshot},              // the whole window (PNG)
     {"render_to_file", 1, 1, "", renderToFile},        // render the scene's samples and write the PNG

@@ -86,13 +86,24 @@ bool openFile(EditorUi& ui, const std::string& file) {
     return true;
 }
 
-bool saveFile(EditorUi& ui, const std::string& file) {
+bool saveFile(EditorUi& ui, const std::string& file, std::string* errorOut) {
     std::string error;
     const std::string before = ui.app.state.path;
-    if (!ui.app.state.saveAs(file, &error)) {
-        showError(ui, "could not save; nothing was overwritten.\n" + error);
+    auto fail = [&](const std::string& why) {
+        const std::string message = "could not save " + file + "; nothing was overwritten: " + why;
+        notify(ui, message, true);
+        if (errorOut) *errorOut = message;
+        else showError(ui, message);
         return false;
+    };
+    if (const fs::path folder = fs::absolute(file).parent_path(); !folder.empty()) {
+        std::error_code ec;
+        if (!fs::is_directory(folder, ec)) {
+            fs::create_directories(folder, ec);
+            if (ec) return fail("cannot create the folder " + folder.string() + ": " + ec.message());
+        }
     }
+    if (!ui.app.state.saveAs(file, &error)) return fail(error);
     ui.app.views.carry(before, file);   // the saved camera views go with the scene to its new path
     if (!ui.app.viewsPath.empty() && !ui.app.views.of(file).empty() && !ui.app.views.save(ui.app.viewsPath, &error))
         notify(ui, "could not save the camera views: " + error, true);
@@ -101,6 +112,34 @@ bool saveFile(EditorUi& ui, const std::string& file) {
     ui.app.recent.save(ui.app.recentListPath, &ignored);
     ui.app.autosave.remove();
     notify(ui, "saved " + file);
+    return true;
+}
+
+SaveResult requestSave(EditorUi& ui, const std::string& file, std::string* error) {
+    SavePrompt p;
+    std::error_code ec;
+    if (const fs::path folder = fs::absolute(file).parent_path(); !folder.empty() && !fs::is_directory(folder, ec))
+        p.missingFolder = folder.string();
+    // The renderer refused the scene as it stands (render_session.h): batch mode would refuse the
+    // saved file for the same reason.
+    if (ui.app.session.behind) p.refusedBecause = ui.app.session.renderError;
+    if (p.missingFolder.empty() && p.refusedBecause.empty())
+        return saveFile(ui, file, error) ? SaveResult::Saved : SaveResult::Failed;
+    p.file = file;
+    p.requested = true;
+    ui.savePrompt = std::move(p);
+    return SaveResult::Asked;
+}
+
+bool answerSavePrompt(EditorUi& ui, bool save) {
+    const std::string file = std::exchange(ui.savePrompt, SavePrompt{}).file;
+    if (!save || file.empty()) {
+        ui.afterUnsavedPrompt = nullptr;
+        notify(ui, "not saved");
+        return false;
+    }
+    if (!saveFile(ui, file)) return false;
+    if (ui.afterUnsavedPrompt) std::exchange(ui.afterUnsavedPrompt, nullptr)();
     return true;
 }
 
@@ -136,7 +175,7 @@ void deleteCameraView(EditorUi& ui, const std::string& name) {
 
 void saveOrSaveAs(EditorUi& ui) {
     if (ui.app.state.path.empty()) openFileBrowser(ui, FileBrowserState::Mode::SaveAs);
-    else saveFile(ui, ui.app.state.path);
+    else requestSave(ui, ui.app.state.path);
 }
 
 void guardUnsaved(EditorUi& ui, std::function<void()> action) {

@@ -106,7 +106,7 @@ void drawModals(EditorUi& ui) {
             ImGui::CloseCurrentPopup();
             if (ui.app.state.path.empty()) {
                 openFileBrowser(ui, FileBrowserState::Mode::SaveAs);   // the action runs after it saves
-            } else if (saveFile(ui, ui.app.state.path) && ui.afterUnsavedPrompt) {
+            } else if (requestSave(ui, ui.app.state.path) == SaveResult::Saved && ui.afterUnsavedPrompt) {
                 auto action = std::move(ui.afterUnsavedPrompt);
                 ui.afterUnsavedPrompt = nullptr;
                 action();
@@ -148,6 +148,34 @@ void drawModals(EditorUi& ui) {
             ui.app.autosave.remove();
             ImGui::CloseCurrentPopup();
         }
+        ImGui::EndPopup();
+    }
+    if (ui.savePrompt.requested && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) {
+        ImGui::OpenPopup("Save scene?");
+        ui.savePrompt.requested = false;
+    }
+    if (ImGui::BeginPopupModal("Save scene?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        const SavePrompt& p = ui.savePrompt;
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+        ImGui::Text("Save %s?", p.file.c_str());
+        if (!p.refusedBecause.empty()) {
+            ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.4f, 1.0f), "The scene cannot be rendered as it is (the viewport shows the last good scene), so `caustic --scene` will refuse the saved file:");
+            ImGui::TextUnformatted(p.refusedBecause.c_str());
+        }
+        if (!p.missingFolder.empty()) ImGui::Text("The folder %s does not exist; it will be created.", p.missingFolder.c_str());
+        ImGui::PopTextWrapPos();
+        const char* label = p.refusedBecause.empty() ? "Create folder and save" : "Save anyway";
+        if (ImGui::Button(label)) {
+            ImGui::CloseCurrentPopup();
+            answerSavePrompt(ui, true);
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel##save") || ImGui::IsKeyPressed(ImGuiKey_Escape)) {
+            ImGui::CloseCurrentPopup();
+            answerSavePrompt(ui, false);
+        }
+        // A script's answer_save (or an answer given elsewhere) closes it.
+        if (!ui.savePrompt.isOpen()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }
     if (ui.errorPopupRequested) {

@@ -28,6 +28,16 @@ struct FileBrowserState {
     std::string directory;
     std::string fileName;
     std::string confirmOverwrite;   // the existing file Save As / Render to file asks to replace
+    std::string error;              // why the last Save As failed, shown in the browser
+};
+
+// A save that waits for the user's answer (requestSave): what it would do that they may not want.
+struct SavePrompt {
+    std::string file;
+    std::string missingFolder;     // does not exist: created on "Save"
+    std::string refusedBecause;    // batch mode would refuse the scene (the renderer does): why
+    bool requested = false;        // open the modal next frame
+    bool isOpen() const { return !file.empty(); }
 };
 
 // The UI's own state: widgets, hover and focus, the gizmo, dialogs and prompts; the application it
@@ -74,6 +84,7 @@ struct EditorUi {
     // Dialogs.
     FileBrowserState browser;
     std::function<void()> afterUnsavedPrompt;   // runs after Save / Discard in the prompt
+    SavePrompt savePrompt;
     bool unsavedPromptRequested = false;
     bool recoveryPromptRequested = false;
     std::string errorPopup;           // shown in a modal (bad scene, failed save ...)
@@ -106,7 +117,15 @@ void deleteCameraView(EditorUi& ui, const std::string& name);
 void notify(EditorUi& ui, const std::string& message, bool isError = false);
 void showError(EditorUi& ui, const std::string& message);   // modal + status bar
 bool openFile(EditorUi& ui, const std::string& file);        // keeps the current scene on failure
-bool saveFile(EditorUi& ui, const std::string& file);
+// Saves to `file` now (its missing folders created); a failure is shown (in *error if given, else
+// in a modal) and in the status bar, and changes nothing on disk.
+bool saveFile(EditorUi& ui, const std::string& file, std::string* error = nullptr);
+// Save, Save As and scripts: saves at once, or asks first (ui.savePrompt) when the folder does not
+// exist or the scene is one batch mode would refuse (the viewport shows the last good scene).
+enum class SaveResult { Saved, Asked, Failed };
+SaveResult requestSave(EditorUi& ui, const std::string& file, std::string* error = nullptr);
+// The prompt's answer: save (running afterUnsavedPrompt once saved), or not.
+bool answerSavePrompt(EditorUi& ui, bool save);
 void saveOrSaveAs(EditorUi& ui);
 // Runs `action` now if nothing is unsaved, else after the user saves or discards.
 void guardUnsaved(EditorUi& ui, std::function<void()> action);

@@ -23,6 +23,7 @@ void openFileBrowser(EditorUi& ui, FileBrowserState::Mode mode) {
     FileBrowserState& b = ui.browser;
     b.open = true;
     b.justOpened = true;
+    b.error.clear();
     b.mode = mode;
     std::error_code ec;
     const fs::path current = ui.app.state.path.empty() ? fs::current_path(ec) : fs::absolute(ui.app.state.path, ec).parent_path();
@@ -101,17 +102,26 @@ void drawFileBrowser(EditorUi& ui) {
         b.open = false;
         ui.afterUnsavedPrompt = nullptr;
     }
+    if (!b.error.empty()) {
+        ImGui::PushTextWrapPos(ImGui::GetContentRegionAvail().x);
+        ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", b.error.c_str());
+        ImGui::PopTextWrapPos();
+    }
     // Does what the browser was opened for; false keeps it open (a failed open or save).
     auto finish = [&](const std::string& path) {
         bool ok = true;
         switch (b.mode) {
             case FileBrowserState::Mode::Open: ok = openFile(ui, path); break;
             case FileBrowserState::Mode::SaveAs:
-                ok = saveFile(ui, path);
-                if (ok && ui.afterUnsavedPrompt) {   // "Save" in the unsaved-changes prompt of an untitled scene
-                    auto action = std::move(ui.afterUnsavedPrompt);
-                    ui.afterUnsavedPrompt = nullptr;
-                    action();
+                // A failure is shown here, in the browser, which stays open; a question (a folder
+                // to create, a scene batch mode would refuse) is asked once the browser closes.
+                switch (requestSave(ui, path, &b.error)) {
+                    case SaveResult::Saved:
+                        b.error.clear();
+                        if (ui.afterUnsavedPrompt) std::exchange(ui.afterUnsavedPrompt, nullptr)();   // "Save" in the unsaved-changes prompt of an untitled scene
+                        break;
+                    case SaveResult::Asked: b.error.clear(); break;
+                    case SaveResult::Failed: ok = false; break;
                 }
                 break;
             case FileBrowserState::Mode::RenderTo: startRenderToFile(ui, path); break;

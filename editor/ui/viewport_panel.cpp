@@ -398,6 +398,18 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
     }
 }
 
+// The renderer refused the model's scene (render_session.h, `behind`): the image is an older
+// scene's, and says so over its top edge, with the reason, until an edit makes the scene renderable.
+void drawLastGoodBanner(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const std::string text = "Showing the last good scene: " + ui.app.session.renderError;
+    const float wrap = std::max(40.0f, size.x - 12.0f);
+    const ImVec2 extent = ImGui::CalcTextSize(text.c_str(), nullptr, false, wrap);
+    dl->AddRectFilled(pos, ImVec2(pos.x + size.x, pos.y + extent.y + 8.0f), IM_COL32(120, 20, 20, 220));
+    dl->AddText(ImGui::GetFont(), ImGui::GetFontSize(), ImVec2(pos.x + 6.0f, pos.y + 4.0f), IM_COL32(255, 255, 255, 255),
+                text.c_str(), nullptr, wrap);
+}
+
 }  // namespace
 
 void drawViewportPanel(EditorUi& ui) {
@@ -454,6 +466,7 @@ void drawViewportPanel(EditorUi& ui) {
     }
     if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
+    if (ui.app.session.behind) drawLastGoodBanner(ui, pos, size);
 
     drawLightOutlines(ui, pos, size);
     drawSelectedBounds(ui, pos, size);
