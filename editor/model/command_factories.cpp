@@ -111,12 +111,23 @@ std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape) {
     return std::make_unique<InsertCommand<Object>>(static_cast<int>(s.scene.objects.size()), std::move(o));
 }
 
-std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type) {
+std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type, const MeshBoundsLookup& meshBounds) {
     Light l;
     l.type = type;
     static const char* names[] = {"rect light", "sphere light", "point light", "spot light"};
     l.name = uniqueName(names[static_cast<int>(type)], namesOf(s.scene.lights));
-    const glm::vec3 p = spawnPoint(s.scene) + glm::vec3(0.0f, 0.5f, 0.0f);
+    // Half a unit above the look-at point; while that is inside (or within 0.2 of) an object's
+    // bounds, half a unit above the object's top.
+    glm::vec3 p = spawnPoint(s.scene) + glm::vec3(0.0f, 0.5f, 0.0f);
+    for (bool moved = true; moved;) {
+        moved = false;
+        for (int i = 0; i < int(s.scene.objects.size()); ++i) {
+            const auto b = entityBounds(s.scene, EntityRef{EntityKind::Object, i}, meshBounds);
+            if (!b || glm::any(glm::greaterThan(b->first - 0.2f, p)) || glm::any(glm::lessThan(b->second + 0.2f, p))) continue;
+            p.y = b->second.y + 0.5f;
+            moved = true;
+        }
+    }
     l.position = p;
     l.transform.translate = p;
     l.transform.rotate = glm::vec3(90.0f, 0.0f, 0.0f);   // a rect light faces down
@@ -138,11 +149,15 @@ std::string meshFileForScene(const EditorState& s, const std::string& file) {
     return !ec && !rel.empty() ? rel.string() : file;
 }
 
-std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file) {
+bool fileHasOwnMaterials(const std::vector<ImportedMaterial>& imported) {
+    return std::any_of(imported.begin(), imported.end(), [](const ImportedMaterial& m) { return m.name != "DefaultMaterial"; });
+}
+
+std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file, bool ownMaterials) {
     Object o;
     o.shape = Shape::Mesh;
     o.name = uniqueName(fs::path(file).stem().string(), namesOf(s.scene.objects));
-    o.material = s.scene.materials.empty() ? std::string() : s.scene.materials.front().name;
+    o.material = ownMaterials || s.scene.materials.empty() ? std::string() : s.scene.materials.front().name;
     o.file = meshFileForScene(s, file);
     return std::make_unique<InsertCommand<Object>>(static_cast<int>(s.scene.objects.size()), std::move(o), "Import");
 }

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "editor/model/commands.h"
+#include "editor/model/viewport_math.h"
+#include "renderer/mesh.h"
 #include "renderer/scene.h"
 
 #include <memory>
@@ -22,12 +24,19 @@ std::unique_ptr<Command> makeSetEnvironment(const EditorState& s, Environment af
 
 // Adds a primitive, light or material with a unique name in front of the camera's look-at point.
 std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape);
-std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type);
+// A light above the camera's look-at point, raised clear of the objects there (their bounds;
+// meshes' through meshBounds when given).
+std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type, const MeshBoundsLookup& meshBounds = {});
 // preset: a material to copy (renderer/gpu_materials.h materialPresets), named after it.
 std::unique_ptr<Command> makeAddMaterial(const EditorState& s, const Material* preset = nullptr);
 // A mesh object for a model file (check the file first: the renderer would refuse a broken one).
-// The path is stored relative to the scene's folder when the scene has a file.
-std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file);
+// The path is stored relative to the scene's folder when the scene has a file. ownMaterials (the
+// file has materials of its own: fileHasOwnMaterials): the object keeps them (material ""), as
+// Blender's import does; else it gets the scene's first material, if any.
+std::unique_ptr<Command> makeImportMesh(const EditorState& s, const std::string& file, bool ownMaterials = true);
+// Whether an imported model file brings materials of its own: any but the one Assimp makes up for
+// a file without any ("DefaultMaterial": OBJ without .mtl, PLY, STL, OFF).
+bool fileHasOwnMaterials(const std::vector<ImportedMaterial>& imported);
 // Object `index` (a mesh) with another model file; null when index is not a mesh object.
 std::unique_ptr<Command> makeSetMeshFile(const EditorState& s, int index, const std::string& file);
 // A model file's path as a mesh object of this scene stores it: relative to the scene's folder

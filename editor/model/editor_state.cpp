@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 
 namespace caustic::editor {
 
-EditorState::EditorState() { newScene(); }
+EditorState::EditorState() { newScene(false); }
 
 bool EditorState::apply(std::unique_ptr<Command> command, std::string* why) {
     if (!command) return false;
@@ -63,7 +63,7 @@ std::string EditorState::displayName() const {
     return path.empty() ? std::string("untitled") : fs::path(path).filename().string();
 }
 
-void EditorState::newScene() {
+void EditorState::newScene(bool starter) {
     scene = Scene{};
     scene.render.width = 512;
     scene.render.height = 384;
@@ -74,6 +74,31 @@ void EditorState::newScene() {
     path.clear();
     m_dirty = kDirtyAll;
     ++m_generation;
+    if (!starter) return;
+    // Something to build on, as a new Blender file has: a ground, a key light and a camera at
+    // eye height looking down at the spot where new objects appear (its look-at point: a default
+    // object there, a 0.25 sphere, rests on the ground).
+    Material ground{.name = "ground"};
+    ground.albedo = glm::vec3(0.35f);
+    scene.materials.push_back(ground);
+    Object floor;
+    floor.name = "ground";
+    floor.shape = Shape::Quad;
+    floor.material = "ground";
+    floor.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);   // +z up: facing the sky
+    floor.transform.scale = glm::vec3(5.0f);
+    scene.objects.push_back(floor);
+    Light key;
+    key.name = "key light";
+    key.type = LightType::Rect;
+    key.transform.translate = glm::vec3(-1.5f, 2.5f, 1.5f);
+    key.transform.rotate = glm::vec3(46.7f, 135.0f, 0.0f);   // its +z towards the look-at point
+    key.transform.scale = glm::vec3(0.5f, 0.5f, 1.0f);
+    key.position = key.transform.translate;
+    key.color = glm::vec3(12.0f);
+    scene.lights.push_back(key);
+    scene.camera.position = glm::vec3(0.0f, 1.6f, 4.0f);
+    scene.camera.lookAt = glm::vec3(0.0f, 0.25f, 0.0f);
 }
 
 bool EditorState::open(const std::string& file, std::string* error) {

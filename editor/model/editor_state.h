@@ -59,7 +59,10 @@ public:
 
     // Files. A failed open leaves everything as it was and returns the loader's message
     // (file and JSON path). Saves are atomic (saveScene).
-    void newScene();                   // an empty scene with a camera and defaults
+    // File > New and the editor started without a file: the starter scene (a ground, a key light,
+    // a camera at eye height). starter = false: only a camera, a "default" material and the sky
+    // (what EditorState() starts with, and what the model's tests build on).
+    void newScene(bool starter = true);
     bool open(const std::string& file, std::string* error);
     // The second half of open(): adopts a scene already loaded from `file` (the editor loads it
     // first and imports its meshes in the background; docs/editor.md, "Opening scenes").

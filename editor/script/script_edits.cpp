@@ -8,6 +8,7 @@
 #include "editor/model/viewport_math.h"
 #include "editor/script/script_run.h"
 #include "editor/ui/editor_ui.h"
+#include "editor/ui/mesh_import.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -242,6 +243,32 @@ ScriptStep setTexture(ScriptContext& c) {
     return applyEdit(c, makeSetMaterial(s, s.selection.index, m));
 }
 
+// File > New (the unsaved-changes prompt is not asked: scripts discard).
+ScriptStep newScene(ScriptContext& c) {
+    c.app.state.newScene();
+    c.markEdit();
+    return ScriptStep::done();
+}
+
+// Add > <type> light, as the outliner's menu does.
+ScriptStep addLight(ScriptContext& c) {
+    static const std::pair<const char*, LightType> types[] = {
+        {"point", LightType::Point}, {"spot", LightType::Spot}, {"rect", LightType::Rect}, {"sphere", LightType::Sphere}};
+    for (const auto& [word, type] : types)
+        if (c.a[0] == word) return applyEdit(c, makeAddLight(c.app.state, type, meshBoundsLookup(c.ui)));
+    c.fail("unknown light type '" + c.a[0] + "' (point, spot, rect, sphere)");
+    return ScriptStep::done();
+}
+
+// Add > <shape>, as the outliner's menu does.
+ScriptStep addObject(ScriptContext& c) {
+    static const std::pair<const char*, Shape> shapes[] = {{"sphere", Shape::Sphere}, {"box", Shape::Box}, {"quad", Shape::Quad}};
+    for (const auto& [word, shape] : shapes)
+        if (c.a[0] == word) return applyEdit(c, makeAddObject(c.app.state, shape));
+    c.fail("unknown shape '" + c.a[0] + "' (sphere, box, quad)");
+    return ScriptStep::done();
+}
+
 ScriptStep pickFile(ScriptContext& c) { return pickerEntry(c, true); }
 ScriptStep expectPickerLists(ScriptContext& c) { return pickerEntry(c, false); }
 
@@ -266,7 +293,10 @@ const ScriptCommand kCommands[] = {
     // pick_file SLOT NAME: the file picker's entry NAME for a slot (albedo_texture, normal_texture,
     // roughness_texture of the selected material; environment)
     {"pick_file", 2, 2, "", pickFile},
-    {"set_texture", 2, 2, "", setTexture},             // set_texture SLOT PATH: typed into the selected material's field
+    {"set_texture", 2, 2, "", setTexture},
+    {"new_scene", 0, 0, "", newScene},                 // File > New (unsaved changes discarded)
+    {"add_light", 1, 1, "", addLight},                 // add_light point|spot|rect|sphere, as Add does
+    {"add_object", 1, 1, "", addObject},               // add_object sphere|box|quad, as Add does             // set_texture SLOT PATH: typed into the selected material's field
     {"expect_picker_lists", 2, 2, "", expectPickerLists},   // the picker for SLOT lists NAME
 };
 

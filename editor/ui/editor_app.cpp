@@ -501,6 +501,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             else showError(*ui, found.message);   // the window and stderr say it
         }
         if (sceneFile) openFile(*ui, *sceneFile);
+        else app->state.newScene();   // the starter scene, as File > New
 
         app->lastAutosave = now();
         double frameStart = now();

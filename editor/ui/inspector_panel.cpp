@@ -14,6 +14,8 @@
 #include "editor/model/lookdev.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/denoise.h"
+#include "renderer/mesh_cache.h"
+#include "renderer/renderer.h"
 
 #include <imgui.h>
 
@@ -149,6 +151,17 @@ void materialParams(EditorUi& ui, int index, bool renamable) {
     e.commit(e.changed ? makeSetMaterial(s, index, m) : nullptr);
 }
 
+// A mesh with its file's own materials lists them (as the renderer's import mapped them).
+void fileMaterialList(EditorUi& ui, const Object& o) {
+    if (!ui.app.renderer) return;
+    const auto entry = ui.app.renderer->meshCache().find(meshCacheKey(ui.app.state.scene, o.file));
+    if (!entry) return;
+    std::string names;
+    for (const Material& m : entry->materials) names += (names.empty() ? "" : ", ") + m.name;
+    ImGui::TextDisabled("%zu material%s from the file: %s", entry->materials.size(), entry->materials.size() == 1 ? "" : "s",
+                        names.c_str());
+}
+
 // The object's material: New (from the library or the default), Make unique, and, with several
 // objects selected, an assignment that reaches all of them.
 void objectMaterialButtons(EditorUi& ui, int index) {
@@ -202,6 +215,12 @@ void objectInspector(EditorUi& ui, int index) {
             case ParamKind::Reference:
                 traceWidget(p.key, p.kind);
                 if (ImGui::BeginCombo("Material", obj.material.empty() ? "(the file's own)" : obj.material.c_str())) {
+                    // A mesh may go back to its file's own materials (an import keeps them).
+                    if (obj.shape == Shape::Mesh && selected.size() <= 1 &&
+                        ImGui::Selectable("(the file's own)", obj.material.empty())) {
+                        obj.material.clear();
+                        e.changed = e.seal = true;
+                    }
                     for (const Material& m : s.scene.materials) {
                         if (ImGui::Selectable(m.name.c_str(), m.name == obj.material)) {
                             if (selected.size() > 1) {
@@ -216,6 +235,7 @@ void objectInspector(EditorUi& ui, int index) {
                     }
                     ImGui::EndCombo();
                 }
+                if (obj.shape == Shape::Mesh && obj.material.empty()) fileMaterialList(ui, obj);
                 objectMaterialButtons(ui, index);
                 return true;
             case ParamKind::File:

@@ -209,7 +209,10 @@ void MeshImports::apply(EditorUi& ui, const Edit& edit, const MeshLoadResult* re
                                     std::to_string(int(result->seconds * 1e3 + 0.5)) + " ms in the background)"
                               : std::string();
     if (edit.objectName.empty()) {
-        ui.app.state.apply(makeImportMesh(ui.app.state, edit.file));
+        // The file's own materials stay (the mesh is in the renderer's cache when it was imported before).
+        std::shared_ptr<const MeshCacheEntry> entry = result ? result->mesh : nullptr;
+        if (!entry && ui.app.renderer) entry = ui.app.renderer->meshCache().find(meshCacheKey(ui.app.state.scene, objectFile));
+        ui.app.state.apply(makeImportMesh(ui.app.state, edit.file, entry && fileHasOwnMaterials(entry->imported)));
         notify(ui, "imported " + fileName(edit.file) + done);
         return;
     }

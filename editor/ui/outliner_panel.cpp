@@ -87,10 +87,10 @@ void addMenu(EditorUi& ui) {
         if (ImGui::MenuItem("Box")) ui.app.state.apply(makeAddObject(ui.app.state, Shape::Box));
         if (ImGui::MenuItem("Quad")) ui.app.state.apply(makeAddObject(ui.app.state, Shape::Quad));
         ImGui::Separator();
-        if (ImGui::MenuItem("Point light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Point));
-        if (ImGui::MenuItem("Spot light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Spot));
-        if (ImGui::MenuItem("Rect light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Rect));
-        if (ImGui::MenuItem("Sphere light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Sphere));
+        if (ImGui::MenuItem("Point light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Point, meshBoundsLookup(ui)));
+        if (ImGui::MenuItem("Spot light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Spot, meshBoundsLookup(ui)));
+        if (ImGui::MenuItem("Rect light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Rect, meshBoundsLookup(ui)));
+        if (ImGui::MenuItem("Sphere light")) ui.app.state.apply(makeAddLight(ui.app.state, LightType::Sphere, meshBoundsLookup(ui)));
         ImGui::Separator();
         if (ImGui::MenuItem("Material")) ui.app.state.apply(makeAddMaterial(ui.app.state));
         if (ImGui::BeginMenu("Material preset")) {

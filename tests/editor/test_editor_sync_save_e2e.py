@@ -126,5 +126,62 @@ class EditorLastGoodScene(EditorSessionCase):
         self.assertGreater(red, 2000)
 
 
+NEW_SCENE_SCRIPT = """
+new_scene
+viewport output
+expect_count objects 1
+expect_count lights 1
+add_object sphere
+add_light point
+expect_count lights 2
+import_mesh {glb}
+wait_import
+expect_count objects 3
+expect_material leaf ""
+select object leaf
+set_samples 16
+wait_samples 16
+write_image new-scene.png
+screenshot new-scene-window.png
+save starter.json
+quit
+"""
+
+
+class EditorNewScene(EditorSessionCase):
+    """A new scene is something to build on (ground, key light, camera at eye height); an import
+    keeps its file's materials."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-new-")
+        shutil.copy(DOF, os.path.join(cls.tmp, "scene.json"))
+        glb = os.path.join(SOURCE_DIR, "tests", "data", "gltf", "leaf.glb")
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(NEW_SCENE_SCRIPT.format(glb=glb))
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_the_render_shows_a_lit_ground_and_a_sky(self):
+        rows = self.image("new-scene.png")
+        h = len(rows)
+        def mean(y0, y1):
+            px = [p for row in rows[y0:y1] for p in row]
+            return [sum(c[i] for c in px) / len(px) for i in range(3)]
+        sky, ground = mean(0, h // 8), mean(h - h // 8, h)
+        # Neither black (no light) nor blown out; the ground is lit (not the sky's colour: grey).
+        self.assertGreater(sum(ground), 60)
+        self.assertLess(sum(ground), 700)
+        self.assertGreater(sky[2], sky[0])   # the sky is blue
+
+    def test_3_the_saved_starter_scene(self):
+        scene = self.load("starter.json")
+        self.assertAlmostEqual(scene["camera"]["position"][1], 1.6, places=3)
+        leaf = [o for o in scene["objects"] if o["name"] == "leaf"][0]
+        self.assertEqual(leaf.get("material", ""), "")   # the file's own materials
+
+
 if __name__ == "__main__":
     unittest.main()

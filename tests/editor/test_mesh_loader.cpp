@@ -141,3 +141,27 @@ TEST_CASE("a mesh file change is one edit, stored relative to the scene, and sce
     s.newScene();
     CHECK(s.generation() != untitled);
 }
+
+TEST_CASE("an imported model keeps its own materials, and a file without any gets the scene's first", "[editor][mesh]") {
+    const std::string data = std::string(CAUSTIC_SOURCE_DIR) + "/tests/data/gltf/";
+    const std::string knot = std::string(CAUSTIC_SOURCE_DIR) + "/assets/knot.obj";
+    MeshCacheEntry glb, obj;
+    std::string error;
+    REQUIRE(prepareMesh(data + "leaf.glb", &glb, &error));
+    REQUIRE(prepareMesh(knot, &obj, &error));
+    CHECK(fileHasOwnMaterials(glb.imported));
+    CHECK_FALSE(fileHasOwnMaterials(obj.imported));   // Assimp's DefaultMaterial only
+
+    EditorState s;
+    REQUIRE(!s.scene.materials.empty());
+    const std::string first = s.scene.materials.front().name;
+    REQUIRE(s.apply(makeImportMesh(s, data + "leaf.glb", fileHasOwnMaterials(glb.imported))));
+    CHECK(s.scene.objects.back().material.empty());   // the file's own (the inspector lists them)
+    REQUIRE(s.apply(makeImportMesh(s, knot, fileHasOwnMaterials(obj.imported))));
+    CHECK(s.scene.objects.back().material == first);
+    // The scene with the file's materials compiles with the file's material table.
+    s.scene.sourcePath.clear();
+    CompiledScene compiled;
+    REQUIRE(compileScene(s.scene, readImageWithoutOpenImageIo, &compiled, &error));
+    CHECK(compiled.materials.size() >= 1 + glb.materials.size());
+}

@@ -8,6 +8,7 @@
 // message for the model's scene (not an older one).
 #include "editor/model/editor_state.h"
 #include "editor/model/render_session.h"
+#include "editor/model/viewport_math.h"
 #include "renderer/gpu_scene.h"
 
 #include <catch2/catch.hpp>
@@ -284,4 +285,53 @@ TEST_CASE("scene sync: random edit sequences, refused or not, leave the renderer
     // Both states were visited often (the property was tested on each, not trivially).
     CHECK(behindSteps > 100);
     CHECK(syncedSteps > 100);
+}
+
+TEST_CASE("a new scene has a ground, a key light aimed at the look-at point and a camera at eye height", "[editor][defaults]") {
+    EditorState s;
+    s.newScene();
+    REQUIRE(s.scene.objects.size() == 1);
+    REQUIRE(s.scene.lights.size() == 1);
+    CHECK(s.scene.camera.position.y == Approx(1.6f));
+    const Light& key = s.scene.lights[0];
+    const glm::vec3 facing = glm::normalize(glm::vec3(key.transform.toMatrix() * glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)));
+    const glm::vec3 toTarget = glm::normalize(s.scene.camera.lookAt - key.transform.translate);
+    CHECK(glm::dot(facing, toTarget) > 0.999f);
+    // The ground faces up and passes under the look-at point; a default sphere there rests on it.
+    const Object& ground = s.scene.objects[0];
+    const glm::vec3 up = glm::normalize(glm::vec3(ground.transform.toMatrix() * glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)));
+    CHECK(up.y > 0.999f);
+    REQUIRE(s.apply(makeAddObject(s, Shape::Sphere)));
+    const Object& ball = s.scene.objects.back();
+    CHECK(ball.transform.translate.y - ball.transform.scale.y == Approx(ground.transform.translate.y).margin(1e-6));
+    // It is a scene batch mode renders.
+    std::string error;
+    CHECK(compiles(s.scene, &error));
+    INFO(error);
+    // The bare scene (EditorState(), the model's tests) stays empty.
+    EditorState bare;
+    CHECK(bare.scene.objects.empty());
+    CHECK(bare.scene.lights.empty());
+}
+
+TEST_CASE("a new light is placed clear of the objects at the look-at point", "[editor][defaults]") {
+    EditorState s;
+    s.newScene();
+    // A box 2 units tall around the look-at point: the light goes above it.
+    REQUIRE(s.apply(makeAddObject(s, Shape::Box)));
+    Object box = s.scene.objects.back();
+    box.transform.scale = glm::vec3(1.0f);
+    REQUIRE(s.apply(makeSetObject(s, int(s.scene.objects.size()) - 1, box)));
+    for (LightType type : {LightType::Point, LightType::Rect, LightType::Sphere, LightType::Spot}) {
+        REQUIRE(s.apply(makeAddLight(s, type)));
+        const Light& l = s.scene.lights.back();
+        const glm::vec3 p = type == LightType::Rect ? l.transform.translate : l.position;
+        for (int i = 0; i < int(s.scene.objects.size()); ++i) {
+            const auto b = entityBounds(s.scene, EntityRef{EntityKind::Object, i});
+            REQUIRE(b);
+            const bool inside = glm::all(glm::greaterThanEqual(p, b->first)) && glm::all(glm::lessThanEqual(p, b->second));
+            CHECK_FALSE(inside);
+        }
+        CHECK(p.y > box.transform.translate.y + 1.0f);
+    }
 }
