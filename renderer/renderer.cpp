@@ -180,7 +180,7 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         *error = "uploading the scene to the GPU failed: " + glErrors;
         return false;
     }
-    if (!selectProgram(error)) return false;  // compiled now, not inside the first render
+    if (!m_deferBuilds && !selectProgram(error)) return false;  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
@@ -351,7 +351,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
-    if (!selectProgram(error)) return false;  // compiled now, not inside the first render
+    if (!m_deferBuilds && !selectProgram(error)) return false;  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }

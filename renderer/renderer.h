@@ -159,6 +159,12 @@ public:
     // (selectProgram; the reason went to stderr): the image is right but slower, so a benchmark
     // must not report its figures as the scene program's (caustic-bench marks the row FALLBACK).
     bool programFellBack() const { return m_programFellBack; }
+    // Deferred builds (the editor): setScene and update leave the integrator program the scene
+    // needs to the first dispatch, so a window can show "Building shaders" before the frame that
+    // builds it (a build blocks for seconds on llvmpipe, whose glLinkProgram compiles even with
+    // GL_KHR_parallel_shader_compile). programPending(): the next dispatch builds a program.
+    void setDeferredProgramBuilds(bool on) { m_deferBuilds = on; }
+    bool programPending() const;
     // Builds the general program now (create() does only where it renders): the check that the
     // whole source compiles, for a shader reload that must keep the last working shaders.
     bool checkSource(std::string* error) { return generalProgram(error) != 0; }
@@ -184,10 +190,6 @@ private:
     // the last; an empty block without a lens. False with a message naming camera.lens and the file.
     bool prepareLens(const Scene& scene, std::string* error);
 
-    // Makes m_program the integrator built with these feature defines (scene/features.glsl) on
-    // top of the configuration's (m_config.defines()), compiling it the first time; false with the
-    // compiler's message.
-    bool useProgram(const ShaderDefines& features, std::string* error);
     // Makes m_program the one for the current scene and settings (compiling it the first time),
     // or the general one if that fails; called where the scene changes, and before each dispatch.
     // False (m_program 0) with the compiler's message when neither builds.
@@ -207,6 +209,8 @@ private:
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer_programs.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     bool m_programFellBack = false;  // programFellBack
+    bool m_deferBuilds = false;
+    ShaderDefines selectedDefines() const;   // the defines selectProgram asks for first
     std::string m_fallbackReason;    // the failure the last fallback reported (on stderr, once)
     std::string m_programError;  // the last dispatch's failure to build one, reported once
     unsigned m_accum = 0, m_accumSq = 0;

@@ -184,15 +184,38 @@ unsigned Renderer::program() {
     return generalProgram(&error);
 }
 
+namespace {
+
+std::string programKey(const std::string& file, const ShaderDefines& defines) {
+    std::string key = file + ":";
+    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    return key;
+}
+
+}  // namespace
+
+ShaderDefines Renderer::selectedDefines() const {
+    ShaderDefines defines = m_config.defines();
+    const ShaderDefines features =
+        m_specialize ? featureDefines()
+                     : generalDefines(hasAlphaMask(m_compiled), mediaBits(makeFrame(m_scene, m_compiled, m_strategy), m_compiled));
+    defines.insert(defines.end(), features.begin(), features.end());
+    return defines;
+}
+
+bool Renderer::programPending() const {
+    const std::string key = programKey("integrator/path.comp", selectedDefines());
+    return !m_programs.contains(key) && !m_programFailures.contains(key);
+}
+
 bool Renderer::selectProgram(std::string* error) {
     // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
     // falls back to the general program; when that fails too (the source does not compile), there
     // is no program (m_program 0) and dispatches render nothing until one builds.
     std::string why;
-    const bool built = m_specialize ? useProgram(featureDefines(), &why)
-                                    : useProgram(generalDefines(hasAlphaMask(m_compiled),
-                                                                mediaBits(makeFrame(m_scene, m_compiled, m_strategy), m_compiled)),
-                                                 &why);
+    const unsigned selected = buildProgram("integrator/path.comp", selectedDefines(), &why);
+    if (selected) m_program = selected;
+    const bool built = selected != 0;
     if (built) {
         m_programFellBack = false;
         return true;
@@ -215,8 +238,7 @@ bool Renderer::selectProgram(std::string* error) {
 }
 
 unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error) {
-    std::string key = file + ":";
-    for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+    const std::string key = programKey(file, defines);
     if (auto it = m_programs.find(key); it != m_programs.end()) return it->second;
     // A failure is kept too: every dispatch selects its program, and retrying a source that does
     // not compile cost seconds each time on llvmpipe.
@@ -231,15 +253,6 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
     if (program) m_programs.emplace(key, program);
     else m_programFailures.emplace(key, *error);
     return program;
-}
-
-bool Renderer::useProgram(const ShaderDefines& features, std::string* error) {
-    ShaderDefines defines = m_config.defines();
-    defines.insert(defines.end(), features.begin(), features.end());
-    const unsigned program = buildProgram("integrator/path.comp", defines, error);
-    if (!program) return false;
-    m_program = program;
-    return true;
 }
 
 }  // namespace caustic

@@ -145,6 +145,22 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     const RenderSettings& rs = state.scene.render;
     const double budget = frameBudget(now);
     if (!sceneUploaded) return out;
+    // The scene needs an integrator program not built yet (the editor defers builds to the first
+    // dispatch: Renderer::setDeferredProgramBuilds). The build blocks the thread for seconds on
+    // llvmpipe, so first a whole frame is drawn with "Building shaders" over the last image (the
+    // frame that found it had drawn its UI already), and the one after it builds.
+    if (out.restarted || buildingShaders) {
+        if (!renderer.programPending()) {
+            buildingShaders = false;
+        } else if (!buildingShaders) {
+            buildingShaders = true;
+            m_buildWait = 2;
+        }
+        if (buildingShaders && m_buildWait > 0) {
+            --m_buildWait;
+            return out;
+        }
+    }
     const int width = renderedSize.x, height = renderedSize.y;
     const int goal = target(state.scene);
     const int done = renderer.samplesDone();
@@ -182,6 +198,7 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         if (!firstSampleInTiles) m_displayedWholeImageOf = state.generation();
     }
     // The last good scene's image is not the model's: Render to file waits for the model's.
+    if (buildingShaders && !renderer.programPending()) buildingShaders = false;
     out.targetReached = !behind && previewDivisor == 1 && renderedSize == glm::ivec2(rs.width, rs.height) &&
                         renderer.samplesDone() >= rs.samples;
     return out;

@@ -111,6 +111,9 @@ public:
     // (renderError says why): the viewport says so, every later edit is tried on the whole scene
     // until one is accepted, and Save warns. Never true when the renderer has the model's scene.
     bool behind = false;
+    // An integrator program is about to be built (the viewport says "Building shaders"): the
+    // frames until the build show the last image.
+    bool buildingShaders = false;
     double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
     SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
     std::uint64_t droppedSamples = 0;
@@ -141,7 +144,8 @@ private:
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
     std::optional<std::uint64_t> m_displayedWholeImageOf;
     std::vector<std::string> m_appliedHidden;
-    std::uint32_t m_deferredDirty = 0;  // unseen material edits, handed over with the next real update
+    std::uint32_t m_deferredDirty = 0;
+    int m_buildWait = 0;   // frames still to draw before the program build  // unseen material edits, handed over with the next real update
 };
 
 }  // namespace caustic::editor

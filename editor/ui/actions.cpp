@@ -72,6 +72,11 @@ void showError(EditorUi& ui, const std::string& message) {
     ui.errorPopupRequested = true;
 }
 
+bool shadersBuilding(const EditorUi& ui) {
+    return ui.app.session.buildingShaders || (ui.app.preview && ui.app.preview->buildingShaders()) ||
+           (ui.app.bokehPreview && ui.app.bokehPreview->buildingShaders());
+}
+
 bool openFile(EditorUi& ui, const std::string& file) {
     // The JSON is parsed and validated here (fast): a broken file is refused at once.
     SceneLoadResult loaded = loadScene(file);
@@ -208,6 +213,7 @@ void reloadShaders(EditorUi& ui) {
         return;
     }
     fresh->setImageReader(readImage);
+    fresh->setDeferredProgramBuilds(true);
     if (ui.app.renderer) fresh->meshCache() = std::move(ui.app.renderer->meshCache());   // no re-import of meshes
     ui.app.renderer = std::move(fresh);
     if (ui.app.display) ui.app.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against

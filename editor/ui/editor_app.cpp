@@ -95,6 +95,29 @@ void drawDockSpace(EditorUi& ui) {
     ImGui::End();
 }
 
+// A frame longer than this is a stall (a program build: seconds on llvmpipe): what the user typed
+// or clicked meanwhile is not replayed afterwards (queued Del presses deleted more than intended).
+constexpr double kStallSeconds = 0.5;
+
+// Drops the presses, characters and wheel steps that the window system delivered since the queue
+// held `from` events (the polling after a stall); releases, mouse positions and focus changes
+// stay, so no key or button is left down. Events queued before (a script's) are kept. True when
+// something was dropped.
+bool dropStalledInput(int from) {
+    ImVector<ImGuiInputEvent>& q = ImGui::GetCurrentContext()->InputEventsQueue;
+    int kept = from, dropped = 0;
+    for (int i = from; i < q.Size; ++i) {
+        const ImGuiInputEvent& e = q[i];
+        const bool press = (e.Type == ImGuiInputEventType_Key && e.Key.Down) || e.Type == ImGuiInputEventType_Text ||
+                           (e.Type == ImGuiInputEventType_MouseButton && e.MouseButton.Down) ||
+                           e.Type == ImGuiInputEventType_MouseWheel;
+        if (press) ++dropped;
+        else q[kept++] = e;
+    }
+    q.resize(kept);
+    return dropped > 0;
+}
+
 void drawModals(EditorUi& ui) {
     if (ui.unsavedPromptRequested) {
         ImGui::OpenPopup("Unsaved changes");
@@ -462,7 +485,10 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         app->shaderDir = defaultShaderDir();
         app->integratorConfig = IntegratorConfig::fromEnvironment();
         app->renderer = Renderer::create(app->shaderDir, app->integratorConfig, &error);
-        if (app->renderer) app->renderer->setImageReader(readImage);
+        if (app->renderer) {
+            app->renderer->setImageReader(readImage);
+            app->renderer->setDeferredProgramBuilds(true);   // "Building shaders" shows first (render_session.h)
+        }
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         app->display = Display::create(app->shaderDir, &error);
         app->denoiser = std::make_unique<ViewportDenoiser>();
@@ -509,8 +535,13 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             // Converged and idle: sleep until input instead of spinning.
             const bool busy = app->session.busy(app->renderer.get(), app->state.scene) || app->preview->converging() ||
                               app->bokehPreview->converging();
+            const int queuedBefore = ImGui::GetCurrentContext()->InputEventsQueue.Size;
             if (!busy && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
+            if (app->session.frameSeconds > kStallSeconds && dropStalledInput(queuedBefore))
+                notify(*ui, "input during the last " + std::to_string(int(app->session.frameSeconds + 0.5)) +
+                                " s stall (" + (shadersBuilding(*ui) || app->session.buildingShaders ? "building shaders" : "busy") +
+                                ") was ignored");
             if (glfwWindowShouldClose(window)) {
                 glfwSetWindowShouldClose(window, GLFW_FALSE);
                 guardUnsaved(*ui, [u = ui.get()] { u->app.quit = true; });

@@ -116,6 +116,8 @@ bool recallCameraView(EditorUi& ui, const std::string& name);
 void deleteCameraView(EditorUi& ui, const std::string& name);
 void notify(EditorUi& ui, const std::string& message, bool isError = false);
 void showError(EditorUi& ui, const std::string& message);   // modal + status bar
+// A program build is announced by the viewport's session or a preview (the next frames build it).
+bool shadersBuilding(const EditorUi& ui);
 bool openFile(EditorUi& ui, const std::string& file);        // keeps the current scene on failure
 // Saves to `file` now (its missing folders created); a failure is shown (in *error if given, else
 // in a modal) and in the status bar, and changes nothing on disk.

@@ -60,6 +60,7 @@ void MaterialPreview::tick(EditorUi& ui) {
             return;
         }
         m_renderer->setImageReader(readImage);
+        m_renderer->setDeferredProgramBuilds(true);
     }
     auto same = [](const Scene& x, const Scene& y) { return x == y && x.sourcePath == y.sourcePath; };
     const bool failedBefore = m_failedFor && same(*m_failedFor, *m_wanted);
@@ -78,6 +79,16 @@ void MaterialPreview::tick(EditorUi& ui) {
         }
     }
     if (!m_shown) return;
+    // A program to build: the last image stays while a frame shows "Building shaders" (as the
+    // viewport does: render_session.h), then this tick builds it.
+    if (m_renderer->programPending()) {
+        if (m_buildWait < 0) m_buildWait = 2;
+        if (m_buildWait > 0) {
+            --m_buildWait;
+            return;
+        }
+    }
+    m_buildWait = -1;
     const int target = m_shown->render.samples;
     if (m_renderer->samplesDone() < target) m_renderer->renderFor(kBudgetSeconds, target - m_renderer->samplesDone());
     m_display->update(m_renderer->accumulationTexture(), m_shown->render.width, m_shown->render.height,
@@ -92,6 +103,8 @@ void MaterialPreview::reloadShaders() {
     m_createFailed = false;
     m_error.clear();
 }
+
+bool MaterialPreview::buildingShaders() const { return m_buildWait >= 0; }
 
 bool MaterialPreview::converging() const {
     return m_shownLastFrame && m_renderer && m_shown && m_error.empty() && m_renderer->samplesDone() < m_shown->render.samples;

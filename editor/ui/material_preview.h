@@ -49,6 +49,8 @@ public:
     bool requested() const { return m_requested; }
     // Shown last frame and still short of its samples: the frame loop must not sleep for input.
     bool converging() const;
+    // A program build is announced (its tick builds it two ticks later; the window freezes then).
+    bool buildingShaders() const;
     const std::string& error() const { return m_error; }   // why the last preview scene failed ("" if not)
     // F5: the next tick renders with a renderer and a display made from the shaders as they are
     // now (until then the inspector shows no preview image).
@@ -65,6 +67,7 @@ private:
     bool m_requested = false;
     bool m_shownLastFrame = false;     // requested at the last tick
     bool m_createFailed = false;
+    int m_buildWait = -1;              // >= 0: a program build is announced, this many ticks ahead
     std::string m_error;
 };
 

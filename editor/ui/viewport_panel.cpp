@@ -467,6 +467,14 @@ void drawViewportPanel(EditorUi& ui) {
     if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
     if (ui.app.session.behind) drawLastGoodBanner(ui, pos, size);
+    if (shadersBuilding(ui)) {
+        const char* text = "Building shaders...";
+        const ImVec2 t = ImGui::CalcTextSize(text);
+        const ImVec2 c(pos.x + size.x * 0.5f, pos.y + size.y * 0.5f);
+        dl->AddRectFilled(ImVec2(c.x - t.x * 0.5f - 12.0f, c.y - t.y * 0.5f - 8.0f), ImVec2(c.x + t.x * 0.5f + 12.0f, c.y + t.y * 0.5f + 8.0f),
+                          IM_COL32(20, 20, 24, 220), 6.0f);
+        dl->AddText(ImVec2(c.x - t.x * 0.5f, c.y - t.y * 0.5f), IM_COL32(255, 220, 120, 255), text);
+    }
 
     drawLightOutlines(ui, pos, size);
     drawSelectedBounds(ui, pos, size);

@@ -236,3 +236,54 @@ TEST_CASE("render session: after an edit the image refines by halves, each step 
     CHECK(divisors == std::vector<int>{8, 4, 2, 1});
     CHECK(session.renderedSize == glm::ivec2(256, 192));
 }
+
+TEST_CASE("render session: with deferred builds a frame announces the program build before the frame that builds it", "[gpu][editor]") {
+    auto renderer = test::makeRenderer();
+    renderer->setDeferredProgramBuilds(true);
+    EditorState state;
+    state.scene = smallScene();
+    RenderSession session;
+    double now = 10.0;
+    // The first scene: setScene builds nothing; two frames say "building", the third renders.
+    RenderStep first = session.step(*renderer, state, now, false);
+    CHECK(first.compiled);
+    CHECK(session.buildingShaders);
+    CHECK(renderer->programPending());
+    CHECK(renderer->samplesDone() == 0);
+    now += 0.05;
+    session.step(*renderer, state, now, false);
+    CHECK(session.buildingShaders);
+    CHECK(renderer->programPending());
+    now += 0.05;
+    session.step(*renderer, state, now, false);
+    CHECK_FALSE(renderer->programPending());
+    CHECK_FALSE(session.buildingShaders);
+    CHECK((renderer->samplesDone() > 0 || renderer->bandInProgress()));
+    // An edit that needs no new program (a colour) renders at once.
+    Material grey = state.scene.materials[0];
+    grey.albedo = glm::vec3(0.3f);
+    REQUIRE(state.apply(makeSetMaterial(state, 0, grey)));
+    now += 1.0;
+    RenderStep edit = session.step(*renderer, state, now, false);
+    CHECK(edit.restarted);
+    CHECK_FALSE(session.buildingShaders);
+    // One that does (a mirror: a new material kind in the specialised program, where the
+    // configuration specialises; else the general program serves it too).
+    Material mirror = state.scene.materials[0];
+    mirror.type = MaterialType::Mirror;
+    REQUIRE(state.apply(makeSetMaterial(state, 0, mirror)));
+    now += 1.0;
+    session.step(*renderer, state, now, false);
+    if (renderer->config().specialize) {
+        CHECK(session.buildingShaders);
+        const int before = renderer->samplesDone();
+        now += 0.05;
+        session.step(*renderer, state, now, false);
+        CHECK(renderer->samplesDone() == before);   // nothing rendered with a program of another scene
+        now += 0.05;
+        session.step(*renderer, state, now, false);
+        CHECK_FALSE(session.buildingShaders);
+    } else {
+        CHECK_FALSE(session.buildingShaders);
+    }
+}
