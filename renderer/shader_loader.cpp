@@ -1,5 +1,7 @@
 #include "renderer/shader_loader.h"
 
+#include "renderer/program_cache.h"
+
 #include "renderer/file_util.h"
 #include "shaders/shared/layout.h"
 
@@ -141,6 +143,14 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
                                bool printTimes) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
+    const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+    // Built before, with this source and driver: its binary (renderer/program_cache.h).
+    if (const unsigned cached = loadCachedProgram(source.text)) {
+        if (printTimes)
+            std::fprintf(stderr, "caustic: %s: %zu bytes of source, loaded from the program cache in %.0f ms\n",
+                         entryName.c_str(), source.text.size(), ms(Clock::now() - t0));
+        return cached;
+    }
     GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
     const char* text = source.text.c_str();
     glShaderSource(shader, 1, &text, nullptr);
@@ -163,11 +173,11 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
     }
     GLuint program = glCreateProgram();
     glAttachShader(program, shader);
+    glProgramParameteri(program, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
     glLinkProgram(program);
     glDeleteShader(shader);
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (printTimes) {
-        const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
         std::fprintf(stderr, "caustic: %s: %zu bytes of source, compiled in %.0f ms, linked in %.0f ms\n",
                      entryName.c_str(), source.text.size(), ms(t1 - t0), ms(Clock::now() - t1));
     }
@@ -176,6 +186,7 @@ unsigned compileComputeProgram(const ShaderSource& source, const std::string& en
         glDeleteProgram(program);
         return 0;
     }
+    storeCachedProgram(program, source.text);
     return program;
 }
 
