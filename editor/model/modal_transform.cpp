@@ -93,6 +93,15 @@ Transform modalTransform(const ModalStart& s, ModalAxis axis, glm::vec2 mouse) {
     return out;
 }
 
+ModalAxis constraintAxis(char key, bool blenderKeys) {
+    switch (key) {
+        case 'X': return ModalAxis::X;
+        case 'Y': return blenderKeys ? ModalAxis::Z : ModalAxis::Y;
+        case 'Z': return blenderKeys ? ModalAxis::Y : ModalAxis::Z;
+        default: return ModalAxis::Free;
+    }
+}
+
 Camera axisView(const Camera& camera, glm::vec3 direction) {
     Camera c = camera;
     const float distance = glm::length(camera.position - camera.lookAt);

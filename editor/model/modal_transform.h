@@ -36,6 +36,10 @@ glm::vec2 projectToViewport(const Camera& camera, int width, int height, glm::ve
 // the entity's image, about the view axis or the world axis; Scale multiplies the scale by the
 // ratio of the mouse's distance from the entity's image to where it started, on all axes or one.
 Transform modalTransform(const ModalStart& start, ModalAxis axis, glm::vec2 mouse);
+// The scene axis a constraint key names. The scene is Y-up; in the Blender key map the keys mean
+// Blender's Z-up axes, as its users' hands know them: Z is up (the scene's Y) and Y is depth (the
+// scene's Z), so G then Z lifts an object. key: 'X', 'Y' or 'Z'.
+ModalAxis constraintAxis(char key, bool blenderKeys);
 
 // Numpad views: the camera looking at its look-at point from `direction` (+z: front, +x: right,
 // +y: top, or their opposites), at the same distance, up +y (top and bottom views: -z / +z).

@@ -62,6 +62,7 @@ AppState::~AppState() = default;
 void notify(EditorUi& ui, const std::string& message, bool isError) {
     ui.app.lastMessage = message;
     ui.app.lastMessageIsError = isError;
+    ui.app.lastMessageAt = ImGui::GetCurrentContext() ? ImGui::GetTime() : 0.0;
     if (isError) ui.app.shownError = {false, ui.app.state.history.revision()};
     if (isError) std::fprintf(stderr, "caustic: %s\n", message.c_str());
 }

@@ -74,6 +74,7 @@ struct AppState {
     // Status.
     std::string lastMessage;          // status bar: the latest info or error
     bool lastMessageIsError = false;
+    double lastMessageAt = 0.0;       // ImGui's clock when it was said (info messages fade)
     ShownError shownError;            // where the shown error came from (cleared when its cause is gone)
     bool fallbackNoticed = false;     // the status bar said the general integrator stands in (editor_app.cpp)
     bool quit = false;

@@ -65,4 +65,9 @@ void Display::takeSnapshot() {
     glCopyImageSubData(m_texture, GL_TEXTURE_2D, 0, 0, 0, 0, m_snapshot, GL_TEXTURE_2D, 0, 0, 0, 0, m_width, m_height, 1);
 }
 
+void Display::dropSnapshot() {
+    if (m_snapshot) glDeleteTextures(1, &m_snapshot);
+    m_snapshot = 0;
+}
+
 }  // namespace caustic::editor

@@ -28,6 +28,7 @@ public:
     void takeProgram(Display& from) { std::swap(m_program, from.m_program); }
 
     void takeSnapshot();   // copies the current display image
+    void dropSnapshot();   // another scene: the snapshot belongs to the last one
     bool hasSnapshot() const { return m_snapshot != 0; }
     unsigned snapshotTexture() const { return m_snapshot; }
 

@@ -310,6 +310,12 @@ void renderFrame(EditorUi& ui) {
     // Meshes the scene uses that changed on disk import again in the background meanwhile.
     const bool holding = ui.app.session.sceneUploaded && ui.app.meshImports->refreshing(ui);
     const RenderStep step = ui.app.session.step(*ui.app.renderer, ui.app.state, now(), holding);
+    // A new, opened or recovered scene: the lookdev snapshot (A/B) was of the last one.
+    if (ui.app.state.generation() != ui.snapshotGeneration) {
+        ui.snapshotGeneration = ui.app.state.generation();
+        if (ui.app.display) ui.app.display->dropSnapshot();
+        ui.compare = false;
+    }
     if (step.compiled && ui.app.lastMessageIsError && errorResolved(ui.app.shownError, true, ui.app.state.history.revision())) {
         // A stale error goes: the scene compiles again, or an edit since it went through.
         ui.app.lastMessage.clear();

@@ -74,12 +74,14 @@ struct EditorUi {
     float viewportImage[4] = {0, 0, 1, 1};   // the viewport image's screen x, y, width, height
     float uiScaleApplied = -1.0f;     // the UI scale the style has now (app.uiScaleChoice chooses it)
     bool viewportHovered = false;
+    bool ignoreClickRelease = false;  // the left button's next release confirmed a G / R / S move
     bool viewportFocused = false;     // this frame (Del deletes there and in the outliner)
     bool outlinerFocused = false;
 
     // Lookdev: the split view of the snapshot and the live render.
     bool compare = false;
     float compareSplit = 0.5f;
+    std::uint64_t snapshotGeneration = 0;   // the scene (EditorState::generation) the snapshot may belong to
 
     // Dialogs.
     FileBrowserState browser;

@@ -28,6 +28,10 @@
 namespace caustic::editor {
 namespace {
 
+// The thin lens's f-stop field: scenes may open the aperture wider than any real lens (dof.json is
+// f/0.09 in its scene units), so the field goes far below f/0.5.
+constexpr float kMinFStop = 0.01f;
+
 template <size_t N>
 bool combo(const char* label, int* value, const char* const (&items)[N]) {
     return ImGui::Combo(label, value, items, static_cast<int>(N));
@@ -328,11 +332,11 @@ void cameraInspector(EditorUi& ui) {
         if (mmChanged) c.fovDegrees = static_cast<float>(fovForFocalLength(c, aspect, std::clamp(mm, 1.0f, 10000.0f)));
         const double n = fNumber(frame);
         float stop = std::isfinite(n) ? static_cast<float>(n) : 0.0f;
-        const bool stopChanged = ImGui::DragFloat("f-stop", &stop, 0.05f, 0.5f, 256.0f, std::isfinite(n) ? "f/%.2f" : "pinhole");
+        const bool stopChanged = ImGui::DragFloat("f-stop", &stop, 0.05f, kMinFStop, 256.0f, std::isfinite(n) ? "f/%.2f" : "pinhole");
         e.track(stopChanged);
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("N = focal length / (2 x aperture radius); sets the aperture radius");
         if (stopChanged)
-            c.apertureRadius = static_cast<float>(apertureRadiusForFNumber(cameraFrame(c, aspect), std::clamp(stop, 0.5f, 256.0f)));
+            c.apertureRadius = static_cast<float>(apertureRadiusForFNumber(cameraFrame(c, aspect), std::clamp(stop, kMinFStop, 256.0f)));
     }
     // 1 and 2 blades are no polygon: step over them.
     if (c.blades == 1 || c.blades == 2) c.blades = blades > c.blades ? 0 : 3;

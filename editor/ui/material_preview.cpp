@@ -91,6 +91,9 @@ void MaterialPreview::tick(EditorUi& ui) {
     m_buildWait = -1;
     const int target = m_shown->render.samples;
     if (m_renderer->samplesDone() < target) m_renderer->renderFor(kBudgetSeconds, target - m_renderer->samplesDone());
+    // While a slider drags, every step restarts the ball: until its first whole sample the last
+    // image stays (it used to go black).
+    if (m_renderer->samplesDone() == 0) return;
     m_display->update(m_renderer->accumulationTexture(), m_shown->render.width, m_shown->render.height,
                       ui.app.state.view.toneMap, ui.app.state.view.exposure);
 }

@@ -1,6 +1,8 @@
 // Inspector widgets from the scene schema (param_widgets.h).
 #include "editor/ui/param_widgets.h"
 
+#include "editor/model/plain_text.h"
+
 #include "editor/ui/asset_picker.h"
 
 #include "editor/model/viewport_math.h"
@@ -11,6 +13,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cctype>
 #include <cstring>
 #include <map>
@@ -87,6 +90,15 @@ float dragSpeed(const Param<T>& p, const Bounds& b) {
     return 0.01f;
 }
 
+// A typed value outside the parameter's range is set to the nearest one it allows, and the status
+// bar says so (1e30 used to become 1,000,000 without a word). A drag never leaves the range.
+void announceClamp(Edit& e, std::string_view label, float typed, float kept) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%.*s: %g is outside what the scene allows; set to %g", int(label.size()), label.data(),
+                  double(typed), double(kept));
+    notify(e.ui, text);
+}
+
 template <class T>
 void floatWidget(Edit& e, const Param<T>& p, float* value) {
     const Bounds b = boundsOf(p.range);
@@ -99,7 +111,10 @@ void floatWidget(Edit& e, const Param<T>& p, float* value) {
     else
         c = ImGui::DragFloat(label.c_str(), &v, dragSpeed(p, b), b.min, b.max, formatOf(p).c_str());
     e.track(c);
-    if (c) *value = clampInto(v, p.range);
+    if (c) {
+        *value = clampInto(v, p.range);
+        if (*value != v && std::isfinite(v)) announceClamp(e, p.label, v, *value);
+    }
 }
 
 template <class T>
@@ -116,7 +131,10 @@ void vectorWidget(Edit& e, const Param<T>& p, glm::vec3* value) {
                               formatOf(p, "%.3f").c_str());
     e.track(c);
     if (c)
-        for (int i = 0; i < 3; ++i) (*value)[i] = clampInto(v[i], p.range);
+        for (int i = 0; i < 3; ++i) {
+            (*value)[i] = clampInto(v[i], p.range);
+            if ((*value)[i] != v[i] && std::isfinite(v[i])) announceClamp(e, p.label, v[i], (*value)[i]);
+        }
 }
 
 template <class T>
@@ -313,7 +331,7 @@ void drawParams(Edit& e, T& value, const std::function<bool(const Param<T>&, T&)
             case ParamKind::Preset: traceWidget(p.key, p.kind); break;  // drawn by `special` (sky presets)
         }
         if (ImGui::IsItemHovered() && !p.doc.empty() && p.kind != ParamKind::File)
-            ImGui::SetTooltip("%.*s", int(p.doc.size()), p.doc.data());
+            ImGui::SetTooltip("%s", plainText(p.doc).c_str());   // the schema's Markdown as text
         ImGui::PopID();
     }
 }

@@ -92,7 +92,11 @@ void drawStatusBar(EditorUi& ui) {
             ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.0f, 1.0f), "%s", importing.c_str());
         }
     }
-    if (!ui.app.lastMessage.empty()) {
+    // An info message ("saved ...") goes after kInfoSeconds, so the bar never says something
+    // stale; an error stays until what caused it is fixed (editor_app.cpp, renderFrame).
+    constexpr double kInfoSeconds = 8.0;
+    const bool fresh = ui.app.lastMessageIsError || ImGui::GetTime() - ui.app.lastMessageAt < kInfoSeconds;
+    if (!ui.app.lastMessage.empty() && fresh) {
         ImGui::SameLine(0.0f, 24.0f);
         // First line only; the whole message is in the tooltip (and in the error dialog).
         const std::string first = ui.app.lastMessage.substr(0, ui.app.lastMessage.find('\n'));

@@ -277,13 +277,14 @@ void modalStep(EditorUi& ui, ImVec2 pos) {
 
 // The modal transform's keys and clicks (KeyScope::Modal): X Y Z, Enter / left click, Esc / right click.
 void modalInput(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    const bool blender = ui.app.keymap == KeymapStyle::Blender;
     for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
         if (b.scope != KeyScope::Modal || !chordPressed(b.chord)) continue;
         auto toggle = [&](ModalAxis a) { ui.modal.axis = ui.modal.axis == a ? ModalAxis::Free : a; };
         switch (b.action) {
-            case Action::ConstrainX: toggle(ModalAxis::X); break;
-            case Action::ConstrainY: toggle(ModalAxis::Y); break;
-            case Action::ConstrainZ: toggle(ModalAxis::Z); break;
+            case Action::ConstrainX: toggle(constraintAxis('X', blender)); break;
+            case Action::ConstrainY: toggle(constraintAxis('Y', blender)); break;
+            case Action::ConstrainZ: toggle(constraintAxis('Z', blender)); break;
             case Action::ModalConfirm: modalStep(ui, pos); endModal(ui, true); return;
             case Action::ModalCancel: endModal(ui, false); return;
             default: break;
@@ -296,13 +297,16 @@ void modalInput(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     modalStep(ui, pos);
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         endModal(ui, true);
+        ui.ignoreClickRelease = true;   // the confirming click's release selects nothing
         return;
     }
     static const char* const kinds[] = {"Grab", "Rotate", "Scale"};
+    // Named as the keys name them (the Blender map's Z is the scene's Y: up).
     static const char* const axes[] = {"free", "x axis", "y axis", "z axis"};
+    static const char* const blenderAxes[] = {"free", "x axis", "z axis (up)", "y axis (depth)"};
     char text[128];
     std::snprintf(text, sizeof text, "%s (%s): X Y Z constrain, click or Enter confirms, Esc or right click cancels",
-                  kinds[int(ui.modal.start.kind)], axes[int(ui.modal.axis)]);
+                  kinds[int(ui.modal.start.kind)], (blender ? blenderAxes : axes)[int(ui.modal.axis)]);
     ImGui::GetWindowDrawList()->AddText(ImVec2(pos.x + 6.0f, pos.y + 40.0f), IM_COL32(255, 220, 120, 255), text);
     (void)size;
 }
@@ -496,7 +500,10 @@ void drawViewportPanel(EditorUi& ui) {
     // Clicks (not drags) select what is under the cursor; Shift+click focuses the lens there.
     // Ctrl+click adds an object to the selection or takes it out (not with compare on, where
     // Ctrl+drag moves the divider).
-    if (hovered && !gizmoBusy && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+    // The release of the click that confirmed a G / R / S move is not a pick.
+    const bool confirmRelease = ui.ignoreClickRelease && ImGui::IsMouseReleased(ImGuiMouseButton_Left);
+    if (confirmRelease || !ImGui::IsMouseDown(ImGuiMouseButton_Left)) ui.ignoreClickRelease = false;
+    if (hovered && !gizmoBusy && !confirmRelease && !io.KeyAlt && !(io.KeyCtrl && ui.compare) && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
         // Through the lens system where the camera has one (the renderer's, as it renders).

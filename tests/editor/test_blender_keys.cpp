@@ -117,3 +117,24 @@ TEST_CASE("hidden objects are left out of the viewport's scene, with their indic
     CHECK(index == std::vector<int>{0, 2});
     CHECK(withoutHidden(s, {}, &index).objects.size() == 3);
 }
+
+TEST_CASE("Blender keys: G then Z lifts (the scene is Y-up, Blender's Z is up), Y moves in depth", "[editor][keys]") {
+    CHECK(constraintAxis('X', true) == ModalAxis::X);
+    CHECK(constraintAxis('Z', true) == ModalAxis::Y);
+    CHECK(constraintAxis('Y', true) == ModalAxis::Z);
+    // The default key map names the scene's own axes.
+    CHECK(constraintAxis('X', false) == ModalAxis::X);
+    CHECK(constraintAxis('Y', false) == ModalAxis::Y);
+    CHECK(constraintAxis('Z', false) == ModalAxis::Z);
+    // And the constrained move goes where the axis says: G, Z, mouse up lifts the object.
+    ModalStart start;
+    start.kind = ModalKind::Grab;
+    start.camera.position = glm::vec3(0.0f, 1.0f, 5.0f);
+    start.camera.lookAt = glm::vec3(0.0f, 1.0f, 0.0f);
+    start.viewport = glm::vec2(400.0f, 300.0f);
+    start.mouse = glm::vec2(200.0f, 150.0f);
+    const Transform moved = modalTransform(start, constraintAxis('Z', true), glm::vec2(200.0f, 100.0f));
+    CHECK(moved.translate.y > 0.1f);
+    CHECK(moved.translate.x == Approx(0.0f).margin(1e-5));
+    CHECK(moved.translate.z == Approx(0.0f).margin(1e-5));
+}

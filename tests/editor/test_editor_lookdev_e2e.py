@@ -240,9 +240,10 @@ key Escape
 expect_modal no
 expect_undo_steps 1
 save cancelled.json
-# G, Y (the y axis only), the mouse up and sideways, a click confirms.
+# G, Z (Blender's up: the scene's y axis only), the mouse up and sideways, a click confirms
+# (its release selects nothing: the small box stays selected).
 key G
-key Y
+key Z
 mouse_move 30 -50
 mouse_click left
 expect_undo_steps 2

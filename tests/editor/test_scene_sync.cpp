@@ -9,6 +9,7 @@
 #include "editor/model/editor_state.h"
 #include "editor/model/render_session.h"
 #include "editor/model/viewport_math.h"
+#include "editor/model/plain_text.h"
 #include "renderer/gpu_scene.h"
 
 #include <catch2/catch.hpp>
@@ -333,5 +334,18 @@ TEST_CASE("a new light is placed clear of the objects at the look-at point", "[e
             CHECK_FALSE(inside);
         }
         CHECK(p.y > box.transform.translate.y + 1.0f);
+    }
+}
+
+TEST_CASE("tooltips show the schema's Markdown as plain text", "[editor][tooltips]") {
+    CHECK(plainText("must differ from `position`") == "must differ from position");
+    CHECK(plainText("**bold** and *this*, then `a*b` and 2 * pi") == "bold and this, then a*b and 2 * pi");
+    CHECK(plainText("see [the format](docs/scene-format.md) here") == "see the format here");
+    // Every tooltip the inspector shows: no backtick, no link syntax left.
+    for (const std::string_view doc : {std::string_view("the eye (each coordinate within +-1e18, as `look_at`)"),
+                                       std::string_view("`0`: wide open; [f-number](https://x)")}) {
+        const std::string t = plainText(doc);
+        CHECK(t.find('`') == std::string::npos);
+        CHECK(t.find("](") == std::string::npos);
     }
 }
