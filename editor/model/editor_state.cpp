@@ -47,6 +47,41 @@ std::uint32_t dirtyForRenderer(std::uint32_t dirty, std::uint32_t* deferred) {
     return dirty;
 }
 
+void EditorState::moveView(const Camera& to, bool freeViewMode, bool continuous) {
+    if (freeViewMode || freeView) {
+        if (freeView && *freeView == to) return;
+        freeView = to;
+        markDirty(kDirtyCamera);
+        return;
+    }
+    if (continuous) applyContinuous(makeSetCamera(*this, to));
+    else apply(makeSetCamera(*this, to));
+}
+
+void EditorState::toggleCameraView() {
+    if (freeView) {
+        m_leftFreeView = std::exchange(freeView, std::nullopt);
+    } else {
+        freeView = m_leftFreeView ? *m_leftFreeView : scene.camera;
+    }
+    markDirty(kDirtyCamera);
+}
+
+bool EditorState::cameraToView(std::string* why) {
+    if (!freeView) {
+        if (why) *why = "no free view to move the camera to (the viewport looks through the camera)";
+        return false;
+    }
+    Camera c = scene.camera;
+    c.position = freeView->position;
+    c.lookAt = freeView->lookAt;
+    c.up = freeView->up;
+    if (!apply(makeSetCamera(*this, c), why)) return false;
+    m_leftFreeView = std::exchange(freeView, std::nullopt);
+    markDirty(kDirtyCamera);
+    return true;
+}
+
 bool EditorState::undo() {
     bool done = history.undo(*this);
     validateSelection();
@@ -72,6 +107,8 @@ void EditorState::newScene(bool starter) {
     selection = {};
     history.clear();
     path.clear();
+    freeView.reset();
+    m_leftFreeView.reset();
     m_dirty = kDirtyAll;
     ++m_generation;
     if (!starter) return;
@@ -117,6 +154,8 @@ void EditorState::adoptOpened(Scene opened, const std::string& file) {
     path = file;
     selection = {};
     history.clear();
+    freeView.reset();
+    m_leftFreeView.reset();
     m_dirty = kDirtyAll;
     ++m_generation;
 }
@@ -151,6 +190,8 @@ void EditorState::adoptRecovered(Scene recovered, const std::string& file) {
     selection = {};
     history.clear();
     history.markUnclean();
+    freeView.reset();
+    m_leftFreeView.reset();
     m_dirty = kDirtyAll;
     ++m_generation;
 }

@@ -36,6 +36,21 @@ public:
     CommandStack history;
     std::string path;            // the file the scene belongs to; empty while untitled
 
+    // The viewport's own view (Blender's free view, the Blender key map): navigation and the
+    // numpad views move it instead of the scene's camera; it is neither saved nor undone, and a
+    // new or opened scene starts without one. Empty: the viewport looks through the scene camera
+    // (always so in the default key map, where navigating moves the camera: lookdev's way).
+    std::optional<Camera> freeView;
+    const Camera& viewCamera() const { return freeView ? *freeView : scene.camera; }
+    // Navigation to `to`: into the free view (freeView mode; made from the camera if there was
+    // none), else the scene camera (an edit; continuous: merged until seal()).
+    void moveView(const Camera& to, bool freeViewMode, bool continuous);
+    // Numpad 0: the camera view, or back to the free view left for it.
+    void toggleCameraView();
+    // Ctrl+Alt+Numpad 0: the scene camera takes the free view's place (one undo step; its lens,
+    // focus and other settings stay), and the viewport looks through it.
+    bool cameraToView(std::string* why = nullptr);
+
     // Edits. apply() is a discrete edit (one undo step); applyContinuous() is one step of a drag
     // or slider that merges with the previous step until seal() (call it on release). A command
     // whose value the scene file could not hold (Command::check: NaN or infinity, 0 samples, ...)
@@ -92,6 +107,7 @@ public:
     void setSelection(EntityRef active, const std::vector<int>& objects);
 
 private:
+    std::optional<Camera> m_leftFreeView;   // the free view Numpad 0 left
     std::vector<int> m_otherObjects;   // selected with m_otherFor (the active selection then)
     EntityRef m_otherFor;
     std::uint32_t m_dirty = kDirtyAll;

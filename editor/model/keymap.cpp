@@ -45,9 +45,11 @@ constexpr KeyBinding kBlender[] = {
     {A::ViewLeft, {"Numpad3", true, false}, S::Viewport, "view from the left (-x)"},
     {A::ViewTop, {"Numpad7", false, false}, S::Viewport, "view from the top (+y)"},
     {A::ViewBottom, {"Numpad7", true, false}, S::Viewport, "view from the bottom (-y)"},
+    {A::CameraView, {"Numpad0", false, false}, S::Viewport, "look through the scene's camera; again: back to the free view"},
+    {A::CameraToView, {"Numpad0", true, false, true}, S::Viewport, "move the scene's camera to the free view (one undo step)"},
     {A::ConstrainX, {"X", false, false}, S::Modal, "during G / R / S: along (about) the world x axis only; again: free"},
-    {A::ConstrainY, {"Y", false, false}, S::Modal, "during G / R / S: the y axis only"},
-    {A::ConstrainZ, {"Z", false, false}, S::Modal, "during G / R / S: the z axis only"},
+    {A::ConstrainY, {"Y", false, false}, S::Modal, "during G / R / S: Blender's y axis only (depth: the scene's z)"},
+    {A::ConstrainZ, {"Z", false, false}, S::Modal, "during G / R / S: Blender's z axis only (up: the scene's y)"},
     {A::ModalConfirm, {"Enter", false, false}, S::Modal, "during G / R / S: confirm (or left click): one undo step"},
     {A::ModalCancel, {"Escape", false, false}, S::Modal, "during G / R / S: cancel (or right click): nothing changes"},
 };

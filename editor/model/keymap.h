@@ -15,7 +15,7 @@ enum class Action {
     FrameSelection, GizmoTranslate, GizmoRotate, GizmoScale, GizmoLocal,
     // The Blender-style key map (KeymapStyle::Blender).
     ModalGrab, ModalRotate, ModalScale, DuplicateMove, Hide, UnhideAll,
-    ViewFront, ViewBack, ViewRight, ViewLeft, ViewTop, ViewBottom,
+    ViewFront, ViewBack, ViewRight, ViewLeft, ViewTop, ViewBottom, CameraView, CameraToView,
     // While a modal transform runs (KeyScope::Modal).
     ConstrainX, ConstrainY, ConstrainZ, ModalConfirm, ModalCancel,
 };

@@ -58,6 +58,9 @@ private:
 Scene RenderSession::viewportScene(const EditorState& state, glm::ivec2 size) {
     Scene scene = hidden.empty() ? state.scene : withoutHidden(state.scene, hidden, &renderedObjects);
     if (hidden.empty()) renderedObjects.clear();
+    // The viewport's free view (Blender key map); Render to file and scripts at the output size
+    // render through the scene camera.
+    if (state.freeView && !outputSize) scene.camera = *state.freeView;
     scene.render.width = size.x;
     scene.render.height = size.y;
     return scene;
@@ -105,6 +108,11 @@ RenderStep RenderSession::sync(SceneSink& sink, EditorState& state, double now, 
     const glm::ivec2 size = glm::max(full / divisor, glm::ivec2(1));
     if ((divisor != previewDivisor || size != renderedSize) && !holding) dirty |= kDirtySettings;
     if (hidden != m_appliedHidden && !holding) dirty |= kDirtyGeometry;   // objects left out or back
+    // Through the free view or the scene camera (Render to file switches to the camera).
+    if (const bool free = state.freeView && !outputSize; free != m_throughFreeView && !holding) {
+        dirty |= kDirtyCamera;
+        m_throughFreeView = free;
+    }
     // A partial update of a renderer that is behind would pair the model's scene with compiled
     // parts of the last good one.
     if (behind && dirty != kDirtyNone) dirty = kDirtyAll;

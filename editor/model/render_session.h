@@ -145,7 +145,8 @@ private:
     std::optional<std::uint64_t> m_displayedWholeImageOf;
     std::vector<std::string> m_appliedHidden;
     std::uint32_t m_deferredDirty = 0;
-    int m_buildWait = 0;   // frames still to draw before the program build  // unseen material edits, handed over with the next real update
+    int m_buildWait = 0;   // frames still to draw before the program build
+    bool m_throughFreeView = false;   // the renderer's camera is the free view  // unseen material edits, handed over with the next real update
 };
 
 }  // namespace caustic::editor

@@ -193,13 +193,15 @@ void guardUnsaved(EditorUi& ui, std::function<void()> action) {
     ui.unsavedPromptRequested = true;
 }
 
-void frameSelection(EditorUi& ui) {
+void frameSelection(EditorUi& ui, bool camera) {
     auto b = entityBounds(ui.app.state.scene, ui.app.state.selection, meshBoundsLookup(ui));
     if (!b) b = sceneBounds(ui.app.state.scene, meshBoundsLookup(ui));
     if (!b) return;
     const RenderSettings& rs = ui.app.state.scene.render;
-    ui.app.state.apply(makeSetCamera(ui.app.state, frameBounds(ui.app.state.scene.camera, b->first, b->second,
-                                                       float(rs.width) / float(rs.height))));
+    // The free view (Blender key map) or the camera, as navigation moves it.
+    const float aspect = float(rs.width) / float(rs.height);
+    if (camera) ui.app.state.apply(makeSetCamera(ui.app.state, frameBounds(ui.app.state.scene.camera, b->first, b->second, aspect)));
+    else ui.app.state.moveView(frameBounds(ui.app.state.viewCamera(), b->first, b->second, aspect), ui.app.keymap == KeymapStyle::Blender, false);
 }
 
 void reloadShaders(EditorUi& ui) {

@@ -134,7 +134,9 @@ void saveOrSaveAs(EditorUi& ui);
 // Runs `action` now if nothing is unsaved, else after the user saves or discards.
 void guardUnsaved(EditorUi& ui, std::function<void()> action);
 void openFileBrowser(EditorUi& ui, FileBrowserState::Mode mode);
-void frameSelection(EditorUi& ui);
+// Frames the selection (or everything) in the view navigation moves (the free view in the Blender
+// key map), or in the scene camera itself with `camera` (the camera inspector's button).
+void frameSelection(EditorUi& ui, bool camera = false);
 void reloadShaders(EditorUi& ui);
 void startRenderToFile(EditorUi& ui, const std::string& file);
 bool writeFilmImage(EditorUi& ui, const std::string& file, std::string* error);   // tone mapped as in batch

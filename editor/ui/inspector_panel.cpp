@@ -343,7 +343,7 @@ void cameraInspector(EditorUi& ui) {
     e.commit(e.changed ? makeSetCamera(s, c) : nullptr);
     if (ImGui::Button("Frame all (F)")) {
         s.selection = {EntityKind::Camera, -1};
-        frameSelection(ui);
+        frameSelection(ui, true);
     }
     // Saved views (camera_views.h): the editor's own, by scene file, not in the scene.
     // The bokeh preview (lookdev.h): points across the frame behind the focus, through this camera.

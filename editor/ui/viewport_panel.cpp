@@ -117,16 +117,16 @@ void drawWorldLine(ImDrawList* dl, const glm::mat4& viewProj, ImVec2 pos, ImVec2
 void drawLightOutlines(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     const Scene& scene = ui.app.state.scene;
     if (scene.lights.empty()) return;
-    const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
-                               viewMatrix(scene.camera);
+    const Camera& cam = ui.app.state.viewCamera();
+    const glm::mat4 viewProj = projectionMatrix(cam, scene.render.width, scene.render.height, 0.01f, 1000.0f) * viewMatrix(cam);
     // The outline's size: a tenth of the distance to the look-at point, so it reads at any scale.
-    const float outlineSize = 0.1f * glm::length(scene.camera.lookAt - scene.camera.position);
+    const float outlineSize = 0.1f * glm::length(cam.lookAt - cam.position);
     ImDrawList* dl = ImGui::GetWindowDrawList();
     dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
     for (int i = 0; i < int(scene.lights.size()); ++i) {
         const bool selected = ui.app.state.selection.kind == EntityKind::Light && ui.app.state.selection.index == i;
         const ImU32 colour = selected ? IM_COL32(255, 210, 60, 255) : IM_COL32(255, 210, 60, 110);
-        for (const std::vector<glm::vec3>& line : lightOutline(scene.lights[size_t(i)], scene.camera, outlineSize)) {
+        for (const std::vector<glm::vec3>& line : lightOutline(scene.lights[size_t(i)], cam, outlineSize)) {
             for (size_t k = 0; k + 1 < line.size(); ++k)
                 drawWorldLine(dl, viewProj, pos, size, line[k], line[k + 1], colour, selected ? 2.0f : 1.0f);
         }
@@ -140,8 +140,8 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
     const std::vector<int> selected = ui.app.state.selectedObjects();
     if (selected.size() < 2) return;
     const Scene& scene = ui.app.state.scene;
-    const glm::mat4 viewProj = projectionMatrix(scene.camera, scene.render.width, scene.render.height, 0.01f, 1000.0f) *
-                               viewMatrix(scene.camera);
+    const Camera& cam = ui.app.state.viewCamera();
+    const glm::mat4 viewProj = projectionMatrix(cam, scene.render.width, scene.render.height, 0.01f, 1000.0f) * viewMatrix(cam);
     const MeshBoundsLookup meshBounds = meshBoundsLookup(ui);
     ImDrawList* dl = ImGui::GetWindowDrawList();
     dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
@@ -174,6 +174,7 @@ void drawSelectedBounds(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 // f-stop, Shift+click, an undo), the parts of the scene on the plane of focus are tinted, found
 // by CPU ray casts on a grid (focus_overlay.h), with the distance written beside them.
 void drawFocusOverlay(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    if (ui.app.state.freeView) return;   // the camera's focus, shown through the camera only
     static Camera s_last;
     static std::uint64_t s_generation = ~std::uint64_t(0);
     const Scene& scene = ui.app.state.scene;
@@ -230,7 +231,7 @@ void startModal(EditorUi& ui, ModalKind kind, ImVec2 pos, ImVec2 size) {
     m.start.kind = kind;
     m.start.mouse = {mouse.x - pos.x, mouse.y - pos.y};
     m.start.viewport = {size.x, size.y};
-    m.start.camera = s.scene.camera;
+    m.start.camera = s.viewCamera();
     m.start.width = s.scene.render.width;
     m.start.height = s.scene.render.height;
     m.active = true;
@@ -319,7 +320,7 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         ui.gizmoWasUsing = false;
         return;
     }
-    const Camera& cam = ui.app.state.scene.camera;
+    const Camera& cam = ui.app.state.viewCamera();
     const RenderSettings& rs = ui.app.state.scene.render;
     const glm::mat4 view = viewMatrix(cam);
     const glm::mat4 proj = projectionMatrix(cam, rs.width, rs.height, 0.01f, 1000.0f);
@@ -352,16 +353,19 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 void navigate(EditorUi& ui, ImVec2 imageSize) {
     ImGuiIO& io = ImGui::GetIO();
     EditorState& s = ui.app.state;
+    // The Blender key map navigates its free view; the default one moves the scene camera.
+    const bool freeViewMode = ui.app.keymap == KeymapStyle::Blender;
+    const Camera& current = s.viewCamera();
     const bool orbitDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && !io.KeyShift;
     const bool altOrbit = io.KeyAlt && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0.0f);
     const bool panDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && io.KeyShift;
     const bool flying = ImGui::IsMouseDown(ImGuiMouseButton_Right);
     const ImVec2 d = io.MouseDelta;
     if ((orbitDrag || altOrbit) && (d.x != 0.0f || d.y != 0.0f)) {
-        s.applyContinuous(makeSetCamera(s, orbit(s.scene.camera, -d.x * 0.3f, d.y * 0.3f)));
+        s.moveView(orbit(current, -d.x * 0.3f, d.y * 0.3f), freeViewMode, true);
         ui.navigating = true;
     } else if (panDrag && (d.x != 0.0f || d.y != 0.0f)) {
-        s.applyContinuous(makeSetCamera(s, pan(s.scene.camera, d.x / imageSize.y, d.y / imageSize.y)));
+        s.moveView(pan(current, d.x / imageSize.y, d.y / imageSize.y), freeViewMode, true);
         ui.navigating = true;
     } else if (flying) {
         // Fly speed: a tenth of the scene's size per second, faster with Shift.
@@ -375,7 +379,7 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
         if (ImGui::IsKeyDown(ImGuiKey_A)) move.x -= speed;
         if (ImGui::IsKeyDown(ImGuiKey_E)) move.y += speed;
         if (ImGui::IsKeyDown(ImGuiKey_Q)) move.y -= speed;
-        Camera c = s.scene.camera;
+        Camera c = current;
         if (move != glm::vec3(0.0f)) c = fly(c, move);
         if (d.x != 0.0f || d.y != 0.0f) {
             // Mouse look: orbit the look-at point about the eye (swap the two, orbit, swap back).
@@ -385,13 +389,13 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
             turned = orbit(turned, -d.x * 0.2f, -d.y * 0.2f);
             c.lookAt = turned.position;
         }
-        if (!(c == s.scene.camera)) {
-            s.applyContinuous(makeSetCamera(s, c));
+        if (!(c == current)) {
+            s.moveView(c, freeViewMode, true);
             ui.navigating = true;
         }
     }
     if (io.MouseWheel != 0.0f) {
-        s.applyContinuous(makeSetCamera(s, dolly(s.scene.camera, std::pow(0.85f, io.MouseWheel))));
+        s.moveView(dolly(current, std::pow(0.85f, io.MouseWheel)), freeViewMode, true);
         ui.lastWheel = ImGui::GetTime();
         ui.app.session.interacting = true;
         ui.app.session.lastInteraction = ImGui::GetTime();
@@ -468,6 +472,9 @@ void drawViewportPanel(EditorUi& ui) {
         if (hovered && ImGui::GetIO().KeyCtrl && ImGui::IsMouseDown(ImGuiMouseButton_Left))
             ui.compareSplit = std::clamp((ImGui::GetIO().MousePos.x - pos.x) / size.x, 0.0f, 1.0f);
     }
+    if (ui.app.state.freeView)
+        dl->AddText(ImVec2(pos.x + 6.0f, pos.y + 4.0f), IM_COL32(200, 220, 255, 220),
+                    "free view (Numpad 0: through the camera, Ctrl+Alt+Numpad 0: camera to view)");
     if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
     if (ui.app.session.behind) drawLastGoodBanner(ui, pos, size);
@@ -507,7 +514,7 @@ void drawViewportPanel(EditorUi& ui) {
         !ImGui::IsMouseDragPastThreshold(ImGuiMouseButton_Left)) {
         const glm::vec2 pixel((io.MousePos.x - pos.x) / scale, (io.MousePos.y - pos.y) / scale);
         // Through the lens system where the camera has one (the renderer's, as it renders).
-        const Ray ray = cameraRay(ui.app.state.scene.camera, rs.width, rs.height, pixel,
+        const Ray ray = cameraRay(ui.app.state.viewCamera(), rs.width, rs.height, pixel,
                                   ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr);
         // Hidden objects (H) cannot be picked: the scene without them, indices mapped back.
         std::vector<int> shown;
@@ -549,7 +556,8 @@ void drawViewportPanel(EditorUi& ui) {
         // The viewport's keys (editor/model/keymap.h, scope Viewport; chords match their
         // modifiers exactly).
         EditorState& s = ui.app.state;
-        auto view = [&](glm::vec3 from) { s.apply(makeSetCamera(s, axisView(s.scene.camera, from))); };
+        // The numpad views move the free view (the Blender key map's only).
+        auto view = [&](glm::vec3 from) { s.moveView(axisView(s.viewCamera(), from), true, false); };
         for (const KeyBinding& b : keyBindings(ui.app.keymap)) {
             if (b.scope != KeyScope::Viewport || !chordPressed(b.chord)) continue;
             switch (b.action) {
@@ -578,6 +586,12 @@ void drawViewportPanel(EditorUi& ui) {
                 case Action::ViewLeft: view({-1.0f, 0.0f, 0.0f}); break;
                 case Action::ViewTop: view({0.0f, 1.0f, 0.0f}); break;
                 case Action::ViewBottom: view({0.0f, -1.0f, 0.0f}); break;
+                case Action::CameraView: s.toggleCameraView(); break;
+                case Action::CameraToView: {
+                    std::string why;
+                    if (!s.cameraToView(&why)) notify(ui, why, true);
+                    break;
+                }
                 case Action::FrameSelection: frameSelection(ui); break;
                 case Action::GizmoTranslate: ui.gizmoOp = GizmoOp::Translate; break;
                 case Action::GizmoRotate: ui.gizmoOp = GizmoOp::Rotate; break;

@@ -266,8 +266,10 @@ key Alt+H
 expect_hidden 0
 wait_samples 1
 expect_rendered_objects {m}
-# Numpad 7: the view from the top.
+# Numpad 7: the free view from the top; the saved camera stays where it was until Camera to view.
 key Numpad7
+save numpad7.json
+key Ctrl+Alt+Numpad0
 save top.json
 screenshot blender.png
 # View > UI scale: the monitor's (1 under Xvfb: ImGui's 13-pixel font), then 200%.
@@ -333,6 +335,8 @@ class EditorBlenderKeys(EditorSessionCase):
         self.assertAlmostEqual(constrained[2], grabbed[2], places=4)
 
     def test_4_numpad_top_view(self):
+        # The numpad view moved the free view only (Blender's way); Camera to view moved the camera.
+        self.assertEqual(self.load("numpad7.json")["camera"], self.load("constrained.json")["camera"])
         camera = self.load("top.json")["camera"]
         self.assertAlmostEqual(camera["position"][0], 0.0, places=3)
         self.assertAlmostEqual(camera["position"][2], 0.0, places=3)

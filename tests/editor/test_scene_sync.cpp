@@ -349,3 +349,59 @@ TEST_CASE("tooltips show the schema's Markdown as plain text", "[editor][tooltip
         CHECK(t.find("](") == std::string::npos);
     }
 }
+
+TEST_CASE("the free view (Blender key map) moves apart from the render camera, and Camera to view moves the camera", "[editor][view]") {
+    EditorState s;
+    s.newScene();
+    const Camera camera = s.scene.camera;
+    (void)s.takeDirty();
+    // Navigating in the free-view mode: the scene camera stays, no undo step, the view moved.
+    Camera orbited = camera;
+    orbited.position = glm::vec3(3.0f, 2.0f, 1.0f);
+    s.moveView(orbited, true, true);
+    CHECK(s.scene.camera == camera);
+    CHECK(s.history.undoCount() == 0);
+    REQUIRE(s.freeView);
+    CHECK(s.viewCamera().position == orbited.position);
+    CHECK((s.takeDirty() & kDirtyCamera) != 0);
+    // The viewport renders through it; Render to file (output size) through the camera.
+    RenderSession session;
+    CHECK(session.viewportScene(s, {16, 12}).camera.position == orbited.position);
+    session.outputSize = true;
+    CHECK(session.viewportScene(s, {16, 12}).camera == camera);
+    session.outputSize = false;
+    // A sync after switching to the output size sends the camera change even with no edit.
+    CpuSink sink;
+    session.sync(sink, s, 1.0, false);
+    REQUIRE(sink.accepted);
+    CHECK(sink.accepted->camera.position == orbited.position);
+    session.outputSize = true;
+    session.sync(sink, s, 2.0, false);
+    CHECK(sink.accepted->camera == camera);
+    session.outputSize = false;
+    // Numpad 0: through the camera, and back to the same free view.
+    s.toggleCameraView();
+    CHECK_FALSE(s.freeView);
+    CHECK(s.viewCamera() == camera);
+    s.toggleCameraView();
+    REQUIRE(s.freeView);
+    CHECK(s.freeView->position == orbited.position);
+    // Camera to view: one undo step; the camera keeps its own settings (fov), takes the view's place.
+    s.freeView->fovDegrees = 10.0f;
+    REQUIRE(s.cameraToView());
+    CHECK(s.history.undoCount() == 1);
+    CHECK(s.scene.camera.position == orbited.position);
+    CHECK(s.scene.camera.fovDegrees == camera.fovDegrees);
+    CHECK_FALSE(s.freeView);
+    REQUIRE(s.undo());
+    CHECK(s.scene.camera == camera);
+    // The default key map's navigation edits the camera (lookdev: the viewport is the camera).
+    s.moveView(orbited, false, false);
+    CHECK(s.scene.camera.position == orbited.position);
+    CHECK(s.history.undoCount() == 1);
+    // A new scene starts looking through its camera.
+    s.moveView(camera, true, true);
+    REQUIRE(s.freeView);
+    s.newScene();
+    CHECK_FALSE(s.freeView);
+}
