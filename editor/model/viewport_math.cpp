@@ -364,4 +364,24 @@ std::vector<std::vector<glm::vec3>> lightOutline(const Light& light, const Camer
     return lines;
 }
 
+std::vector<OutlineEdge> selectionOutline(const std::vector<int>& shown, int w, int h, const std::function<int(int)>& mark) {
+    std::vector<OutlineEdge> out;
+    if (w <= 0 || h <= 0 || shown.size() != std::size_t(w) * std::size_t(h)) return out;
+    auto markAt = [&](int x, int y) { return x < 0 || y < 0 || x >= w || y >= h ? 0 : (shown[std::size_t(y) * std::size_t(w) + std::size_t(x)] < 0 ? 0 : mark(shown[std::size_t(y) * std::size_t(w) + std::size_t(x)])); };
+    auto objectAt = [&](int x, int y) { return x < 0 || y < 0 || x >= w || y >= h ? -1 : shown[std::size_t(y) * std::size_t(w) + std::size_t(x)]; };
+    for (int y = 0; y <= h; ++y)
+        for (int x = 0; x <= w; ++x) {
+            // The edge left of cell (x, y), and the one above it.
+            if (y < h && objectAt(x - 1, y) != objectAt(x, y)) {
+                const int m = std::max(markAt(x - 1, y), markAt(x, y));
+                if (m > 0) out.push_back({glm::vec2(float(x), float(y)), glm::vec2(float(x), float(y + 1)), m});
+            }
+            if (x < w && objectAt(x, y - 1) != objectAt(x, y)) {
+                const int m = std::max(markAt(x, y - 1), markAt(x, y));
+                if (m > 0) out.push_back({glm::vec2(float(x), float(y)), glm::vec2(float(x + 1), float(y)), m});
+            }
+        }
+    return out;
+}
+
 }  // namespace caustic::editor

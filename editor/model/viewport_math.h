@@ -87,4 +87,15 @@ glm::vec3 snapTo(glm::vec3 v, float step);
 // `size` sets the length of the normal, the spot's cone and the point's axes (scene units).
 std::vector<std::vector<glm::vec3>> lightOutline(const Light& light, const Camera& camera, float size);
 
+// The selection's outline over the image (Blender's), from a grid of what the viewport shows:
+// `shown` holds, per cell (row-major, w x h, row 0 at the top), the object seen there (-1: none);
+// `mark` says of an object whether it is outlined (2: the active one, 1: another selected one,
+// 0: not). Returns the cell edges between an outlined object and anything else (another object
+// included), in cell units, with the stronger mark of the two sides.
+struct OutlineEdge {
+    glm::vec2 a, b;
+    int mark = 0;
+};
+std::vector<OutlineEdge> selectionOutline(const std::vector<int>& shown, int w, int h, const std::function<int(int)>& mark);
+
 }  // namespace caustic::editor

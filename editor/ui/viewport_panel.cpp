@@ -406,6 +406,76 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
     }
 }
 
+// What the viewport shows along the ray, as a click picks it: objects and lights (hidden objects
+// left out, indices mapped back), meshes through the renderer's own CPU copy of their BVHs (the
+// canonical shapes know no triangles; the renderer's objects mapped by session.renderedObjects),
+// through the alpha cut-outs as the render shows them.
+std::optional<PickHit> pickAt(EditorUi& ui, const Ray& ray) {
+    std::vector<int> shown;
+    std::optional<PickHit> hit = ui.app.hidden.empty() ? pick(ui.app.state.scene, ray)
+                                                   : pick(withoutHidden(ui.app.state.scene, ui.app.hidden, &shown), ray);
+    if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
+    if (ui.app.renderer) {
+        const CompiledScene& c = ui.app.renderer->compiled();
+        const RayHit mh = intersectVisibleMeshes(c, caustic::Ray{ray.origin, ray.direction});
+        if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance)) {
+            int object = static_cast<int>(c.instanceObject[mh.instance]);
+            const std::vector<int>& map = ui.app.session.renderedObjects;
+            if (!map.empty()) object = object < int(map.size()) ? map[size_t(object)] : -1;
+            if (object >= 0) hit = PickHit{{EntityKind::Object, object}, mh.t};
+        }
+    }
+    return hit;
+}
+
+// The selected objects' outline (selectionOutline), from a grid of picks over the image: about 4
+// screen pixels a cell (8 while something is dragged), at most 256 cells across; cast again only
+// when the view, the scene, the selection or the size changes.
+void drawSelectionOutline(EditorUi& ui, ImVec2 pos, ImVec2 size) {
+    const EditorState& s = ui.app.state;
+    const std::vector<int> selected = s.selectedObjects();
+    if (selected.empty() || size.x < 8.0f || size.y < 8.0f) return;
+    struct Cache {
+        Camera camera;
+        std::uint64_t generation = ~0ull, revision = ~0ull, renderer = ~0ull;
+        std::vector<int> selected;
+        std::vector<std::string> hidden;
+        int w = 0, h = 0;
+        std::vector<int> shown;
+    };
+    static Cache cache;
+    const float cellPixels = ui.app.session.interacting ? 8.0f : 4.0f;
+    const int w = std::clamp(int(size.x / cellPixels), 8, 256);
+    const int h = std::clamp(int(float(w) * size.y / size.x + 0.5f), 4, 256);
+    const RenderSettings& rs = s.scene.render;
+    const std::uint64_t rendererGeneration = ui.app.session.accumulationGeneration;
+    if (!(cache.camera == s.viewCamera()) || cache.generation != s.generation() || cache.revision != s.history.revision() ||
+        cache.selected != selected || cache.hidden != ui.app.hidden || cache.w != w || cache.h != h ||
+        cache.renderer != rendererGeneration) {
+        cache = Cache{s.viewCamera(), s.generation(), s.history.revision(), rendererGeneration, selected, ui.app.hidden, w, h, {}};
+        cache.shown.assign(std::size_t(w) * std::size_t(h), -1);
+        const LensCamera* lens = ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const glm::vec2 pixel((float(x) + 0.5f) / float(w) * float(rs.width), (float(y) + 0.5f) / float(h) * float(rs.height));
+                const auto hit = pickAt(ui, cameraRay(s.viewCamera(), rs.width, rs.height, pixel, lens));
+                if (hit && hit->ref.kind == EntityKind::Object) cache.shown[std::size_t(y) * std::size_t(w) + std::size_t(x)] = hit->ref.index;
+            }
+    }
+    const int active = s.selection.kind == EntityKind::Object ? s.selection.index : -1;
+    const auto mark = [&](int object) {
+        if (object == active) return 2;
+        return std::find(selected.begin(), selected.end(), object) != selected.end() ? 1 : 0;
+    };
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(pos, ImVec2(pos.x + size.x, pos.y + size.y), true);
+    const float sx = size.x / float(w), sy = size.y / float(h);
+    for (const OutlineEdge& e : selectionOutline(cache.shown, w, h, mark))
+        dl->AddLine(ImVec2(pos.x + e.a.x * sx, pos.y + e.a.y * sy), ImVec2(pos.x + e.b.x * sx, pos.y + e.b.y * sy),
+                    e.mark == 2 ? IM_COL32(255, 170, 50, 255) : IM_COL32(230, 110, 30, 200), e.mark == 2 ? 2.0f : 1.5f);
+    dl->PopClipRect();
+}
+
 // The renderer refused the model's scene (render_session.h, `behind`): the image is an older
 // scene's, and says so over its top edge, with the reason, until an edit makes the scene renderable.
 void drawLastGoodBanner(EditorUi& ui, ImVec2 pos, ImVec2 size) {
@@ -489,6 +559,7 @@ void drawViewportPanel(EditorUi& ui) {
 
     drawLightOutlines(ui, pos, size);
     drawSelectedBounds(ui, pos, size);
+    drawSelectionOutline(ui, pos, size);
     drawFocusOverlay(ui, pos, size);
     if (!ui.modal.active) drawGizmo(ui, pos, size);   // G / R / S drive the selection meanwhile
 
@@ -516,24 +587,7 @@ void drawViewportPanel(EditorUi& ui) {
         // Through the lens system where the camera has one (the renderer's, as it renders).
         const Ray ray = cameraRay(ui.app.state.viewCamera(), rs.width, rs.height, pixel,
                                   ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr);
-        // Hidden objects (H) cannot be picked: the scene without them, indices mapped back.
-        std::vector<int> shown;
-        std::optional<PickHit> hit = ui.app.hidden.empty() ? pick(ui.app.state.scene, ray)
-                                                       : pick(withoutHidden(ui.app.state.scene, ui.app.hidden, &shown), ray);
-        if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
-        // Meshes: the renderer's own CPU copy of their BVHs (the canonical shapes know no
-        // triangles), whose objects are the renderer's (session.renderedObjects maps them),
-        // through the alpha cut-outs as the render shows them.
-        if (ui.app.renderer) {
-            const CompiledScene& c = ui.app.renderer->compiled();
-            const RayHit mh = intersectVisibleMeshes(c, caustic::Ray{ray.origin, ray.direction});
-            if (mh.hit() && mh.instance < c.instanceObject.size() && (!hit || mh.t < hit->distance)) {
-                int object = static_cast<int>(c.instanceObject[mh.instance]);
-                const std::vector<int>& map = ui.app.session.renderedObjects;
-                if (!map.empty()) object = object < int(map.size()) ? map[size_t(object)] : -1;
-                if (object >= 0) hit = PickHit{{EntityKind::Object, object}, mh.t};
-            }
-        }
+        const std::optional<PickHit> hit = pickAt(ui, ray);
         if (io.KeyShift) {
             if (hit) {
                 Camera cam = ui.app.state.scene.camera;

@@ -405,3 +405,32 @@ TEST_CASE("the free view (Blender key map) moves apart from the render camera, a
     s.newScene();
     CHECK_FALSE(s.freeView);
 }
+
+TEST_CASE("the selection outline follows the selected objects' silhouettes", "[editor][outline]") {
+    // 6 x 4 cells: object 0 a 2 x 2 square at (1, 1), object 1 beside it at (3, 1) - (3, 2), sky -1.
+    const int w = 6, h = 4;
+    std::vector<int> shown(std::size_t(w * h), -1);
+    for (int y = 1; y <= 2; ++y) {
+        shown[std::size_t(y * w + 1)] = shown[std::size_t(y * w + 2)] = 0;
+        shown[std::size_t(y * w + 3)] = 1;
+    }
+    // Only object 0 selected (active): its square's 8 unit edges, the 2 it shares with object 1 included.
+    auto edges = selectionOutline(shown, w, h, [](int o) { return o == 0 ? 2 : 0; });
+    CHECK(edges.size() == 8);
+    for (const OutlineEdge& e : edges) {
+        CHECK(e.mark == 2);
+        CHECK(glm::length(e.b - e.a) == Approx(1.0f));
+        CHECK(e.a.x >= 1.0f);
+        CHECK(e.b.x <= 3.0f);
+    }
+    // Both selected, 0 active: the shared edge is drawn once, as the active one's.
+    edges = selectionOutline(shown, w, h, [](int o) { return o == 0 ? 2 : o == 1 ? 1 : 0; });
+    CHECK(edges.size() == 8 + 4);
+    int shared = 0;
+    for (const OutlineEdge& e : edges) shared += e.a.x == 3.0f && e.b.x == 3.0f;
+    CHECK(shared == 2);
+    // Nothing selected: nothing drawn; an object touching the border is closed by the border.
+    CHECK(selectionOutline(shown, w, h, [](int) { return 0; }).empty());
+    std::vector<int> full(std::size_t(w * h), 5);
+    CHECK(selectionOutline(full, w, h, [](int o) { return o == 5 ? 1 : 0; }).size() == std::size_t(2 * (w + h)));
+}
