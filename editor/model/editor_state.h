@@ -22,8 +22,9 @@ struct ViewSettings {
     float exposure = 0.0f;       // EV
     bool fitToWindow = true;     // else 1:1 pixels
     // The viewport renders at this fraction of its panel's pixels (1, 1/2 or 1/4): less detail,
-    // faster convergence on a slow machine (render_session.h).
-    float viewportScale = 1.0f;
+    // faster convergence on a slow machine (render_session.h). 0: automatic, from the measured
+    // rate (RenderSession::autoScale); scripted sessions start at 1 (they measure sizes).
+    float viewportScale = 0.0f;
 };
 
 class EditorState {

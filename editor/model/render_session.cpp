@@ -38,6 +38,16 @@ void RenderSession::endFrame(double seconds) {
     if (renderedThisFrame) overheadSeconds = 0.8 * overheadSeconds + 0.2 * std::max(0.0, frameSeconds - renderSeconds);
 }
 
+float chooseViewportScale(double rate, double panelPixels, float current) {
+    if (!(rate > 0.0) || !(panelPixels > 0.0)) return current;
+    for (const float s : {1.0f, 0.5f, 0.25f}) {
+        const double secondsPerSample = panelPixels * double(s) * double(s) / rate;
+        const double goal = s > current ? 0.5 / kAutoScaleSpp : 1.0 / kAutoScaleSpp;   // up: twice the rate
+        if (secondsPerSample <= goal || s == 0.25f) return s > current && secondsPerSample > goal ? current : s;
+    }
+    return current;
+}
+
 namespace {
 
 class RendererSink final : public SceneSink {
@@ -187,6 +197,14 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         samplesPerSecond = samplesPerSecond == 0.0 ? rate : 0.8 * samplesPerSecond + 0.2 * rate;
     } else {
         renderSeconds = 0.0;
+    }
+    // The automatic scale, from the rate measured at full size (not while dragging: the preview
+    // divisor's rate is another size's).
+    if (autoScaleUsed && previewDivisor == 1 && !interacting && now - lastInteraction > kInteractionHold &&
+        renderer.samplesDone() >= 2 && samplesPerSecond > 0.0 && m_panelWidth > 0 && m_panelHeight > 0) {
+        const double rate = samplesPerSecond * double(renderedSize.x) * double(renderedSize.y);
+        const double panel = double(m_panelWidth) * double(m_panelHeight) / (double(autoScale) * double(autoScale));
+        autoScale = chooseViewportScale(rate, panel, autoScale);
     }
     sampleRate.observe(now, renderer.samplesDone() + (renderer.bandInProgress() ? renderer.bandProgress() : 0.0),
                        renderedThisFrame);

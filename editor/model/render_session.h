@@ -62,6 +62,14 @@ public:
     virtual int samplesDone() const = 0;
 };
 
+// The automatic viewport scale (View > Viewport resolution > Automatic): the largest of 1, 1/2 and
+// 1/4 of the panel's pixels at which the path tracer, at its measured rate (pixel samples per
+// second of its time), renders kAutoScaleSpp samples per second, so an image is clean enough to
+// judge within a second on any machine; 1/4 at the least. Going up needs twice the rate
+// (hysteresis: a rate measured at one size must not flip the next).
+inline constexpr double kAutoScaleSpp = 4.0;
+float chooseViewportScale(double pixelSamplesPerSecond, double panelPixels, float current);
+
 class RenderSession {
 public:
     // Sends pending edits of `state` (takeDirty) to `renderer` and renders this frame's samples.
@@ -115,6 +123,11 @@ public:
     // frames until the build show the last image.
     bool buildingShaders = false;
     double samplesPerSecond = 0.0;    // per second of path-tracer time (the status bar's tooltip)
+    // The automatic viewport scale (chooseViewportScale), updated from samplesPerSecond once the
+    // full-size image has 2 samples with nothing being dragged; the panel applies it when the
+    // view's scale is automatic.
+    float autoScale = 1.0f;
+    bool autoScaleUsed = false;       // the panel follows autoScale (set by the panel)
     SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
     std::uint64_t droppedSamples = 0;
     double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;

@@ -504,6 +504,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             auto script = std::make_unique<ScriptRunner>();
             const bool loaded = script->load(scriptFile, &error);
             app->driver = std::move(script);
+            app->state.view.viewportScale = 1.0f;   // scripts measure sizes: the panel's, not a rate's
             if (!loaded) {
                 std::fprintf(stderr, "caustic: error: %s\n", error.c_str());
                 exitCode = 1;

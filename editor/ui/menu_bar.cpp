@@ -58,7 +58,8 @@ void drawMenuBar(EditorUi& ui) {
         if (ImGui::BeginMenu("Viewport resolution", s.view.fitToWindow)) {
             // The viewport renders at the panel's size (a fraction of it is faster); Render to file
             // and batch mode use the scene's output resolution.
-            for (const auto& [label, scale] : {std::pair{"Panel size", 1.0f}, std::pair{"Half", 0.5f}, std::pair{"Quarter", 0.25f}})
+            // Automatic: from the measured rate, 4 samples a second (render_session.h).
+            for (const auto& [label, scale] : {std::pair{"Automatic", 0.0f}, std::pair{"Panel size", 1.0f}, std::pair{"Half", 0.5f}, std::pair{"Quarter", 0.25f}})
                 if (ImGui::MenuItem(label, nullptr, s.view.viewportScale == scale)) s.view.viewportScale = scale;
             ImGui::EndMenu();
         }

@@ -517,7 +517,9 @@ void drawViewportPanel(EditorUi& ui) {
     const ImVec2 size(float(rs.width) * scale, float(rs.height) * scale);
     // The viewport renders at the size it is drawn at, in framebuffer pixels (render_session.h).
     const ImVec2 fb = ImGui::GetIO().DisplayFramebufferScale;
-    const float vs = ui.app.state.view.viewportScale;
+    // A chosen fraction, or the automatic one (render_session.h, chooseViewportScale).
+    ui.app.session.autoScaleUsed = ui.app.state.view.viewportScale <= 0.0f;
+    const float vs = ui.app.session.autoScaleUsed ? ui.app.session.autoScale : ui.app.state.view.viewportScale;
     ui.app.session.setViewport(int(size.x * fb.x * vs + 0.5f), int(size.y * fb.y * vs + 0.5f), ui.app.state.view.fitToWindow);
     ImVec2 cursor = ImGui::GetCursorPos();
     cursor.x += std::max(0.0f, (avail.x - size.x) * 0.5f);

@@ -434,3 +434,22 @@ TEST_CASE("the selection outline follows the selected objects' silhouettes", "[e
     std::vector<int> full(std::size_t(w * h), 5);
     CHECK(selectionOutline(full, w, h, [](int o) { return o == 5 ? 1 : 0; }).size() == std::size_t(2 * (w + h)));
 }
+
+TEST_CASE("the automatic viewport scale gives 4 samples a second at the largest of 1, 1/2, 1/4 and does not flip", "[editor][viewport]") {
+    const double panel = 900.0 * 600.0;
+    // Fast enough for 4 spp/s at full size.
+    CHECK(chooseViewportScale(panel * 5.0, panel, 1.0f) == 1.0f);
+    // 1 spp/s at full size: half the side is 4 spp/s.
+    CHECK(chooseViewportScale(panel * 1.0, panel, 1.0f) == 0.5f);
+    // Slower: a quarter, and no less however slow.
+    CHECK(chooseViewportScale(panel * 0.3, panel, 1.0f) == 0.25f);
+    CHECK(chooseViewportScale(panel * 0.001, panel, 1.0f) == 0.25f);
+    // Going back up needs twice the rate: at 0.5, a rate of exactly 4 spp/s at full size stays at
+    // 0.5; 8 spp/s goes up.
+    CHECK(chooseViewportScale(panel * 4.0, panel, 0.5f) == 0.5f);
+    CHECK(chooseViewportScale(panel * 8.0, panel, 0.5f) == 1.0f);
+    // Staying: at 0.5 with 1 spp/s at full size (4 at half) it stays.
+    CHECK(chooseViewportScale(panel * 1.0, panel, 0.5f) == 0.5f);
+    // No measurement: unchanged.
+    CHECK(chooseViewportScale(0.0, panel, 0.5f) == 0.5f);
+}
