@@ -62,6 +62,25 @@ ScriptStep viewport(ScriptContext& c) {
     return ScriptStep::done();
 }
 
+// View > Viewport resolution: auto (from the measured rate) or a fraction of the panel.
+ScriptStep viewportScale(ScriptContext& c) {
+    float f = 0.0f;
+    if (c.a[0] == "auto") f = 0.0f;
+    else if (!parseFloat(c.a[0], &f) || !(f == 1.0f || f == 0.5f || f == 0.25f)) {
+        c.fail("viewport_scale: expected auto, 1, 0.5 or 0.25, got '" + c.a[0] + "'");
+        return ScriptStep::done();
+    }
+    c.app.state.view.viewportScale = f;
+    return ScriptStep::done();
+}
+
+// The viewport renders at SCALE of its panel now (auto's choice, or the one set).
+ScriptStep expectViewportScale(ScriptContext& c) {
+    const float f = c.app.state.view.viewportScale > 0.0f ? c.app.state.view.viewportScale : c.app.session.autoScale;
+    if (f != c.num(0)) c.fail("the viewport renders at " + std::to_string(f) + " of its panel");
+    return ScriptStep::done();
+}
+
 // denoise: denoise now and wait until the viewport shows it; wait_denoised: only wait (auto).
 ScriptStep denoiseAndWait(ScriptContext& c, bool press) {
     EditorUi& ui = c.ui;
@@ -240,6 +259,8 @@ const ScriptCommand kCommands[] = {
     {"snapshot", 0, 0, "", snapshot},                  // lookdev snapshot
     {"compare", 1, 1, "", compare},                    // on | off: split view snapshot | live
     {"viewport", 1, 1, "", viewport},                  // output (the default) | panel: the viewport's render size
+    {"viewport_scale", 1, 1, "", viewportScale},        // auto | 1 | 0.5 | 0.25: View > Viewport resolution
+    {"expect_viewport_scale", 1, 1, "n", expectViewportScale},   // the viewport renders at this fraction of its panel now
     {"denoise", 0, 1, "n", denoise},                   // denoise now and wait until the viewport shows it [timeout s]
     {"wait_denoised", 0, 1, "n", waitDenoised},        // wait until a denoised image is shown (auto) [timeout s]
     {"denoise_auto", 1, 1, "", denoiseAuto},           // on | off: denoise when the target samples are reached
