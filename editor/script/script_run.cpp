@@ -116,6 +116,7 @@ std::string ScriptRun::reportJson(const EditorUi& ui) const {
       << ",\n  \"frame_ms_p95\": " << percentile(frameMs, 0.95)
       << ",\n  \"frame_ms_max\": " << percentile(frameMs, 1.0)
       << ",\n  \"all_frames_ms_median\": " << percentile(allFrameMs, 0.5)
+      << ",\n  \"all_frames_ms_max\": " << percentile(allFrameMs, 1.0)
       << ",\n  \"frame_overhead_ms_median\": " << percentile(overheadMs, 0.5)
       << ",\n  \"samples_per_frame_mean\": " << sppMean
       << ",\n  \"edit_to_frame_ms\": " << list(editLatencyMs)
@@ -138,6 +139,7 @@ std::string ScriptRun::reportJson(const EditorUi& ui) const {
       << ui.app.session.viewportResolution(s.scene).y << "]"
       << ",\n  \"samples\": " << (ui.app.renderer ? ui.app.renderer->samplesDone() : 0)
       << ",\n  \"render_elapsed_seconds\": " << ui.app.session.sampleRate.elapsedSeconds()
+      << ",\n  \"seconds_since_last_edit\": " << (editTime >= 0.0 ? glfwGetTime() - editTime : -1.0)
       << ",\n  \"idle_pacing\": " << (idle ? "true" : "false")
       << ",\n  \"width\": " << s.scene.render.width << ", \"height\": " << s.scene.render.height << "\n}\n";
     return j.str();

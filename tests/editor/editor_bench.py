@@ -5,6 +5,9 @@ translate, an orbit, each followed by rendering) and prints the script's report:
 while rendering (median, p95, max), all frames, and the time from each edit to the first frame
 that shows it. Figures go to docs/performance.md with the machine and its load.
 
+With --build it measures a program build instead (issue 41): the longest frame of the session,
+when the scene first needs a new integrator program, and the time from that edit to 16 spp.
+
 With --converge N it measures convergence instead (issue 15): an idle editor (`idle on`: the
 pacing of a session nobody touches, which gives the path tracer 250 ms a frame) renders the scene
 to N spp at its output resolution, and batch mode (`caustic --scene ... --samples N`) renders the
@@ -40,6 +43,21 @@ quit
 """
 
 
+# --build: the longest frame while the scene needs a new integrator program (the white material
+# turned to gold: a conductor, another program on llvmpipe), the frames that announce it, and the
+# time from that edit to 16 spp at the viewport's panel size.
+BUILD_SCRIPT = """
+viewport panel
+viewport_scale {scale}
+wait_samples 2
+select material white
+apply_preset gold
+record_sizes
+wait_samples 16
+report report.json
+quit
+"""
+
 CONVERGE_SCRIPT = """
 idle on
 wait_samples {n}
@@ -54,6 +72,8 @@ def main():
     ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.json"))
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "caustic"))
     ap.add_argument("--converge", type=int, default=0, help="compare an idle editor's time to N spp with batch mode's")
+    ap.add_argument("--build", action="store_true", help="the longest frame during a program build, and the time to 16 spp after it")
+    ap.add_argument("--scale", default="1", help="with --build: the viewport scale (auto, 1, 0.5, 0.25)")
     args = ap.parse_args()
     with open(args.scene) as f:
         scene = json.load(f)
@@ -68,7 +88,7 @@ def main():
             json.dump(scene, f)
         script = os.path.join(tmp, "script.txt")
         with open(script, "w") as f:
-            f.write(CONVERGE_SCRIPT.format(n=args.converge) if args.converge else SCRIPT)
+            f.write(CONVERGE_SCRIPT.format(n=args.converge) if args.converge else BUILD_SCRIPT.format(scale=args.scale) if args.build else SCRIPT)
         env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"))
         batch = None
         try:
@@ -95,6 +115,12 @@ def main():
         print(f"batch ({m.group(1)} spp)          {batch_s:.2f} s")
         print(f"editor / batch          {editor_s / batch_s:.2f}x (goal: 1.5x or less)")
         print(f"load average            {os.getloadavg()[0]:.2f}")
+        return
+    if args.build:
+        print(f"longest frame (all frames)  {report.get('all_frames_ms_max'):.0f} ms")
+        print(f"edit to first frame         {report.get('edit_to_frame_ms')}")
+        print(f"edit to 16 spp              {report.get('seconds_since_last_edit'):.2f} s at {report.get('viewport_resolution')}")
+        print(f"load average                {os.getloadavg()[0]:.2f}")
         return
     keys = ["width", "height", "rendering_frames", "frame_ms_median", "frame_ms_p95", "frame_ms_max",
             "all_frames_ms_median", "frame_overhead_ms_median", "samples_per_frame_mean", "edit_to_frame_ms_median", "edit_to_frame_ms"]
