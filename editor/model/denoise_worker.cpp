@@ -64,6 +64,7 @@ void DenoiseWorker::loop() {
         DenoiseOutput out;
         out.generation = job.generation;
         out.samples = job.samples;
+        out.progressive = job.progressive;
         out.width = job.film.width;
         out.height = job.film.height;
         DenoiseResult result;

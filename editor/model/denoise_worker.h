@@ -27,6 +27,7 @@ namespace caustic::editor {
 struct DenoiseJob {
     std::uint64_t generation = 0;   // the accumulation the film was read from
     int samples = 0;                // samples per pixel in the film
+    bool progressive = false;       // an idle denoise: shown while its accumulation goes on
     Film film;
     DenoiseOptions options;
 };
@@ -34,6 +35,7 @@ struct DenoiseJob {
 struct DenoiseOutput {
     std::uint64_t generation = 0;
     int samples = 0;
+    bool progressive = false;        // the job's
     int width = 0, height = 0;
     bool ok = false;
     std::string error;               // when !ok

@@ -121,6 +121,14 @@ ScriptStep denoiseAuto(ScriptContext& c) {
     return ScriptStep::done();
 }
 
+ScriptStep denoiseIdle(ScriptContext& c) {
+    bool on = false;
+    if (!c.onOff(&on)) return ScriptStep::done();
+    if (!c.app.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
+    c.app.denoiser->settings.idleDenoise = on;
+    return ScriptStep::done();
+}
+
 ScriptStep showRaw(ScriptContext& c) {
     bool on = false;
     if (!c.onOff(&on)) return ScriptStep::done();
@@ -264,6 +272,7 @@ const ScriptCommand kCommands[] = {
     {"denoise", 0, 1, "n", denoise},                   // denoise now and wait until the viewport shows it [timeout s]
     {"wait_denoised", 0, 1, "n", waitDenoised},        // wait until a denoised image is shown (auto) [timeout s]
     {"denoise_auto", 1, 1, "", denoiseAuto},           // on | off: denoise when the target samples are reached
+    {"denoise_idle", 1, 1, "", denoiseIdle},           // on | off: denoise when idle (needs `idle on` to happen in a script)
     {"show_raw", 1, 1, "", showRaw},                   // on | off: show the raw render instead of the denoised one
     {"preview_lighting", 1, 1, "", previewLighting},   // scene | studio: the material preview's lighting
     {"wait_preview", 1, 2, "nn", waitPreview},         // until the material preview has N samples of the current material [timeout s]

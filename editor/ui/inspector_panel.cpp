@@ -408,6 +408,9 @@ void renderInspector(EditorUi& ui) {
         if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
             ImGui::SetTooltip(available ? "Denoise with Open Image Denoise when the render reaches its target samples"
                                         : "Open Image Denoise is not in this build");
+        ImGui::Checkbox("Denoise when idle", &d.idleDenoise);
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("a second after the last input, at 4 spp and at each doubling; shown while the render goes on");
         if (ImGui::Button("Denoise now (F6)")) denoiseNow(ui);
         ImGui::SameLine();
         bool raw = !d.showDenoised;

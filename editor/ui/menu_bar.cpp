@@ -74,6 +74,7 @@ void drawMenuBar(EditorUi& ui) {
             ImGui::Separator();
             if (ImGui::MenuItem("Denoise now", "F6", false, denoiserAvailable())) denoiseNow(ui);
             ImGui::MenuItem("Denoise at target samples", nullptr, &ui.app.denoiser->settings.autoDenoise, denoiserAvailable());
+            ImGui::MenuItem("Denoise when idle", nullptr, &ui.app.denoiser->settings.idleDenoise, denoiserAvailable());
             ImGui::MenuItem("Show denoised", nullptr, &ui.app.denoiser->settings.showDenoised);
         }
         ImGui::Separator();

@@ -4,11 +4,17 @@
 #include "renderer/denoise.h"
 
 #include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
 
 #include <algorithm>
 #include <cstdio>
 
 namespace caustic::editor {
+
+namespace {
+constexpr int kIdleDenoiseFirst = 4;   // the first idle denoise waits for this many samples
+}
 
 ViewportDenoiser::ViewportDenoiser()
     : m_worker([](const Film& film, const DenoiseOptions& options, DenoiseResult* out, std::string* error) {
@@ -19,7 +25,7 @@ ViewportDenoiser::~ViewportDenoiser() {
     if (m_texture) glDeleteTextures(1, &m_texture);
 }
 
-bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why) {
+bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why, bool progressive) {
     if (!denoiserAvailable()) {
         *why = "Open Image Denoise is not in this build: " + denoiserVersion();
         return false;
@@ -43,6 +49,7 @@ bool ViewportDenoiser::request(EditorUi& ui, bool hold, std::string* why) {
     DenoiseJob job;
     job.generation = ui.app.session.accumulationGeneration;
     job.samples = done;
+    job.progressive = progressive;
     job.film = ui.app.renderer->readFilm();   // GL: on this thread; the worker gets its own copy
     job.options.prefilterGuides = settings.prefilterGuides;
     m_worker.request(std::move(job));
@@ -111,13 +118,26 @@ void ViewportDenoiser::tick(EditorUi& ui) {
         }
     }
 
+    // When idle: at 4 spp and at each doubling of the image's samples (progressive results stay
+    // shown while the render goes on). Scripts never idle unless they ask (`idle on`).
+    if (settings.idleDenoise && ui.app.renderer && ui.app.session.sceneUploaded && ui.app.session.previewDivisor == 1 &&
+        ui.app.session.idle(glfwGetTime()) && !m_worker.busy() && !m_hold && denoiserAvailable()) {
+        const int done = ui.app.renderer->samplesDone();
+        const int last = m_result && m_result->generation == generation ? m_result->samples : 0;
+        const auto key = std::make_pair(generation, done);
+        if (done >= kIdleDenoiseFirst && done >= 2 * last && m_lastRequest != key) {
+            std::string why;
+            request(ui, false, &why, true);
+        }
+    }
+
     if (shown(ui) && ui.app.display)
         ui.app.display->update(m_texture, m_result->width, m_result->height, ui.app.state.view.toneMap, ui.app.state.view.exposure);
 }
 
 bool ViewportDenoiser::current(const EditorUi& ui) const {
     return m_result && m_texture && ui.app.renderer && ui.app.session.sceneUploaded && m_result->generation == ui.app.session.accumulationGeneration &&
-           m_result->samples == ui.app.renderer->samplesDone();
+           (m_result->samples == ui.app.renderer->samplesDone() || (m_result->progressive && settings.idleDenoise));
 }
 
 bool ViewportDenoiser::shown(const EditorUi& ui) const { return settings.showDenoised && current(ui); }
@@ -135,8 +155,8 @@ Film ViewportDenoiser::shownFilm() const {
 std::string ViewportDenoiser::status(const EditorUi& ui) const {
     char text[256];
     if (shown(ui)) {
-        std::snprintf(text, sizeof text, "denoised (%d spp, %.0f ms, %s)", m_result->samples, m_result->seconds * 1e3,
-                      m_result->device.c_str());
+        std::snprintf(text, sizeof text, "denoised (%d spp%s, %.0f ms, %s)", m_result->samples,
+                      m_result->progressive ? " when idle" : "", m_result->seconds * 1e3, m_result->device.c_str());
         return text;
     }
     if (busy()) return holding() ? "denoising (render paused) ..." : "denoising ...";

@@ -19,6 +19,9 @@ struct EditorUi;
 
 struct DenoiseSettings {
     bool autoDenoise = false;      // denoise when accumulation reaches the target samples
+    // Denoise when idle (as Blender's viewport does): a second after the last input, at 4 spp and
+    // at each doubling after it; that image is shown while the render goes on (until an edit).
+    bool idleDenoise = true;
     bool showDenoised = true;      // false: show the raw render even when a denoised one is current
     bool prefilterGuides = true;   // OIDN's cleanAux path (renderer/denoise.h)
 };
@@ -35,7 +38,7 @@ public:
     // "Denoise now": reads the film and queues it. hold: also stop accumulating at the current
     // sample count (if the render is still converging) so the result stays current; any edit
     // or resume() lifts the hold. False with *why when there is nothing to denoise.
-    bool request(EditorUi& ui, bool hold, std::string* why);
+    bool request(EditorUi& ui, bool hold, std::string* why, bool progressive = false);
     void resume(EditorUi& ui);
     bool holding() const { return m_hold.has_value(); }
 

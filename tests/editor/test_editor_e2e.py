@@ -298,6 +298,20 @@ frames 3
 expect_denoised no
 write_image moved_raw.png
 screenshot window.png
+# Denoise when idle (a person's session: idle pacing on): denoised at 4 spp or more, and that
+# image stays shown while the render goes on (here to 24 spp, denoised again at 16).
+idle on
+uncap
+wait_samples 8
+wait_denoised 300
+expect_denoised yes
+uncap
+wait_samples 24
+expect_denoised yes
+write_image idle_denoised.png
+denoise_idle off
+frames 2
+expect_denoised no
 quit
 """
 
@@ -348,6 +362,10 @@ class EditorDenoise(EditorSessionCase):
         # Noisy again (4 spp, not denoised) and different from the unmoved render.
         self.assertGreater(neighbour_noise(moved, *BACK_WALL), 4.0)
         self.assertNotEqual(moved, self.image("raw.png"))
+
+    def test_7_denoised_when_idle_while_the_render_goes_on(self):
+        den = self.image("idle_denoised.png")
+        self.assertLess(neighbour_noise(den, *BACK_WALL) * 3.0, neighbour_noise(self.image("moved_raw.png"), *BACK_WALL))
 
 
 SESSION_1 = """
