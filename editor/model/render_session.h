@@ -131,6 +131,12 @@ public:
     SampleRateMeter sampleRate;       // per second of elapsed time since the restart (the status bar)
     std::uint64_t droppedSamples = 0;
     double frameSeconds = 0.0, uiSeconds = 0.004, renderSeconds = 0.0;
+    // Where the last frame's time went (the frame loop measures it; the scripts' report gives the
+    // medians): building the UI (ImGui), the render step (scene updates, path tracing, the display
+    // pass, the denoiser's tick), the material and bokeh previews, drawing the UI and the swap.
+    struct FramePhases {
+        double ui = 0.0, render = 0.0, previews = 0.0, drawSwap = 0.0;
+    } phases;
     double overheadSeconds = 0.01;    // a rendering frame's time outside the path tracer (smoothed)
     int samplesThisFrame = 0;         // whole samples finished this frame
     bool renderedThisFrame = false;   // any pixels rendered this frame (a band counts)

@@ -97,6 +97,11 @@ void ScriptRun::recordFrame(const EditorUi& ui, double frameSeconds) {
     if (ui.app.session.renderedThisFrame) {
         frameMs.push_back(frameSeconds * 1e3);
         overheadMs.push_back((frameSeconds - ui.app.session.renderSeconds) * 1e3);
+        const RenderSession::FramePhases& ph = ui.app.session.phases;
+        phaseMs[0].push_back(ph.ui * 1e3);
+        phaseMs[1].push_back((ph.render - ui.app.session.renderSeconds) * 1e3);
+        phaseMs[2].push_back(ph.previews * 1e3);
+        phaseMs[3].push_back(ph.drawSwap * 1e3);
         samplesPerFrame.push_back(ui.app.session.samplesThisFrame);
         if (editPending && ui.app.state.pendingDirty() == kDirtyNone) {
             editLatencyMs.push_back((glfwGetTime() - editTime) * 1e3);
@@ -118,6 +123,9 @@ std::string ScriptRun::reportJson(const EditorUi& ui) const {
       << ",\n  \"all_frames_ms_median\": " << percentile(allFrameMs, 0.5)
       << ",\n  \"all_frames_ms_max\": " << percentile(allFrameMs, 1.0)
       << ",\n  \"frame_overhead_ms_median\": " << percentile(overheadMs, 0.5)
+      << ",\n  \"overhead_ms_median\": {\"ui\": " << percentile(phaseMs[0], 0.5) << ", \"render_step_less_path_tracing\": "
+      << percentile(phaseMs[1], 0.5) << ", \"previews\": " << percentile(phaseMs[2], 0.5) << ", \"draw_and_swap\": "
+      << percentile(phaseMs[3], 0.5) << "}"
       << ",\n  \"samples_per_frame_mean\": " << sppMean
       << ",\n  \"edit_to_frame_ms\": " << list(editLatencyMs)
       << ",\n  \"edit_to_frame_ms_median\": " << percentile(editLatencyMs, 0.5)

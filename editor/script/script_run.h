@@ -51,6 +51,7 @@ struct ScriptRun {
     std::vector<double> frameMs;            // frames that rendered samples
     std::vector<double> allFrameMs;
     std::vector<double> overheadMs;         // rendering frames: all but the path tracing
+    std::vector<double> phaseMs[4];         // rendering frames: RenderSession::phases (ui, render step less path tracing, previews, draw and swap)
     std::vector<double> editLatencyMs;      // edit -> end of the first frame showing it
     std::vector<int> samplesPerFrame;
     std::vector<std::array<int, 4>> sizes;  // viewport: width, height, divisor, samples (report)

@@ -582,12 +582,16 @@ int runEditor(const std::optional<std::string>& sceneFile) {
                 showError(*ui, std::string("unexpected failure: ") + e.what());
                 ImGui::EndFrame();
             }
-            app->session.uiSeconds = 0.8 * app->session.uiSeconds + 0.2 * (now() - uiStart);
+            const double uiEnd = now();
+            app->session.uiSeconds = 0.8 * app->session.uiSeconds + 0.2 * (uiEnd - uiStart);
+            double renderEnd = uiEnd, previewsEnd = uiEnd;
             try {
                 renderFrame(*ui);
                 if (app->denoiser) app->denoiser->tick(*ui);
+                renderEnd = previewsEnd = now();
                 app->preview->tick(*ui);   // a few ms for the material preview, when one is shown
                 app->bokehPreview->tick(*ui);   // and for the camera's bokeh preview
+                previewsEnd = now();
             } catch (const std::exception& e) {
                 showError(*ui, std::string("unexpected failure while rendering: ") + e.what());
             }
@@ -600,6 +604,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             app->driver->afterDraw(*ui, fbw, fbh);
             glfwSwapBuffers(window);
             const double t = now();
+            app->session.phases = {uiEnd - uiStart, renderEnd - uiEnd, previewsEnd - renderEnd, t - previewsEnd};
             app->session.endFrame(t - frameStart);
             frameStart = t;
             app->driver->afterSwap(*ui, app->session.frameSeconds);

@@ -123,7 +123,7 @@ def main():
         print(f"load average                {os.getloadavg()[0]:.2f}")
         return
     keys = ["width", "height", "rendering_frames", "frame_ms_median", "frame_ms_p95", "frame_ms_max",
-            "all_frames_ms_median", "frame_overhead_ms_median", "samples_per_frame_mean", "edit_to_frame_ms_median", "edit_to_frame_ms"]
+            "all_frames_ms_median", "frame_overhead_ms_median", "overhead_ms_median", "samples_per_frame_mean", "edit_to_frame_ms_median", "edit_to_frame_ms"]
     for k in keys:
         print(f"{k:24} {report.get(k)}")
 
