@@ -498,6 +498,9 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         app->display = Display::create(app->shaderDir, &error);
         app->denoiser = std::make_unique<ViewportDenoiser>();
+        // Denoise when idle shares the CPU with the path tracer on llvmpipe (time to 128 spp at
+        // 512 x 512: +46 %, docs/performance.md): off there by default, on where a GPU renders.
+        if (app->renderer && onLlvmpipe()) app->denoiser->settings.idleDenoise = false;
         if (!app->display) showError(*ui, error);
 
         if (const char* scriptFile = std::getenv("CAUSTIC_EDITOR_SCRIPT"); scriptFile && *scriptFile) {

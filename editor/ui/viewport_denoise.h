@@ -21,6 +21,7 @@ struct DenoiseSettings {
     bool autoDenoise = false;      // denoise when accumulation reaches the target samples
     // Denoise when idle (as Blender's viewport does): a second after the last input, at 4 spp and
     // at each doubling after it; that image is shown while the render goes on (until an edit).
+    // The editor turns it off on llvmpipe, where OIDN and the path tracer share the CPU.
     bool idleDenoise = true;
     bool showDenoised = true;      // false: show the raw render even when a denoised one is current
     bool prefilterGuides = true;   // OIDN's cleanAux path (renderer/denoise.h)

@@ -60,6 +60,7 @@ quit
 
 CONVERGE_SCRIPT = """
 idle on
+{denoise}
 wait_samples {n}
 report report.json
 quit
@@ -72,6 +73,7 @@ def main():
     ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.json"))
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "caustic"))
     ap.add_argument("--converge", type=int, default=0, help="compare an idle editor's time to N spp with batch mode's")
+    ap.add_argument("--idle-denoise", action="store_true", help="with --converge: leave Denoise when idle on (the default in the editor)")
     ap.add_argument("--build", action="store_true", help="the longest frame during a program build, and the time to 16 spp after it")
     ap.add_argument("--scale", default="1", help="with --build: the viewport scale (auto, 1, 0.5, 0.25)")
     args = ap.parse_args()
@@ -88,7 +90,7 @@ def main():
             json.dump(scene, f)
         script = os.path.join(tmp, "script.txt")
         with open(script, "w") as f:
-            f.write(CONVERGE_SCRIPT.format(n=args.converge) if args.converge else BUILD_SCRIPT.format(scale=args.scale) if args.build else SCRIPT)
+            f.write(CONVERGE_SCRIPT.format(n=args.converge, denoise="" if args.idle_denoise else "denoise_idle off") if args.converge else BUILD_SCRIPT.format(scale=args.scale) if args.build else SCRIPT)
         env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"))
         batch = None
         try:

@@ -301,6 +301,7 @@ screenshot window.png
 # Denoise when idle (a person's session: idle pacing on): denoised at 4 spp or more, and that
 # image stays shown while the render goes on (here to 24 spp, denoised again at 16).
 idle on
+denoise_idle on
 uncap
 wait_samples 8
 wait_denoised 300
