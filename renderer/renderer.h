@@ -165,6 +165,9 @@ public:
     // GL_KHR_parallel_shader_compile). programPending(): the next dispatch builds a program.
     void setDeferredProgramBuilds(bool on) { m_deferBuilds = on; }
     bool programPending() const;
+    // Why the last dispatch rendered nothing: no integrator program builds (with deferred builds
+    // this is where a source that does not compile shows); empty after a dispatch that rendered.
+    const std::string& programError() const { return m_programError; }
     // Builds the general program now (create() does only where it renders): the check that the
     // whole source compiles, for a shader reload that must keep the last working shaders.
     bool checkSource(std::string* error) { return generalProgram(error) != 0; }

@@ -225,6 +225,19 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     }
     // The last good scene's image is not the model's: Render to file waits for the model's.
     if (buildingShaders && !renderer.programPending()) buildingShaders = false;
+    // No integrator builds (deferred builds report it at the dispatch, not in setScene): the
+    // viewport says so, as for a refused scene, until a dispatch renders again.
+    if (const std::string& why = renderer.programError(); !why.empty()) {
+        if (renderError != why) out.error = why;
+        renderError = why;
+        behind = true;
+        m_programFailed = true;
+    } else if (m_programFailed && renderedThisFrame) {
+        m_programFailed = false;
+        behind = false;
+        renderError.clear();
+        out.compiled = true;
+    }
     out.targetReached = !behind && previewDivisor == 1 && renderedSize == glm::ivec2(rs.width, rs.height) &&
                         renderer.samplesDone() >= rs.samples;
     return out;

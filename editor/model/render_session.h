@@ -165,7 +165,8 @@ private:
     std::vector<std::string> m_appliedHidden;
     std::uint32_t m_deferredDirty = 0;
     int m_buildWait = 0;   // frames still to draw before the program build
-    bool m_throughFreeView = false;   // the renderer's camera is the free view  // unseen material edits, handed over with the next real update
+    bool m_throughFreeView = false;   // the renderer's camera is the free view
+    bool m_programFailed = false;     // renderError is the renderer's programError  // unseen material edits, handed over with the next real update
 };
 
 }  // namespace caustic::editor

@@ -5,6 +5,7 @@
 // gets its own), so create() alone proves nothing there: this checks that
 // checkSource and setScene both fail with the broken file's name, and that the renderer made
 // from the good sources still renders.
+#include "editor/model/render_session.h"
 #include "renderer/shader_loader.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/meshes.h"  // TempDir
@@ -110,4 +111,38 @@ TEST_CASE("a scene program that fails to build falls back to the general one, wh
                                         std::max(1e-3, double(std::abs(reference.mean[i][c]))));
     INFO("largest relative difference " << worst);
     CHECK(worst < 1e-4);
+}
+
+// With deferred builds (the editor) setScene compiles nothing, so a source that does not compile
+// shows at the first dispatch: the render session says so (behind, with the file's name in the
+// error) instead of rendering nothing without a word.
+TEST_CASE("with deferred builds a broken source is reported by the render session, by name", "[gpu][editor]") {
+    glContext();
+    const TempDir tmp;
+    const fs::path dir = tmp.path / "shaders";
+    fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
+    {
+        std::ofstream env(dir / "lights" / "environment.glsl", std::ios::app);
+        env << "\nthis is not GLSL (\n";
+    }
+    std::string error;
+    auto fresh = Renderer::create(dir.string(), testConfig(), &error);
+    if (!fresh) {
+        CHECK(error.find("lights/environment.glsl") != std::string::npos);   // create() built the general one
+        return;
+    }
+    fresh->setDeferredProgramBuilds(true);
+    editor::EditorState state;
+    state.scene = cornellBox(16);
+    editor::RenderSession session;
+    double now = 10.0;
+    std::string shown;
+    for (int frame = 0; frame < 4; ++frame, now += 0.05) {
+        const editor::RenderStep step = session.step(*fresh, state, now, false);
+        if (!step.error.empty()) shown = step.error;
+    }
+    CHECK(session.behind);
+    INFO(session.renderError);
+    CHECK(session.renderError.find("lights/environment.glsl") != std::string::npos);
+    CHECK(shown == session.renderError);   // handed to the UI once
 }
