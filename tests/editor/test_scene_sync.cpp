@@ -201,7 +201,7 @@ TEST_CASE("scene sync: after a refused edit, later edits still reach the rendere
 TEST_CASE("scene sync: random edit sequences, refused or not, leave the renderer with the model's scene or say why", "[editor][sync]") {
     std::mt19937 rng(20261207);
     int behindSteps = 0, syncedSteps = 0;
-    for (int sequence = 0; sequence < 40; ++sequence) {
+    for (int sequence = 0; sequence < 24; ++sequence) {
         EditorState state;
         state.scene = startScene();
         RenderSession session;
