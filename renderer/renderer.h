@@ -197,6 +197,9 @@ private:
     // or the general one if that fails; called where the scene changes, and before each dispatch.
     // False (m_program 0) with the compiler's message when neither builds.
     bool selectProgram(std::string* error);
+    // selectProgram before rendering: false (reported once on stderr, kept in m_programError)
+    // when no program builds, so nothing is dispatched and no sample counted.
+    bool programReady();
     // The program without feature defines, compiled the first time; 0 with the compiler's message.
     unsigned generalProgram(std::string* error);
     // The program of `file` with these defines, compiled the first time; 0 with the compiler's

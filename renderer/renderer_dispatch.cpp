@@ -124,17 +124,23 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
     }
 }
 
+bool Renderer::programReady() {
+    std::string error;
+    if (!selectProgram(&error)) {
+        // setScene and update report this (unless builds are deferred); nothing renders, and no
+        // sample is counted as rendered.
+        if (error != m_programError) std::fprintf(stderr, "caustic: no integrator to render with: %s\n", error.c_str());
+        m_programError = error;
+        return false;
+    }
+    m_programError.clear();
+    return true;
+}
+
 void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::uint32_t tile0, std::uint32_t tile1) {
     tile1 = std::min(tile1, tileCount());
     if (tile0 >= tile1) return;
-    std::string error;
-    if (!selectProgram(&error)) {
-        // setScene and update report this; a dispatch without a program renders nothing.
-        if (error != m_programError) std::fprintf(stderr, "caustic: no integrator to render with: %s\n", error.c_str());
-        m_programError = error;
-        return;
-    }
-    m_programError.clear();
+    if (!programReady()) return;
     bindScene(firstSample, samples, tile0, tile1);
     glUseProgram(m_program);
     glBindImageTexture(BINDING_ACCUM_IMAGE, m_accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
@@ -154,6 +160,7 @@ void Renderer::dispatch(std::uint32_t firstSample, std::uint32_t samples, std::u
 }
 
 void Renderer::render(int count, const std::function<void(int)>& progress) {
+    if (count > 0 && !programReady()) return;
     using Clock = std::chrono::steady_clock;
     struct InFlight { GLsync fence; std::uint32_t samples; Clock::time_point issued; };
     std::deque<InFlight> inFlight;
@@ -211,7 +218,7 @@ double Renderer::finishBand() {
 Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
     using Clock = std::chrono::steady_clock;
     Progress p;
-    if (maxSamples <= 0 || m_width <= 0 || m_height <= 0) return p;
+    if (maxSamples <= 0 || m_width <= 0 || m_height <= 0 || !programReady()) return p;
     const auto start = Clock::now();
     const long long pixels = static_cast<long long>(m_width) * m_height;
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };

@@ -145,4 +145,5 @@ TEST_CASE("with deferred builds a broken source is reported by the render sessio
     INFO(session.renderError);
     CHECK(session.renderError.find("lights/environment.glsl") != std::string::npos);
     CHECK(shown == session.renderError);   // handed to the UI once
+    CHECK(fresh->samplesDone() == 0);      // nothing rendered is nothing counted
 }
