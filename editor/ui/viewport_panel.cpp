@@ -495,6 +495,8 @@ void drawViewportPanel(EditorUi& ui) {
     const bool open = ImGui::Begin("Viewport");
     ImGui::PopStyleVar();
     ui.app.session.interacting = false;
+    // The free view is the Blender key map's: the default map has no Numpad 0 to leave it.
+    if (ui.app.keymap != KeymapStyle::Blender && ui.app.state.freeView) ui.app.state.toggleCameraView();
     ui.viewportFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
     if (!open) {
         ImGui::End();
