@@ -299,7 +299,7 @@ TEST_CASE("a new scene has a ground, a key light aimed at the look-at point and 
     const glm::vec3 toTarget = glm::normalize(s.scene.camera.lookAt - key.transform.translate);
     CHECK(glm::dot(facing, toTarget) > 0.999f);
     // The ground faces up and passes under the look-at point; a default sphere there rests on it.
-    const Object& ground = s.scene.objects[0];
+    const Object ground = s.scene.objects[0];   // a copy: the add below may move the list
     const glm::vec3 up = glm::normalize(glm::vec3(ground.transform.toMatrix() * glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)));
     CHECK(up.y > 0.999f);
     REQUIRE(s.apply(makeAddObject(s, Shape::Sphere)));
