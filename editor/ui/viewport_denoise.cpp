@@ -118,14 +118,15 @@ void ViewportDenoiser::tick(EditorUi& ui) {
         }
     }
 
-    // When idle: at 4 spp and at each doubling of the image's samples (progressive results stay
-    // shown while the render goes on). Scripts never idle unless they ask (`idle on`).
+    // When idle: at 4 spp, at each doubling of the image's samples and at its target (progressive
+    // results stay shown while the render goes on). Scripts never idle unless they ask (`idle on`).
     if (settings.idleDenoise && ui.app.renderer && ui.app.session.sceneUploaded && ui.app.session.previewDivisor == 1 &&
         ui.app.session.idle(glfwGetTime()) && !m_worker.busy() && !m_hold && denoiserAvailable()) {
         const int done = ui.app.renderer->samplesDone();
         const int last = m_result && m_result->generation == generation ? m_result->samples : 0;
         const auto key = std::make_pair(generation, done);
-        if (done >= kIdleDenoiseFirst && done >= 2 * last && m_lastRequest != key) {
+        const int target = ui.app.session.target(ui.app.state.scene);
+        if (done >= kIdleDenoiseFirst && (done >= 2 * last || (done >= target && done != last)) && m_lastRequest != key) {
             std::string why;
             request(ui, false, &why, true);
         }

@@ -3,7 +3,9 @@
 // on a later frame, is uploaded as an RGBA32F texture (rgb = denoised radiance, a = 1: the
 // accumulation layout with one "sample") and tone mapped by the same Display pass as the live
 // image. It is shown only while it is current: the same accumulation generation (no edit since)
-// and the same sample count (nothing rendered since). Settings are view state, not saved.
+// and the same sample count (nothing rendered since); a result of Denoise when idle only needs
+// the same generation (it shows while the render goes on, replaced at each doubling and at the
+// target). Settings are view state, not saved.
 #pragma once
 
 #include "editor/model/denoise_worker.h"
@@ -19,8 +21,9 @@ struct EditorUi;
 
 struct DenoiseSettings {
     bool autoDenoise = false;      // denoise when accumulation reaches the target samples
-    // Denoise when idle (as Blender's viewport does): a second after the last input, at 4 spp and
-    // at each doubling after it; that image is shown while the render goes on (until an edit).
+    // Denoise when idle (as Blender's viewport does): a second after the last input, at 4 spp, at
+    // each doubling after it and at the target; that image is shown while the render goes on
+    // (until an edit).
     // The editor turns it off on llvmpipe, where OIDN and the path tracer share the CPU.
     bool idleDenoise = true;
     bool showDenoised = true;      // false: show the raw render even when a denoised one is current
