@@ -113,21 +113,17 @@ ScriptStep denoiseAndWait(ScriptContext& c, bool press) {
 ScriptStep denoise(ScriptContext& c) { return denoiseAndWait(c, true); }
 ScriptStep waitDenoised(ScriptContext& c) { return denoiseAndWait(c, false); }
 
-ScriptStep denoiseAuto(ScriptContext& c) {
+// on | off into one of the denoiser's switches.
+ScriptStep setDenoiseSwitch(ScriptContext& c, bool DenoiseSettings::*member) {
     bool on = false;
     if (!c.onOff(&on)) return ScriptStep::done();
     if (!c.app.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
-    c.app.denoiser->settings.autoDenoise = on;
+    c.app.denoiser->settings.*member = on;
     return ScriptStep::done();
 }
 
-ScriptStep denoiseIdle(ScriptContext& c) {
-    bool on = false;
-    if (!c.onOff(&on)) return ScriptStep::done();
-    if (!c.app.denoiser) { c.fail("no denoiser"); return ScriptStep::done(); }
-    c.app.denoiser->settings.idleDenoise = on;
-    return ScriptStep::done();
-}
+ScriptStep denoiseAuto(ScriptContext& c) { return setDenoiseSwitch(c, &DenoiseSettings::autoDenoise); }
+ScriptStep denoiseIdle(ScriptContext& c) { return setDenoiseSwitch(c, &DenoiseSettings::idleDenoise); }
 
 ScriptStep showRaw(ScriptContext& c) {
     bool on = false;

@@ -24,6 +24,19 @@ using namespace caustic;
 using namespace caustic::test;
 namespace fs = std::filesystem;
 
+namespace {
+
+// A copy of the shaders whose lights/environment.glsl does not compile.
+fs::path brokenShaderDir(const TempDir& tmp) {
+    const fs::path dir = tmp.path / "shaders";
+    fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
+    std::ofstream env(dir / "lights" / "environment.glsl", std::ios::app);
+    env << "\nthis is not GLSL (\n";
+    return dir;
+}
+
+}  // namespace
+
 TEST_CASE("a broken shader source fails checkSource and setScene by name, and the last renderer still renders",
           "[gpu][editor]") {
     glContext();
@@ -32,12 +45,7 @@ TEST_CASE("a broken shader source fails checkSource and setScene by name, and th
     const Film before = renderFilm(*good, scene, 1);
 
     const TempDir tmp;
-    const fs::path dir = tmp.path / "shaders";
-    fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
-    {
-        std::ofstream env(dir / "lights" / "environment.glsl", std::ios::app);
-        env << "\nthis is not GLSL (\n";
-    }
+    const fs::path dir = brokenShaderDir(tmp);
 
     std::string error;
     auto fresh = Renderer::create(dir.string(), testConfig(), &error);
@@ -119,12 +127,7 @@ TEST_CASE("a scene program that fails to build falls back to the general one, wh
 TEST_CASE("with deferred builds a broken source is reported by the render session, by name", "[gpu][editor]") {
     glContext();
     const TempDir tmp;
-    const fs::path dir = tmp.path / "shaders";
-    fs::copy(defaultShaderDir(), dir, fs::copy_options::recursive);
-    {
-        std::ofstream env(dir / "lights" / "environment.glsl", std::ios::app);
-        env << "\nthis is not GLSL (\n";
-    }
+    const fs::path dir = brokenShaderDir(tmp);
     std::string error;
     auto fresh = Renderer::create(dir.string(), testConfig(), &error);
     if (!fresh) {
