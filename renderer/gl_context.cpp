@@ -87,7 +87,7 @@ bool hasExtension(const char* list, const char* name) {
 
 // Initialises the display, binds desktop GL and creates a core context of the highest version
 // the driver accepts (Mesa refuses 4.6; 4.5 is what we need).
-bool initAndCreate(EGLDisplay display, EGLContext* ctxOut, std::string* why) {
+bool initAndCreate(EGLDisplay display, EGLContext* ctxOut, EGLConfig* configOut, int* minorOut, std::string* why) {
     EGLint major = 0, minor = 0;
     if (!eglInitialize(display, &major, &minor)) { *why = eglFailure("eglInitialize"); return false; }
     if (!eglBindAPI(EGL_OPENGL_API)) { *why = eglFailure("eglBindAPI(EGL_OPENGL_API)"); eglTerminate(display); return false; }
@@ -112,7 +112,12 @@ bool initAndCreate(EGLDisplay display, EGLContext* ctxOut, std::string* why) {
                                      EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                      EGL_NONE};
         EGLContext ctx = eglCreateContext(display, config, EGL_NO_CONTEXT, attrs.data());
-        if (ctx != EGL_NO_CONTEXT) { *ctxOut = ctx; return true; }
+        if (ctx != EGL_NO_CONTEXT) {
+            *ctxOut = ctx;
+            *configOut = config;
+            *minorOut = minorWanted;
+            return true;
+        }
     }
     *why = eglFailure("eglCreateContext (OpenGL 4.6 and 4.5 core)");
     eglTerminate(display);
@@ -154,6 +159,8 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
 
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLContext context = EGL_NO_CONTEXT;
+    EGLConfig config = EGL_NO_CONFIG_KHR;
+    int minor = 5;
     std::string platform;
 
     // 1. EGL device platform: a real GPU without any window system.
@@ -195,7 +202,7 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
             EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
             std::string why;
             if (d == EGL_NO_DISPLAY) { note("EGL device " + std::to_string(i), eglFailure("eglGetPlatformDisplayEXT")); continue; }
-            if (initAndCreate(d, &context, &why)) { display = d; platform = "EGL device"; }
+            if (initAndCreate(d, &context, &config, &minor, &why)) { display = d; platform = "EGL device"; }
             else note("EGL device " + std::to_string(i), why);
         }
     }
@@ -212,7 +219,7 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
             EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
             std::string why;
             if (d == EGL_NO_DISPLAY) note("EGL surfaceless platform (Mesa)", eglFailure("eglGetPlatformDisplayEXT"));
-            else if (initAndCreate(d, &context, &why)) { display = d; platform = "EGL surfaceless (Mesa)"; }
+            else if (initAndCreate(d, &context, &config, &minor, &why)) { display = d; platform = "EGL surfaceless (Mesa)"; }
             else note("EGL surfaceless platform (Mesa)", why);
         }
     }
@@ -230,6 +237,8 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
     std::unique_ptr<HeadlessGlContext> ctx(new HeadlessGlContext());
     ctx->m_display = display;
     ctx->m_context = context;
+    ctx->m_config = config;
+    ctx->m_minor = minor;
     if (!loadGlFunctions(reinterpret_cast<void* (*)(const char*)>(eglGetProcAddress), debugOutput, error)) {
         *error = platform + ": " + *error;
         return nullptr;
@@ -239,6 +248,29 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
     ctx->m_info.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     ctx->m_info.version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     return ctx;
+}
+
+ProgramBuilder::WorkerContext HeadlessGlContext::sharedWorkerContext(std::string* error) {
+    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, m_minor,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    eglBindAPI(EGL_OPENGL_API);
+    EGLContext shared = eglCreateContext(m_display, m_config, m_context, attrs);
+    if (shared == EGL_NO_CONTEXT) {
+        *error = eglFailure("eglCreateContext (a context sharing the renderer's objects)");
+        return {};
+    }
+    EGLDisplay display = m_display;
+    // Made current on the worker thread, and destroyed there when the worker lets it go.
+    return {[display, shared] {
+                eglBindAPI(EGL_OPENGL_API);
+                if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, shared)) return true;
+                eglDestroyContext(display, shared);
+                return false;
+            },
+            [display, shared] {
+                eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+                eglDestroyContext(display, shared);
+            }};
 }
 
 void HeadlessGlContext::makeCurrent() {

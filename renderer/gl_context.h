@@ -4,6 +4,8 @@
 // renderer does not care which one is current.
 #pragma once
 
+#include "renderer/program_builder.h"
+
 #include <memory>
 #include <string>
 
@@ -30,11 +32,17 @@ public:
 
     const GlContextInfo& info() const { return m_info; }
     void makeCurrent();
+    // A second context sharing this one's objects, for a ProgramBuilder's worker thread (made
+    // current there, destroyed when the worker releases it). The builder must be gone before this
+    // context is. Empty functions with a message when the driver refuses.
+    ProgramBuilder::WorkerContext sharedWorkerContext(std::string* error);
 
 private:
     HeadlessGlContext() = default;
     void* m_display = nullptr;
     void* m_context = nullptr;
+    void* m_config = nullptr;   // EGL_NO_CONFIG_KHR where the display has EGL_KHR_no_config_context
+    int m_minor = 5;            // the context's OpenGL 4.x minor version
     GlContextInfo m_info;
 };
 

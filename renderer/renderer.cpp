@@ -138,6 +138,9 @@ Renderer::~Renderer() {
     unsigned textures[5] = {m_accum, m_accumSq, m_albedo, m_normal, m_envTexture};
     glDeleteTextures(5, textures);
     for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+    // Builds still asked for: the builder deletes what it finishes after this; done ones are ours.
+    for (const auto& [key, build] : m_building)
+        if (const unsigned program = build->abandon()) glDeleteProgram(program);
 }
 
 bool Renderer::setScene(const Scene& scene, std::string* error) {
@@ -180,7 +183,7 @@ bool Renderer::setScene(const Scene& scene, std::string* error) {
         *error = "uploading the scene to the GPU failed: " + glErrors;
         return false;
     }
-    if (!m_deferBuilds && !selectProgram(error)) return false;  // compiled now, not inside the first render
+    if (!m_deferBuilds && !m_builder && !selectProgram(error)) return false;  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }
@@ -351,7 +354,7 @@ bool Renderer::update(const Scene& scene, std::uint32_t dirty, std::string* erro
         }
     }
     m_scene = scene;  // camera and settings live in the frame constants, made per dispatch
-    if (!m_deferBuilds && !selectProgram(error)) return false;  // compiled now, not inside the first render
+    if (!m_deferBuilds && !m_builder && !selectProgram(error)) return false;  // compiled now, not inside the first render
     resetAccumulation();
     return true;
 }

@@ -8,11 +8,13 @@
 #include "renderer/gpu_scene.h"
 #include "renderer/integrator_config.h"
 #include "renderer/lens.h"
+#include "renderer/program_builder.h"
 #include "renderer/scene.h"
 #include "renderer/shader_loader.h"
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -150,8 +152,9 @@ public:
     // few analytic primitives and no mesh: CAUSTIC_BAKED_PRIMITIVES, renderer_programs.cpp
     // bakedPrimitiveTests): 1.8x on llvmpipe for the Cornell box, but every change of geometry
     // then builds a new program (about a second on llvmpipe). For renders whose geometry stays
-    // put (batch mode, caustic-bench), not for the editor. Off by default; without
-    // specialisation it does nothing. IntegratorConfig::bakeGeometry, where set, overrides it.
+    // put (batch mode, caustic-bench) and for the editor once it is idle with builds in the
+    // background (render_session.h, kBakeAfter). Off by default; without specialisation it does
+    // nothing. IntegratorConfig::bakeGeometry, where set, overrides it.
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     // The integrator the last dispatch used (before any: the general one, built if need be).
     unsigned program();
@@ -165,6 +168,16 @@ public:
     // GL_KHR_parallel_shader_compile). programPending(): the next dispatch builds a program.
     void setDeferredProgramBuilds(bool on) { m_deferBuilds = on; }
     bool programPending() const;
+    // Builds in the background (the editor; renderer/program_builder.h): the integrator programs
+    // are built on the builder's thread, and a dispatch that needs one not built yet returns at once,
+    // rendering with a stand-in that renders the scene right (standInProgram), else rendering
+    // nothing (the accumulated image stays). Implies deferred builds. Null: built here.
+    void setProgramBuilder(std::shared_ptr<ProgramBuilder> builder);
+    bool buildsInBackground() const { return m_builder != nullptr; }
+    // The last dispatch found the scene's program still building in the background: with nothing
+    // to stand in for it (nothing rendered), or with a stand-in that rendered (standInProgram).
+    bool waitingForBuild() const { return m_waitingForBuild && m_program == 0; }
+    bool standingIn() const { return m_waitingForBuild && m_program != 0; }
     // Why the last dispatch rendered nothing: no integrator program builds (with deferred builds
     // this is where a source that does not compile shows); empty after a dispatch that rendered.
     const std::string& programError() const { return m_programError; }
@@ -201,10 +214,23 @@ private:
     // when no program builds, so nothing is dispatched and no sample counted.
     bool programReady();
     // The program without feature defines, compiled the first time; 0 with the compiler's message.
-    unsigned generalProgram(std::string* error);
+    // pending: built in the background (buildProgram).
+    unsigned generalProgram(std::string* error, bool* pending = nullptr);
+    // Whether the general program renders the current scene as its own would: the general one
+    // leaves out alpha masks and the media of surface parts and random walks (kGeneralMedia).
+    bool generalRendersScene() const;
+    // What renders while the scene's program is built in the background: the scene's program
+    // without baked geometry where that is built, else the general one where it renders the scene
+    // right, else none (0).
+    unsigned standInProgram() const;
     // The program of `file` with these defines, compiled the first time; 0 with the compiler's
-    // message.
-    unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error);
+    // message. With pending (and a builder), one not built yet is asked of the builder (once) and
+    // 0 returned with *pending true until it is done.
+    unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error,
+                          bool* pending = nullptr);
+
+    // Keeps a built program under its key; of those with baked geometry only the last few.
+    void keepProgram(const std::string& key, unsigned program, const ShaderDefines& defines);
 
     std::string m_shaderDir;
     ResolvedIntegratorConfig m_config;
@@ -212,10 +238,14 @@ private:
     bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
     std::map<std::string, std::string> m_programFailures;  // the compiler's message, by the same keys
+    std::deque<std::string> m_bakedKeys;   // the programs with baked geometry kept, oldest first
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer_programs.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     bool m_programFellBack = false;  // programFellBack
     bool m_deferBuilds = false;
+    std::shared_ptr<ProgramBuilder> m_builder;   // setProgramBuilder
+    std::map<std::string, std::shared_ptr<ProgramBuilder::Build>> m_building;   // asked of it, by key
+    bool m_waitingForBuild = false;   // waitingForBuild
     ShaderDefines selectedDefines() const;   // the defines selectProgram asks for first
     std::string m_fallbackReason;    // the failure the last fallback reported (on stderr, once)
     std::string m_programError;  // the last dispatch's failure to build one, reported once

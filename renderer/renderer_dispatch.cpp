@@ -127,6 +127,10 @@ void Renderer::bindScene(std::uint32_t firstSample, std::uint32_t samples, std::
 bool Renderer::programReady() {
     std::string error;
     if (!selectProgram(&error)) {
+        if (m_waitingForBuild) {   // built in the background: nothing renders yet
+            m_programError.clear();
+            return false;
+        }
         // setScene and update report this (unless builds are deferred); nothing renders, and no
         // sample is counted as rendered.
         if (error != m_programError) std::fprintf(stderr, "caustic: no integrator to render with: %s\n", error.c_str());

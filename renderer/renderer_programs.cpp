@@ -4,6 +4,7 @@
 #include "renderer/renderer_internal.h"
 
 #include "renderer/bsdf_tables.h"
+#include "renderer/program_builder.h"
 
 #include <glad/gl.h>
 
@@ -60,6 +61,9 @@ std::uint32_t mediaBits(const gpu::GpuFrame& frame, const CompiledScene& c) {
 ShaderDefines generalDefines(bool alphaMask, std::uint32_t media) {
     return {{"CAUSTIC_ALPHA_MASK", alphaMask ? "1u" : "0u"}, {"CAUSTIC_MEDIA", std::to_string(media) + "u"}};
 }
+
+// The media the general program (Renderer::generalProgram) is built for.
+constexpr std::uint32_t kGeneralMedia = MEDIA_ABSORBING | MEDIA_SCATTERING | MEDIA_BOUNDARIES | MEDIA_NESTED;
 
 
 // Baked geometry (bake = true; geometry/bvh.glsl): records as constants of the program, each
@@ -168,20 +172,13 @@ ShaderDefines Renderer::featureDefines() const {
     return caustic::featureDefines(makeFrame(m_scene, m_compiled, m_strategy), m_compiled, m_config.bakeGeometry.value_or(m_bakeGeometry));
 }
 
-unsigned Renderer::generalProgram(std::string* error) {
+unsigned Renderer::generalProgram(std::string* error, bool* pending) {
     if (!m_general) {
         ShaderDefines defines = m_config.defines();
-        for (const auto& d : generalDefines(false, MEDIA_ABSORBING | MEDIA_SCATTERING | MEDIA_BOUNDARIES | MEDIA_NESTED))
-            defines.push_back(d);
-        m_general = buildProgram("integrator/path.comp", defines, error);
+        for (const auto& d : generalDefines(false, kGeneralMedia)) defines.push_back(d);
+        m_general = buildProgram("integrator/path.comp", defines, error, pending);
     }
     return m_general;
-}
-
-unsigned Renderer::program() {
-    if (m_program) return m_program;
-    std::string error;
-    return generalProgram(&error);
 }
 
 namespace {
@@ -194,6 +191,29 @@ std::string programKey(const std::string& file, const ShaderDefines& defines) {
 
 }  // namespace
 
+unsigned Renderer::standInProgram() const {
+    // The scene's own program without baked geometry: the same kinds of content, the geometry read
+    // from the buffers (the editor asks for the baked one once it is idle).
+    ShaderDefines unbaked = selectedDefines();
+    std::erase_if(unbaked, [](const auto& d) {
+        return d.first == "CAUSTIC_BAKED_PRIMITIVES" || d.first == "CAUSTIC_BAKED_TOP_LEVEL" || d.first == "CAUSTIC_PAIRED_TRACE";
+    });
+    if (auto it = m_programs.find(programKey("integrator/path.comp", unbaked)); it != m_programs.end()) return it->second;
+    return m_general != 0 && generalRendersScene() ? m_general : 0u;
+}
+
+bool Renderer::generalRendersScene() const {
+    return !hasAlphaMask(m_compiled) && (mediaBits(makeFrame(m_scene, m_compiled, m_strategy), m_compiled) & ~kGeneralMedia) == 0u;
+}
+
+void Renderer::setProgramBuilder(std::shared_ptr<ProgramBuilder> builder) { m_builder = std::move(builder); }
+
+unsigned Renderer::program() {
+    if (m_program) return m_program;
+    std::string error;
+    return generalProgram(&error);
+}
+
 ShaderDefines Renderer::selectedDefines() const {
     ShaderDefines defines = m_config.defines();
     const ShaderDefines features =
@@ -205,23 +225,47 @@ ShaderDefines Renderer::selectedDefines() const {
 
 bool Renderer::programPending() const {
     const std::string key = programKey("integrator/path.comp", selectedDefines());
-    return !m_programs.contains(key) && !m_programFailures.contains(key);
+    if (m_programs.contains(key) || m_programFailures.contains(key)) return false;
+    // Built in the background and done: taken at the next dispatch, which then renders with it.
+    const auto it = m_building.find(key);
+    return it == m_building.end() || !it->second->done();
 }
 
 bool Renderer::selectProgram(std::string* error) {
     // Keyed by the defines: the same kinds of content reuse the program built for them. A failure
     // falls back to the general program; when that fails too (the source does not compile), there
     // is no program (m_program 0) and dispatches render nothing until one builds.
+    // With a builder (setProgramBuilder) a program not built yet is asked for and this returns at
+    // once: meanwhile the general program renders where it is built and renders the scene right
+    // (the same image: it differs only in code the scene does not reach), else nothing renders
+    // (false with no error, m_waitingForBuild) and the accumulated image stays as it is.
     std::string why;
-    const unsigned selected = buildProgram("integrator/path.comp", selectedDefines(), &why);
+    bool pending = false;
+    bool* async = m_builder ? &pending : nullptr;
+    const unsigned selected = buildProgram("integrator/path.comp", selectedDefines(), &why, async);
     if (selected) m_program = selected;
+    m_waitingForBuild = pending;
     const bool built = selected != 0;
     if (built) {
         m_programFellBack = false;
         return true;
     }
+    if (pending) {
+        m_programFellBack = false;
+        m_program = standInProgram();
+        error->clear();
+        return m_program != 0;
+    }
     std::string generalWhy;
-    if (const unsigned general = generalProgram(&generalWhy)) {
+    const unsigned general = generalProgram(&generalWhy, async);
+    if (pending) {
+        m_waitingForBuild = true;
+        m_programFellBack = false;
+        m_program = 0;
+        error->clear();
+        return false;
+    }
+    if (general) {
         // Said once per failure, not before every dispatch (each selects its program).
         if (!m_programFellBack || why != m_fallbackReason)
             std::fprintf(stderr, "caustic: the %s integrator failed to build, using the general one: %s\n",
@@ -237,7 +281,7 @@ bool Renderer::selectProgram(std::string* error) {
     return false;
 }
 
-unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error) {
+unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error, bool* pending) {
     const std::string key = programKey(file, defines);
     if (auto it = m_programs.find(key); it != m_programs.end()) return it->second;
     // A failure is kept too: every dispatch selects its program, and retrying a source that does
@@ -246,13 +290,55 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
         *error = it->second;
         return 0;
     }
+    if (pending) {   // built on the builder's thread: asked for once, taken when done
+        if (auto it = m_building.find(key); it != m_building.end()) {
+            if (!it->second->done()) {
+                *pending = true;
+                return 0;
+            }
+            const unsigned program = it->second->program();
+            if (program) keepProgram(key, program, defines);
+            else m_programFailures.emplace(key, *error = it->second->error());
+            m_building.erase(it);
+            return program;
+        }
+    }
     ShaderLoader loader(m_shaderDir);
     ShaderSource source;
     if (!loader.load(file, defines, &source, error)) return 0;
+    if (pending) {
+        m_building.emplace(key, m_builder->request(std::move(source), file, m_config.compileTimes));
+        *pending = true;
+        return 0;
+    }
     const unsigned program = compileComputeProgram(source, file, error, m_config.compileTimes);
-    if (program) m_programs.emplace(key, program);
+    if (program) keepProgram(key, program, defines);
     else m_programFailures.emplace(key, *error);
     return program;
+}
+
+void Renderer::keepProgram(const std::string& key, unsigned program, const ShaderDefines& defines) {
+    m_programs.emplace(key, program);
+    // A program with baked geometry serves one geometry: the editor bakes each time it idles after
+    // a geometry edit, so only the last few are kept (the one in use never goes).
+    const bool baked = std::any_of(defines.begin(), defines.end(), [](const auto& d) {
+        return d.first == "CAUSTIC_BAKED_PRIMITIVES" || d.first == "CAUSTIC_BAKED_TOP_LEVEL";
+    });
+    if (!baked) return;
+    m_bakedKeys.push_back(key);
+    constexpr std::size_t kKeptBaked = 4;
+    for (auto it = m_bakedKeys.begin(); m_bakedKeys.size() > kKeptBaked && it != m_bakedKeys.end();) {
+        const auto found = m_programs.find(*it);
+        if (found != m_programs.end() && found->second == m_program) {
+            ++it;
+            continue;
+        }
+        if (found != m_programs.end()) {
+            glDeleteProgram(found->second);
+            m_programs.erase(found);
+        }
+        it = m_bakedKeys.erase(it);
+    }
 }
 
 }  // namespace caustic

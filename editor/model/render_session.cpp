@@ -163,16 +163,22 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     const RenderSettings& rs = state.scene.render;
     const double budget = frameBudget(now);
     if (!sceneUploaded) return out;
+    // Baked geometry once idle (kBakeAfter), never built on this thread. A change of program, not
+    // of the image: accumulation goes on (the baked program renders the same samples).
+    renderer.setBakeGeometry(renderer.buildsInBackground() && bakeWanted(now));
     // The scene needs an integrator program not built yet (the editor defers builds to the first
-    // dispatch: Renderer::setDeferredProgramBuilds). The build blocks the thread for seconds on
-    // llvmpipe, so first a whole frame is drawn with "Building shaders" over the last image (the
-    // frame that found it had drawn its UI already), and the one after it builds.
+    // dispatch: Renderer::setDeferredProgramBuilds). Built in the background (the editor's
+    // ProgramBuilder), the dispatch asks for it and returns: the last image stays with "Building
+    // shaders" over it until it is done (or the general program renders meanwhile). Built on this
+    // thread, the build blocks it for seconds on llvmpipe, so first a whole frame is drawn with
+    // the words over the last image (the frame that found it had drawn its UI already), and the
+    // one after it builds.
     if (out.restarted || buildingShaders) {
         if (!renderer.programPending()) {
             buildingShaders = false;
         } else if (!buildingShaders) {
             buildingShaders = true;
-            m_buildWait = 2;
+            m_buildWait = renderer.buildsInBackground() ? 0 : 2;
         }
         if (buildingShaders && m_buildWait > 0) {
             --m_buildWait;
@@ -189,6 +195,10 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         // (Renderer::renderFor), so the frame rate holds at full resolution however slow the GPU.
         const long long pixels = static_cast<long long>(width) * height;
         const Renderer::Progress p = renderer.renderFor(budget, goal - done);
+        if (p.pixelSamples == 0 && renderer.waitingForBuild()) {
+            buildingShaders = true;   // nothing renders until it is built: the last image stays
+            return out;
+        }
         pacer.record(1, p.pixelSamples, p.seconds);
         renderSeconds = p.seconds;
         samplesThisFrame = p.samplesCompleted;
@@ -224,7 +234,8 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
         if (!firstSampleInTiles) m_displayedWholeImageOf = state.generation();
     }
     // The last good scene's image is not the model's: Render to file waits for the model's.
-    if (buildingShaders && !renderer.programPending()) buildingShaders = false;
+    // A stand-in renders while a program builds in the background: nothing to announce.
+    if (buildingShaders && (!renderer.programPending() || renderedThisFrame)) buildingShaders = false;
     // No integrator builds (deferred builds report it at the dispatch, not in setScene): the
     // viewport says so, as for a refused scene, until a dispatch renders again.
     if (const std::string& why = renderer.programError(); !why.empty()) {

@@ -251,6 +251,24 @@ ScriptStep focus(ScriptContext& c) {
     return ScriptStep::doneAfterFrames(1);   // focused from the next frame on
 }
 
+// on: the program builder starts no build until off (a test observes the editor while a build
+// is outstanding, however fast the machine builds).
+ScriptStep holdBuilds(ScriptContext& c) {
+    bool on = false;
+    if (!c.onOff(&on)) return ScriptStep::done();
+    if (!c.app.programBuilder) { c.fail("shaders are built on the window's thread here (no program builder)"); return ScriptStep::done(); }
+    c.app.programBuilder->hold(on);
+    return ScriptStep::done();
+}
+
+// yes: the viewport says "Building shaders..." now; no: it does not.
+ScriptStep expectBuilding(ScriptContext& c) {
+    bool yes = false;
+    if (!c.onOff(&yes)) return ScriptStep::done();
+    if (shadersBuilding(c.ui) != yes) c.fail(yes ? "no shaders are being built" : "shaders are being built");
+    return ScriptStep::done();
+}
+
 ScriptStep quit(ScriptContext& c) {
     c.app.quit = true;
     return ScriptStep::done();
@@ -282,6 +300,8 @@ const ScriptCommand kCommands[] = {
     {"mouse_move", 2, 2, "nn", mouseMove},             // move the mouse by (dx dy) pixels over the viewport (from its centre the first time)
     {"mouse_click", 1, 1, "", mouseClick},             // left | right: click where the mouse is
     {"focus", 1, 1, "", focus},                        // focus a panel: viewport | outliner | inspector
+    {"hold_builds", 1, 1, "", holdBuilds},             // on | off: the background program builder starts no build while on
+    {"expect_building", 1, 1, "", expectBuilding},     // yes | no: the viewport says "Building shaders..."
     {"quit", 0, 0, "", quit},
 };
 

@@ -217,6 +217,7 @@ void reloadShaders(EditorUi& ui) {
     }
     fresh->setImageReader(readImage);
     fresh->setDeferredProgramBuilds(true);
+    fresh->setProgramBuilder(ui.app.programBuilder);
     if (ui.app.renderer) fresh->meshCache() = std::move(ui.app.renderer->meshCache());   // no re-import of meshes
     ui.app.renderer = std::move(fresh);
     if (ui.app.display) ui.app.display->takeProgram(*display);   // keeps the lookdev snapshot to compare against

@@ -44,6 +44,10 @@ struct AppState {
     // Rendering: the renderer, the display of its image, the render session (scheduling, preview
     // resolution, the figures the status bar shows; editor/model/render_session.h).
     std::unique_ptr<Renderer> renderer;
+    // Builds the renderers' integrator programs on a thread of its own (renderer/program_builder.h),
+    // so that a build never freezes the window; null where the driver gives no second context
+    // (or $CAUSTIC_BACKGROUND_BUILDS=0): then they are built on this thread, announced first.
+    std::shared_ptr<ProgramBuilder> programBuilder;
     std::unique_ptr<Display> display;
     std::string shaderDir;
     IntegratorConfig integratorConfig;  // filled once at start (IntegratorConfig::fromEnvironment)

@@ -429,6 +429,13 @@ void applyStyle() {
     style.ItemSpacing = ImVec2(6.0f, 4.0f);
 }
 
+// Background builds are on unless $CAUSTIC_BACKGROUND_BUILDS is 0 (the editor benchmark's
+// "before": builds on the window's thread).
+bool backgroundBuildsWanted() {
+    const char* v = std::getenv("CAUSTIC_BACKGROUND_BUILDS");
+    return !(v && std::string(v) == "0");
+}
+
 }  // namespace
 
 int runEditor(const std::optional<std::string>& sceneFile) {
@@ -461,9 +468,26 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         return 1;
     }
 
+    // A hidden window whose context shares the editor's objects, for the shader-building thread.
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    GLFWwindow* builderWindow = backgroundBuildsWanted() ? glfwCreateWindow(1, 1, "caustic: shader builds", nullptr, window)
+                                                        : nullptr;
+    glfwWindowHint(GLFW_VISIBLE, GLFW_TRUE);
+    glfwMakeContextCurrent(window);
+
     int exitCode = 0;
     {
         auto app = std::make_unique<AppState>();
+        if (builderWindow) {
+            ProgramBuilder::WorkerContext context{[builderWindow] {
+                                                       glfwMakeContextCurrent(builderWindow);
+                                                       return glfwGetCurrentContext() == builderWindow;
+                                                   },
+                                                   [] { glfwMakeContextCurrent(nullptr); }};
+            app->programBuilder = ProgramBuilder::start(std::move(context), &error);
+            if (!app->programBuilder)
+                std::fprintf(stderr, "caustic: warning: %s; shaders are built on the window's thread\n", error.c_str());
+        }
         auto ui = std::make_unique<EditorUi>(*app);
         app->window = window;
         const std::string configDir = editorConfigDir();
@@ -494,6 +518,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         if (app->renderer) {
             app->renderer->setImageReader(readImage);
             app->renderer->setDeferredProgramBuilds(true);   // "Building shaders" shows first (render_session.h)
+            app->renderer->setProgramBuilder(app->programBuilder);
         }
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         app->display = Display::create(app->shaderDir, &error);
@@ -546,7 +571,13 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             const bool busy = app->session.busy(app->renderer.get(), app->state.scene) || app->preview->converging() ||
                               app->bokehPreview->converging();
             const int queuedBefore = ImGui::GetCurrentContext()->InputEventsQueue.Size;
+            // Only waiting for a program built in the background: a few frames a second, leaving
+            // the CPU to the build (on llvmpipe the window's drawing takes a core of its own).
+            const bool onlyBuilding = shadersBuilding(*ui) && !app->preview->converging() && !app->bokehPreview->converging() &&
+                                      app->renderer && app->renderer->waitingForBuild();
             if (!busy && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
+            else if (onlyBuilding && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone)
+                glfwWaitEventsTimeout(0.1);
             else glfwPollEvents();
             if (app->session.frameSeconds > kStallSeconds && dropStalledInput(queuedBefore))
                 notify(*ui, "input during the last " + std::to_string(int(app->session.frameSeconds + 0.5)) +
@@ -628,10 +659,12 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         app->bokehPreview.reset();
         app->display.reset();
         app->renderer.reset();
+        app->programBuilder.reset();   // the last owner: finishes a build in progress, joins its thread
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
     }
+    if (builderWindow) glfwDestroyWindow(builderWindow);
     glfwDestroyWindow(window);
     glfwTerminate();
     return exitCode;

@@ -61,6 +61,7 @@ void MaterialPreview::tick(EditorUi& ui) {
         }
         m_renderer->setImageReader(readImage);
         m_renderer->setDeferredProgramBuilds(true);
+        m_renderer->setProgramBuilder(ui.app.programBuilder);
     }
     auto same = [](const Scene& x, const Scene& y) { return x == y && x.sourcePath == y.sourcePath; };
     const bool failedBefore = m_failedFor && same(*m_failedFor, *m_wanted);
@@ -79,18 +80,19 @@ void MaterialPreview::tick(EditorUi& ui) {
         }
     }
     if (!m_shown) return;
-    // A program to build: the last image stays while a frame shows "Building shaders" (as the
-    // viewport does: render_session.h), then this tick builds it.
+    // A program to build: the last image stays while "Building shaders" shows (as the viewport
+    // does: render_session.h). Built in the background, the renderer asks for it and renders
+    // nothing until it is done; built here, a frame shows the words first, then this tick builds.
     if (m_renderer->programPending()) {
-        if (m_buildWait < 0) m_buildWait = 2;
+        if (m_buildWait < 0) m_buildWait = m_renderer->buildsInBackground() ? 0 : 2;
         if (m_buildWait > 0) {
             --m_buildWait;
             return;
         }
     }
-    m_buildWait = -1;
     const int target = m_shown->render.samples;
     if (m_renderer->samplesDone() < target) m_renderer->renderFor(kBudgetSeconds, target - m_renderer->samplesDone());
+    m_buildWait = m_renderer->programPending() ? 0 : -1;
     // While a slider drags, every step restarts the ball: until its first whole sample the last
     // image stays (it used to go black).
     if (m_renderer->samplesDone() == 0) return;

@@ -12,6 +12,7 @@ refuses the first saved file and renders the second, as the prompts said.
 
 Environment: CAUSTIC_BIN (build/caustic), CAUSTIC_SOURCE_DIR. Needs xvfb-run (Debian: xvfb xauth).
 """
+import json
 import os
 import shutil
 import subprocess
@@ -181,6 +182,54 @@ class EditorNewScene(EditorSessionCase):
         self.assertAlmostEqual(scene["camera"]["position"][1], 1.6, places=3)
         leaf = [o for o in scene["objects"] if o["name"] == "leaf"][0]
         self.assertEqual(leaf.get("material", ""), "")   # the file's own materials
+
+
+BUILD_SCRIPT = """
+viewport output
+wait_samples 2
+write_image white.png
+expect_building no
+hold_builds on
+select material white
+apply_preset gold
+frames 20
+expect_building yes
+expect_restarted yes
+screenshot building.png
+hold_builds off
+wait_samples 4
+expect_building no
+write_image gold.png
+quit
+"""
+
+
+class EditorBuildsInBackground(EditorSessionCase):
+    """A program build never blocks the window: with the builder held (so the build is outstanding
+    however fast this machine compiles), 20 frames pass with "Building shaders..." shown; once it
+    builds, the image is of the edited scene."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.make_tmp("caustic-editor-builds-")
+        with open(os.path.join(SOURCE_DIR, "scenes", "cornell-box.json")) as f:
+            scene = json.load(f)
+        scene["render"].update(width=48, height=48)
+        with open(os.path.join(cls.tmp, "scene.json"), "w") as f:
+            json.dump(scene, f)
+        with open(os.path.join(cls.tmp, "script.txt"), "w") as f:
+            f.write(BUILD_SCRIPT)
+        cls.editor = run_editor(cls.tmp, "script.txt", os.path.join(cls.tmp, "scene.json"))
+
+    def test_1_session_succeeds(self):
+        self.assertEqual(self.editor.returncode, 0, self.editor.stderr)
+
+    def test_2_the_built_program_renders_the_edit(self):
+        # The white walls and boxes turned gold: red over blue goes up across the image.
+        def red_over_blue(name):
+            px = [p for row in self.image(name) for p in row]
+            return sum(p[0] for p in px) / max(1, sum(p[2] for p in px))
+        self.assertGreater(red_over_blue("gold.png"), 1.3 * red_over_blue("white.png"))
 
 
 if __name__ == "__main__":
