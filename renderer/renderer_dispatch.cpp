@@ -246,11 +246,14 @@ Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
         p.samplesCompleted += n;
         p.pixelSamples += pixels * n;
     }
-    // Then runs of 8x8 tiles (in rows of tiles) of the next sample; at least one tile per call,
+    // Else runs of 8x8 tiles (in rows of tiles) of the next sample; at least one tile per call,
     // so progress never stops (a tile of 64 pixels is the smallest unit of work: on llvmpipe a
-    // row of tiles across a 512-pixel image took 20 ms, more than a frame's budget).
+    // row of tiles across a 512-pixel image took 20 ms, more than a frame's budget). Not after
+    // whole samples: the call returns a little early instead, because every run that waits for its
+    // dispatch to finish with nothing queued behind it costs throughput (on llvmpipe at 512 x 512,
+    // 32 calls of one sample took 1.66x the time of one call of 32; docs/performance.md).
     const std::uint32_t tiles = tileCount();
-    while (p.samplesCompleted < maxSamples) {
+    while (p.samplesCompleted < maxSamples && !(p.samplesCompleted > 0 && m_bandTile == 0)) {
         const double left = budgetSeconds - elapsed();
         if (left <= 0.0 && p.pixelSamples > 0) break;
         // Tiles differ in cost (a wall, the sky) and the estimate lags: aim a little short.

@@ -48,6 +48,7 @@ void ScriptRun::markEdit(const EditorUi& ui) {
     if (ui.app.state.pendingDirty() != kDirtyNone) {
         editTime = glfwGetTime();
         editPending = true;
+        sinceEditFrameMs.clear();
     }
 }
 
@@ -76,6 +77,8 @@ bool ScriptRun::waitFor(EditorUi& ui, const ScriptLine& line, bool done, double 
 
 void ScriptRun::recordFrame(const EditorUi& ui, double frameSeconds) {
     allFrameMs.push_back(frameSeconds * 1e3);
+    if (editTime >= 0.0) sinceEditFrameMs.push_back(frameSeconds * 1e3);
+    if (shadersBuilding(ui)) ++framesBuilding;
     // The viewport's render size, divisor and samples, whenever one of the first two changes
     // (`record_sizes` starts the list afresh): the refinement after an edit, panel resizes.
     if (ui.app.session.sceneUploaded) {
@@ -122,6 +125,8 @@ std::string ScriptRun::reportJson(const EditorUi& ui) const {
       << ",\n  \"frame_ms_max\": " << percentile(frameMs, 1.0)
       << ",\n  \"all_frames_ms_median\": " << percentile(allFrameMs, 0.5)
       << ",\n  \"all_frames_ms_max\": " << percentile(allFrameMs, 1.0)
+      << ",\n  \"frame_ms_max_since_last_edit\": " << percentile(sinceEditFrameMs, 1.0)
+      << ",\n  \"frames_building_shaders\": " << framesBuilding
       << ",\n  \"frame_overhead_ms_median\": " << percentile(overheadMs, 0.5)
       << ",\n  \"overhead_ms_median\": {\"ui\": " << percentile(phaseMs[0], 0.5) << ", \"render_step_less_path_tracing\": "
       << percentile(phaseMs[1], 0.5) << ", \"previews\": " << percentile(phaseMs[2], 0.5) << ", \"draw_and_swap\": "

@@ -5,8 +5,11 @@ translate, an orbit, each followed by rendering) and prints the script's report:
 while rendering (median, p95, max), all frames, and the time from each edit to the first frame
 that shows it. Figures go to docs/performance.md with the machine and its load.
 
-With --build it measures a program build instead (issue 41): the longest frame of the session,
-when the scene first needs a new integrator program, and the time from that edit to 16 spp.
+With --build it measures a program build instead (issue 41): the longest frame of the session and
+the longest after the edit that needs a new integrator program (the white material turned to
+gold), the frames drawn with "Building shaders...", and the time from that edit to 16 spp.
+$CAUSTIC_BACKGROUND_BUILDS=0 builds on the window's thread (the "before"); MESA_SHADER_CACHE_DISABLE=true
+and CAUSTIC_PROGRAM_CACHE=off make the builds cold.
 
 With --converge N it measures convergence instead (issue 15): an idle editor (`idle on`: the
 pacing of a session nobody touches, which gives the path tracer 250 ms a frame) renders the scene
@@ -120,6 +123,8 @@ def main():
         return
     if args.build:
         print(f"longest frame (all frames)  {report.get('all_frames_ms_max'):.0f} ms")
+        print(f"longest frame after the edit {report.get('frame_ms_max_since_last_edit'):.0f} ms")
+        print(f"frames with 'Building shaders' {report.get('frames_building_shaders')}")
         print(f"edit to first frame         {report.get('edit_to_frame_ms')}")
         print(f"edit to 16 spp              {report.get('seconds_since_last_edit'):.2f} s at {report.get('viewport_resolution')}")
         print(f"load average                {os.getloadavg()[0]:.2f}")
