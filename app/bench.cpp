@@ -21,6 +21,7 @@
 // render (a ballot per iteration): read the rates of such a run as nothing.
 // --oidn: also denoises each render with Open Image Denoise and reports the device and the time.
 #include "renderer/denoise.h"
+#include "renderer/program_cache.h"
 #include "renderer/dirty.h"
 #include "renderer/file_util.h"
 #include "renderer/gl_context.h"
@@ -223,6 +224,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> configWarnings;
     const IntegratorConfig config = IntegratorConfig::fromEnvironment(&configWarnings);
     for (const std::string& w : configWarnings) std::fprintf(stderr, "caustic-bench: %s\n", w.c_str());
+    useProgramCache(config.programCache);
     auto renderer = Renderer::create(defaultShaderDir(), config, &error);
     if (!renderer) { std::fprintf(stderr, "caustic-bench: %s\n", error.c_str()); return 1; }
     renderer->setImageReader(readImageWithoutOpenImageIo);  // HDR, PNG and JPEG without OpenImageIO

@@ -7,6 +7,7 @@
 #include "app/outputs.h"
 #include "app/part_file.h"
 #include "renderer/denoise.h"
+#include "renderer/program_cache.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/renderer.h"
@@ -253,6 +254,7 @@ int runBatch(const CliOptions& o) {
     std::vector<std::string> configWarnings;
     const IntegratorConfig config = IntegratorConfig::fromEnvironment(&configWarnings);
     for (const std::string& w : configWarnings) std::fprintf(stderr, "caustic: %s\n", w.c_str());
+    useProgramCache(config.programCache);
     auto renderer = Renderer::create(defaultShaderDir(), config, &error);
     if (!renderer) return fail(error);
     renderer->setImageReader(readImage);

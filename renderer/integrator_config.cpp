@@ -61,6 +61,7 @@ IntegratorConfig IntegratorConfig::fromEnvironment(std::vector<std::string>* war
     }
     c.walkStats = envFlag("CAUSTIC_WALK_STATS").value_or(false);
     c.compileTimes = envFlag("CAUSTIC_COMPILE_TIMES").value_or(false);
+    if (const char* v = std::getenv("CAUSTIC_PROGRAM_CACHE")) c.programCache = v;
     return c;
 }
 

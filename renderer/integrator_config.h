@@ -55,6 +55,10 @@ struct IntegratorConfig {
     // ($CAUSTIC_COMPILE_TIMES = 1).
     bool walkStats = false;
     bool compileTimes = false;
+    // Where built programs are kept between runs (renderer/program_cache.h): a folder, or "off".
+    // Unset: $XDG_CACHE_HOME/caustic/programs, else ~/.cache/caustic/programs. Process-wide: the
+    // program hands it to useProgramCache before it builds. $CAUSTIC_PROGRAM_CACHE = DIR | off.
+    std::optional<std::string> programCache;
 
     // The defaults with the CAUSTIC_* variables above applied: the one place that reads them. A
     // value it cannot read is ignored with a line in `warnings` naming the variable.

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -71,12 +72,20 @@ void evictOldest(const std::string& dir) {
     for (std::size_t i = 0; i + kMaxFiles < files.size(); ++i) fs::remove(files[i].second, ec);
 }
 
+std::mutex g_settingMutex;
+std::optional<std::string> g_setting;   // useProgramCache's; nullopt: the default folder
+
 }  // namespace
 
+void useProgramCache(const std::optional<std::string>& setting) {
+    std::lock_guard<std::mutex> lock(g_settingMutex);
+    g_setting = setting;
+}
+
 std::string programCacheDir() {
-    if (const char* env = std::getenv("CAUSTIC_PROGRAM_CACHE")) {
-        const std::string v = env;
-        return v == "off" ? std::string() : v;
+    {
+        std::lock_guard<std::mutex> lock(g_settingMutex);
+        if (g_setting) return *g_setting == "off" ? std::string() : *g_setting;
     }
     if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (fs::path(xdg) / "caustic" / "programs").string();
     if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "caustic" / "programs").string();

@@ -8,15 +8,20 @@
 // binary after an update), is a miss: the program is compiled and the file written again. Files
 // are written atomically; the folder keeps the 256 most recently written (older ones are removed).
 //
-// The folder: $CAUSTIC_PROGRAM_CACHE (empty or "off": no cache), else
-// $XDG_CACHE_HOME/caustic/programs, else ~/.cache/caustic/programs.
+// The folder is one per process, chosen by the program from its configuration
+// (IntegratorConfig::programCache, $CAUSTIC_PROGRAM_CACHE) before it builds anything: a folder,
+// or "off" (or empty) for no cache; without a choice, $XDG_CACHE_HOME/caustic/programs, else
+// ~/.cache/caustic/programs.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace caustic {
 
+// Sets the folder (nullopt: the default one). Safe to call while builds run on other threads.
+void useProgramCache(const std::optional<std::string>& setting);
 std::string programCacheDir();   // "" when the cache is off
 
 // A program linked from the cached binary for this source, or 0 (a miss).

@@ -11,6 +11,7 @@
 #include "editor/script/script_runner.h"
 #include "editor/ui/viewport_denoise.h"
 #include "renderer/file_util.h"
+#include "renderer/program_cache.h"
 #include "renderer/gl_context.h"
 #include "renderer/image_io.h"
 #include "renderer/scene_io.h"
@@ -514,6 +515,7 @@ int runEditor(const std::optional<std::string>& sceneFile) {
 
         app->shaderDir = defaultShaderDir();
         app->integratorConfig = IntegratorConfig::fromEnvironment();
+        useProgramCache(app->integratorConfig.programCache);   // before the first build
         app->renderer = Renderer::create(app->shaderDir, app->integratorConfig, &error);
         if (app->renderer) {
             app->renderer->setImageReader(readImage);

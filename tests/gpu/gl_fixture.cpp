@@ -1,5 +1,7 @@
 #include "tests/gpu/gl_fixture.h"
 
+#include "renderer/program_cache.h"
+
 #include "renderer/scene_io.h"
 #include "renderer/shader_loader.h"
 
@@ -13,7 +15,10 @@ namespace caustic::test {
 
 HeadlessGlContext& glContext() {
     static std::string error;
-    static std::unique_ptr<HeadlessGlContext> context = HeadlessGlContext::create(true, &error);
+    static std::unique_ptr<HeadlessGlContext> context = [] {
+        useProgramCache(testConfig().programCache);   // as the programs do (renderer/program_cache.h)
+        return HeadlessGlContext::create(true, &error);
+    }();
     INFO(error);
     REQUIRE(context != nullptr);
     return *context;

@@ -5,6 +5,7 @@
 // compile is reported as it is without the builder; a renderer gone before its build finishes
 // leaves nothing behind.
 #include "renderer/program_builder.h"
+#include "renderer/program_cache.h"
 #include "renderer/renderer.h"
 #include "tests/gpu/gl_fixture.h"
 #include "tests/support/meshes.h"  // TempDir
@@ -50,16 +51,9 @@ Scene ownScene() {
 }
 
 struct NoProgramCache {
-    std::string old;
-    bool hadOld = false;
-    NoProgramCache() {
-        if (const char* e = std::getenv("CAUSTIC_PROGRAM_CACHE")) { old = e; hadOld = true; }
-        setenv("CAUSTIC_PROGRAM_CACHE", "off", 1);
-    }
-    ~NoProgramCache() {
-        if (hadOld) setenv("CAUSTIC_PROGRAM_CACHE", old.c_str(), 1);
-        else unsetenv("CAUSTIC_PROGRAM_CACHE");
-    }
+    std::string old = programCacheDir();
+    NoProgramCache() { useProgramCache("off"); }
+    ~NoProgramCache() { useProgramCache(old.empty() ? std::string("off") : old); }
 };
 
 }  // namespace

@@ -42,19 +42,12 @@ ShaderSource writer(std::uint32_t value) {
             {"writer.comp"}};
 }
 
-// Sets $CAUSTIC_PROGRAM_CACHE for the test's lifetime.
+// The process's cache folder for the test's lifetime (useProgramCache).
 struct CacheDir {
     test::TempDir dir;
-    std::string old;
-    bool hadOld = false;
-    CacheDir() {
-        if (const char* e = std::getenv("CAUSTIC_PROGRAM_CACHE")) { old = e; hadOld = true; }
-        setenv("CAUSTIC_PROGRAM_CACHE", dir.path.c_str(), 1);
-    }
-    ~CacheDir() {
-        if (hadOld) setenv("CAUSTIC_PROGRAM_CACHE", old.c_str(), 1);
-        else unsetenv("CAUSTIC_PROGRAM_CACHE");
-    }
+    std::string old = programCacheDir();
+    CacheDir() { useProgramCache(dir.path.string()); }
+    ~CacheDir() { useProgramCache(old.empty() ? std::string("off") : old); }
     std::vector<fs::path> files() const {
         std::vector<fs::path> out;
         for (const auto& e : fs::directory_iterator(dir.path)) out.push_back(e.path());
@@ -120,7 +113,7 @@ TEST_CASE("program cache: a program compiled once is loaded from its binary next
     CHECK(programCacheHits() == before + 2);   // both files valid again
 
     // Off: nothing is read or written.
-    setenv("CAUSTIC_PROGRAM_CACHE", "off", 1);
+    useProgramCache("off");
     const unsigned off = compileComputeProgram(writer(9), "writer.comp", &error);
     REQUIRE(off);
     CHECK(runWriter(off) == 9u);
