@@ -64,6 +64,14 @@ void drawMenuBar(EditorUi& ui) {
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Frame selection", "F")) frameSelection(ui);
+        // A view of the viewport's own: navigating moves it and leaves the render camera where it
+        // is (the Blender map's Numpad 0); "Camera to view" then moves the camera there (one step).
+        const bool blender = ui.app.keymap == KeymapStyle::Blender;
+        if (ImGui::MenuItem("Free view", blender ? "Numpad 0" : nullptr, s.freeView.has_value())) s.toggleCameraView();
+        if (ImGui::MenuItem("Camera to view", blender ? "Ctrl+Alt+Numpad 0" : nullptr, false, s.freeView.has_value())) {
+            std::string why;
+            if (!s.cameraToView(&why)) notify(ui, why, true);
+        }
         ImGui::Separator();
         if (ImGui::MenuItem("Take snapshot", nullptr, false, ui.app.display != nullptr)) {
             ui.app.display->takeSnapshot();

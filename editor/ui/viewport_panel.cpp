@@ -353,7 +353,8 @@ void drawGizmo(EditorUi& ui, ImVec2 pos, ImVec2 size) {
 void navigate(EditorUi& ui, ImVec2 imageSize) {
     ImGuiIO& io = ImGui::GetIO();
     EditorState& s = ui.app.state;
-    // The Blender key map navigates its free view; the default one moves the scene camera.
+    // The Blender key map navigates its free view; the default one moves the scene camera, or the
+    // free view while one is on (View > Free view).
     const bool freeViewMode = ui.app.keymap == KeymapStyle::Blender;
     const Camera& current = s.viewCamera();
     const bool orbitDrag = ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f) && !io.KeyShift;
@@ -495,8 +496,6 @@ void drawViewportPanel(EditorUi& ui) {
     const bool open = ImGui::Begin("Viewport");
     ImGui::PopStyleVar();
     ui.app.session.interacting = false;
-    // The free view is the Blender key map's: the default map has no Numpad 0 to leave it.
-    if (ui.app.keymap != KeymapStyle::Blender && ui.app.state.freeView) ui.app.state.toggleCameraView();
     ui.viewportFocused = open && ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
     if (!open) {
         ImGui::End();
@@ -548,7 +547,9 @@ void drawViewportPanel(EditorUi& ui) {
     }
     if (ui.app.state.freeView)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + 4.0f), IM_COL32(200, 220, 255, 220),
-                    "free view (Numpad 0: through the camera, Ctrl+Alt+Numpad 0: camera to view)");
+                    ui.app.keymap == KeymapStyle::Blender
+                        ? "free view (Numpad 0: through the camera, Ctrl+Alt+Numpad 0: camera to view)"
+                        : "free view (View > Free view: through the camera, View > Camera to view)");
     if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
     if (ui.app.session.behind) drawLastGoodBanner(ui, pos, size);

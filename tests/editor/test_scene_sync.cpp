@@ -399,6 +399,16 @@ TEST_CASE("the free view (Blender key map) moves apart from the render camera, a
     s.moveView(orbited, false, false);
     CHECK(s.scene.camera.position == orbited.position);
     CHECK(s.history.undoCount() == 1);
+    // With the free view turned on (View > Free view), the default map's navigation moves it.
+    s.toggleCameraView();
+    REQUIRE(s.freeView);
+    Camera elsewhere = orbited;
+    elsewhere.position = glm::vec3(-2.0f, 1.0f, 4.0f);
+    s.moveView(elsewhere, false, true);
+    CHECK(s.scene.camera.position == orbited.position);
+    CHECK(s.freeView->position == elsewhere.position);
+    CHECK(s.history.undoCount() == 1);
+    s.toggleCameraView();
     // A new scene starts looking through its camera.
     s.moveView(camera, true, true);
     REQUIRE(s.freeView);
