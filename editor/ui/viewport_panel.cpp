@@ -411,10 +411,22 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
 // left out, indices mapped back), meshes through the renderer's own CPU copy of their BVHs (the
 // canonical shapes know no triangles; the renderer's objects mapped by session.renderedObjects),
 // through the alpha cut-outs as the render shows them.
-std::optional<PickHit> pickAt(EditorUi& ui, const Ray& ray) {
-    std::vector<int> shown;
-    std::optional<PickHit> hit = ui.app.hidden.empty() ? pick(ui.app.state.scene, ray)
-                                                   : pick(withoutHidden(ui.app.state.scene, ui.app.hidden, &shown), ray);
+// A Picker holds the scene without its hidden objects, made once for many rays (the selection
+// outline casts thousands a frame).
+struct Picker {
+    EditorUi& ui;
+    std::optional<Scene> withoutHiddenScene;   // with hidden objects only
+    std::vector<int> shown;                    // its objects' indices in the scene
+    explicit Picker(EditorUi& u) : ui(u) {
+        if (!ui.app.hidden.empty()) withoutHiddenScene = withoutHidden(ui.app.state.scene, ui.app.hidden, &shown);
+    }
+    std::optional<PickHit> at(const Ray& ray) const;
+};
+
+std::optional<PickHit> pickAt(EditorUi& ui, const Ray& ray) { return Picker(ui).at(ray); }
+
+std::optional<PickHit> Picker::at(const Ray& ray) const {
+    std::optional<PickHit> hit = pick(withoutHiddenScene ? *withoutHiddenScene : ui.app.state.scene, ray);
     if (hit && !shown.empty() && hit->ref.kind == EntityKind::Object) hit->ref.index = shown[size_t(hit->ref.index)];
     if (ui.app.renderer) {
         const CompiledScene& c = ui.app.renderer->compiled();
@@ -456,10 +468,11 @@ void drawSelectionOutline(EditorUi& ui, ImVec2 pos, ImVec2 size) {
         cache = Cache{s.viewCamera(), s.generation(), s.history.revision(), rendererGeneration, selected, ui.app.hidden, w, h, {}};
         cache.shown.assign(std::size_t(w) * std::size_t(h), -1);
         const LensCamera* lens = ui.app.renderer ? ui.app.renderer->lensCamera() : nullptr;
+        const Picker picker(ui);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const glm::vec2 pixel((float(x) + 0.5f) / float(w) * float(rs.width), (float(y) + 0.5f) / float(h) * float(rs.height));
-                const auto hit = pickAt(ui, cameraRay(s.viewCamera(), rs.width, rs.height, pixel, lens));
+                const auto hit = picker.at(cameraRay(s.viewCamera(), rs.width, rs.height, pixel, lens));
                 if (hit && hit->ref.kind == EntityKind::Object) cache.shown[std::size_t(y) * std::size_t(w) + std::size_t(x)] = hit->ref.index;
             }
     }
