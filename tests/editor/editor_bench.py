@@ -5,11 +5,12 @@ translate, an orbit, each followed by rendering) and prints the script's report:
 while rendering (median, p95, max), all frames, and the time from each edit to the first frame
 that shows it. Figures go to docs/performance.md with the machine and its load.
 
-With --build it measures a program build instead (issue 41): the longest frame of the session and
-the longest after the edit that needs a new integrator program (the white material turned to
-gold), the frames drawn with "Building shaders...", and the time from that edit to 16 spp.
-$CAUSTIC_BACKGROUND_BUILDS=0 builds on the window's thread (the "before"); MESA_SHADER_CACHE_DISABLE=true
-and CAUSTIC_PROGRAM_CACHE=off make the builds cold.
+With --build it measures program builds instead (issue 41): for each repro action that needs a
+new integrator program (the gold preset, a rect light, an HDR map, opening another scene), in a
+session of its own, built on the window's thread ($CAUSTIC_BACKGROUND_BUILDS=0: the "before") and
+in the background: the longest frame after the action, the frames drawn with "Building
+shaders...", and the time from the action to N spp. --cold turns Mesa's shader cache and
+caustic's program cache off.
 
 With --converge N it measures convergence instead (issue 15): an idle editor (`idle on`: the
 pacing of a session nobody touches, which gives the path tracer 250 ms a frame) renders the scene
@@ -46,20 +47,27 @@ quit
 """
 
 
-# --build: the longest frame while the scene needs a new integrator program (the white material
-# turned to gold: a conductor, another program on llvmpipe), the frames that announce it, and the
-# time from that edit to 16 spp at the viewport's panel size.
+# --build: each of issue 41's repro actions that needs a new integrator program, in a session of
+# its own: the longest frame after the action, the frames drawn with "Building shaders...", and
+# the time from the action to 4 spp at the viewport's panel size (16 for the gold preset, as
+# measured before).
 BUILD_SCRIPT = """
 viewport panel
 viewport_scale {scale}
 wait_samples 2
-select material white
-apply_preset gold
+{action}
 record_sizes
-wait_samples 16
+wait_samples {samples}
 report report.json
 quit
 """
+
+BUILD_ACTIONS = [
+    ("gold preset", "select material white\napply_preset gold", 16),
+    ("add a rect light", "add_light rect", 4),
+    ("pick an HDR map", "select environment\npick_file environment {hdr}", 4),
+    ("open a scene", "open {other}\nwait_open", 4),
+]
 
 CONVERGE_SCRIPT = """
 idle on
@@ -77,9 +85,14 @@ def main():
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "caustic"))
     ap.add_argument("--converge", type=int, default=0, help="compare an idle editor's time to N spp with batch mode's")
     ap.add_argument("--idle-denoise", action="store_true", help="with --converge: leave Denoise when idle on (the default in the editor)")
-    ap.add_argument("--build", action="store_true", help="the longest frame during a program build, and the time to 16 spp after it")
+    ap.add_argument("--build", action="store_true", help="the longest frame after each repro action that builds a program, "
+                    "built on the window's thread and in the background")
+    ap.add_argument("--cold", action="store_true", help="with --build: Mesa's shader cache and caustic's program cache off")
+    ap.add_argument("--hdr", default="sky.hdr", help="with --build: the environment map as the picker lists it")
     ap.add_argument("--scale", default="1", help="with --build: the viewport scale (auto, 1, 0.5, 0.25)")
     args = ap.parse_args()
+    if args.build:
+        return build_table(args)
     with open(args.scene) as f:
         scene = json.load(f)
     scene.setdefault("render", {})["width"] = args.size
@@ -93,7 +106,7 @@ def main():
             json.dump(scene, f)
         script = os.path.join(tmp, "script.txt")
         with open(script, "w") as f:
-            f.write(CONVERGE_SCRIPT.format(n=args.converge, denoise="" if args.idle_denoise else "denoise_idle off") if args.converge else BUILD_SCRIPT.format(scale=args.scale) if args.build else SCRIPT)
+            f.write(CONVERGE_SCRIPT.format(n=args.converge, denoise="" if args.idle_denoise else "denoise_idle off") if args.converge else SCRIPT)
         env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"))
         batch = None
         try:
@@ -121,18 +134,51 @@ def main():
         print(f"editor / batch          {editor_s / batch_s:.2f}x (goal: 1.5x or less)")
         print(f"load average            {os.getloadavg()[0]:.2f}")
         return
-    if args.build:
-        print(f"longest frame (all frames)  {report.get('all_frames_ms_max'):.0f} ms")
-        print(f"longest frame after the edit {report.get('frame_ms_max_since_last_edit'):.0f} ms")
-        print(f"frames with 'Building shaders' {report.get('frames_building_shaders')}")
-        print(f"edit to first frame         {report.get('edit_to_frame_ms')}")
-        print(f"edit to 16 spp              {report.get('seconds_since_last_edit'):.2f} s at {report.get('viewport_resolution')}")
-        print(f"load average                {os.getloadavg()[0]:.2f}")
-        return
     keys = ["width", "height", "rendering_frames", "frame_ms_median", "frame_ms_p95", "frame_ms_max",
             "all_frames_ms_median", "frame_overhead_ms_median", "overhead_ms_median", "samples_per_frame_mean", "edit_to_frame_ms_median", "edit_to_frame_ms"]
     for k in keys:
         print(f"{k:24} {report.get(k)}")
+
+
+def run_session(args, scene_path, script_text, extra_env):
+    """One editor session under xvfb-run on scene_path with the script; returns its report."""
+    with tempfile.TemporaryDirectory(prefix="caustic-editor-bench-") as tmp:
+        script = os.path.join(tmp, "script.txt")
+        with open(script, "w") as f:
+            f.write(script_text)
+        env = dict(os.environ, CAUSTIC_EDITOR_SCRIPT=script, CAUSTIC_EDITOR_HOME=os.path.join(tmp, "home"), **extra_env)
+        run = xvfb_run([args.bin, scene_path], env, 3600, "1600x1000x24", tmp)
+        if run.returncode != 0:
+            sys.exit(f"editor_bench: the editor failed ({run.returncode}):\n{run.stderr[-2000:]}")
+        with open(os.path.join(tmp, "report.json")) as f:
+            return json.load(f)
+
+
+def build_table(args):
+    with open(args.scene) as f:
+        scene = json.load(f)
+    scene.setdefault("render", {})["width"] = args.size
+    scene["render"]["height"] = args.size
+    scene_file = os.path.join(os.path.dirname(os.path.abspath(args.scene)), f".editor-bench-{os.getpid()}.json")
+    other = os.path.join(ROOT, "scenes", "dof.json")
+    cold = {"MESA_SHADER_CACHE_DISABLE": "true", "CAUSTIC_PROGRAM_CACHE": "off"} if args.cold else {}
+    print(f"scene {os.path.basename(args.scene)} at {args.size} x {args.size}, viewport scale {args.scale}, "
+          f"{'cold (both caches off)' if args.cold else 'caches on'}")
+    print(f"{'action':18} {'builds':22} {'longest frame after':>20} {'frames building':>16} {'to N spp':>10}")
+    try:
+        with open(scene_file, "w") as f:
+            json.dump(scene, f)
+        for name, action, samples in BUILD_ACTIONS:
+            text = BUILD_SCRIPT.format(scale=args.scale, samples=samples, action=action.format(hdr=args.hdr, other=other))
+            if not args.cold:   # the caches warm for both rows, not only for the second
+                run_session(args, scene_file, text, {})
+            for label, background in (("on the window's thread", "0"), ("in the background", "1")):
+                r = run_session(args, scene_file, text, dict(cold, CAUSTIC_BACKGROUND_BUILDS=background))
+                print(f"{name:18} {label:22} {r['frame_ms_max_since_last_edit']:17.0f} ms {r['frames_building_shaders']:16d} "
+                      f"{r['seconds_since_last_edit']:8.2f} s ({samples} spp)", flush=True)
+    finally:
+        os.remove(scene_file)
+    print(f"load average {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
