@@ -57,7 +57,9 @@ const char* shapeName(Shape shape) {
 }
 
 // The camera's look-at point, or the origin: where new things appear.
-glm::vec3 spawnPoint(const Scene& scene) { return scene.camera.lookAt; }
+// Where new objects and lights go: the look-at point of the view the viewport shows (the free
+// view's where there is one: what the user is looking at, not where the render camera points).
+glm::vec3 spawnPoint(const EditorState& s) { return s.viewCamera().lookAt; }
 
 }  // namespace
 
@@ -104,7 +106,7 @@ std::unique_ptr<Command> makeAddObject(const EditorState& s, Shape shape) {
     o.shape = shape;
     o.name = uniqueName(shapeName(shape), namesOf(s.scene.objects));
     o.material = s.scene.materials.empty() ? std::string() : s.scene.materials.front().name;
-    o.transform.translate = spawnPoint(s.scene);
+    o.transform.translate = spawnPoint(s);
     o.transform.scale = glm::vec3(0.25f);
     // A quad faces the camera.
     if (shape == Shape::Quad) o.transform.rotate = glm::vec3(-90.0f, 0.0f, 0.0f);
@@ -118,7 +120,7 @@ std::unique_ptr<Command> makeAddLight(const EditorState& s, LightType type, cons
     l.name = uniqueName(names[static_cast<int>(type)], namesOf(s.scene.lights));
     // Half a unit above the look-at point; while that is inside (or within 0.2 of) an object's
     // bounds, half a unit above the object's top.
-    glm::vec3 p = spawnPoint(s.scene) + glm::vec3(0.0f, 0.5f, 0.0f);
+    glm::vec3 p = spawnPoint(s) + glm::vec3(0.0f, 0.5f, 0.0f);
     for (bool moved = true; moved;) {
         moved = false;
         for (int i = 0; i < int(s.scene.objects.size()); ++i) {

@@ -337,6 +337,22 @@ TEST_CASE("a new light is placed clear of the objects at the look-at point", "[e
     }
 }
 
+TEST_CASE("new objects go where the viewport looks: the free view's look-at point where there is one", "[editor][defaults]") {
+    EditorState s;
+    s.newScene();
+    REQUIRE(s.apply(makeAddObject(s, Shape::Sphere)));
+    CHECK(s.scene.objects.back().transform.translate == s.scene.camera.lookAt);
+    Camera view = s.scene.camera;
+    view.lookAt = glm::vec3(4.0f, 0.5f, -3.0f);
+    view.position = view.lookAt + glm::vec3(0.0f, 1.0f, 5.0f);
+    s.moveView(view, true, true);
+    REQUIRE(s.apply(makeAddObject(s, Shape::Box)));
+    CHECK(s.scene.objects.back().transform.translate == view.lookAt);
+    REQUIRE(s.apply(makeAddLight(s, LightType::Point)));
+    CHECK(s.scene.lights.back().position.x == view.lookAt.x);
+    CHECK(s.scene.lights.back().position.z == view.lookAt.z);
+}
+
 TEST_CASE("tooltips show the schema's Markdown as plain text", "[editor][tooltips]") {
     CHECK(plainText("must differ from `position`") == "must differ from position");
     CHECK(plainText("**bold** and *this*, then `a*b` and 2 * pi") == "bold and this, then a*b and 2 * pi");
