@@ -72,6 +72,11 @@ int ProgramBuilder::completed() const {
     return m_completed;
 }
 
+int ProgramBuilder::compiled() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_compiled;
+}
+
 void ProgramBuilder::run(std::promise<std::string>* started) {
     if (!m_context.makeCurrent()) {
         started->set_value("the shader-building thread could not make its OpenGL context current");
@@ -113,6 +118,7 @@ void ProgramBuilder::run(std::promise<std::string>* started) {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_busy = false;
         ++m_completed;
+        if (wanted) ++m_compiled;
     }
     m_queue.clear();
     m_context.release();

@@ -73,8 +73,9 @@ public:
     void hold(bool on);
     // Builds requested and not yet done (queued or in progress).
     int outstanding() const;
-    // Builds finished since start.
+    // Builds finished since start, and of them those that compiled (not abandoned before they started).
     int completed() const;
+    int compiled() const;
 
 private:
     explicit ProgramBuilder(WorkerContext context) : m_context(std::move(context)) {}
@@ -86,7 +87,7 @@ private:
     std::condition_variable m_wake;
     std::deque<std::shared_ptr<Build>> m_queue;
     bool m_stop = false, m_held = false, m_busy = false;
-    int m_completed = 0;
+    int m_completed = 0, m_compiled = 0;
 };
 
 }  // namespace caustic

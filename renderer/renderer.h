@@ -229,8 +229,11 @@ private:
     unsigned buildProgram(const std::string& file, const ShaderDefines& defines, std::string* error,
                           bool* pending = nullptr);
 
+    // The builds asked of the builder other than the one for wantedKey: finished ones kept (or
+    // their failures), unfinished ones with baked geometry abandoned (their geometry is gone).
+    void settleBuilds(const std::string& wantedKey);
     // Keeps a built program under its key; of those with baked geometry only the last few.
-    void keepProgram(const std::string& key, unsigned program, const ShaderDefines& defines);
+    void keepProgram(const std::string& key, unsigned program);
 
     std::string m_shaderDir;
     ResolvedIntegratorConfig m_config;

@@ -189,6 +189,11 @@ std::string programKey(const std::string& file, const ShaderDefines& defines) {
     return key;
 }
 
+// Whether the program of this key holds baked geometry (serves one geometry only).
+bool bakedKey(const std::string& key) {
+    return key.find("CAUSTIC_BAKED_PRIMITIVES=") != std::string::npos || key.find("CAUSTIC_BAKED_TOP_LEVEL=") != std::string::npos;
+}
+
 }  // namespace
 
 unsigned Renderer::standInProgram() const {
@@ -236,13 +241,16 @@ bool Renderer::selectProgram(std::string* error) {
     // falls back to the general program; when that fails too (the source does not compile), there
     // is no program (m_program 0) and dispatches render nothing until one builds.
     // With a builder (setProgramBuilder) a program not built yet is asked for and this returns at
-    // once: meanwhile the general program renders where it is built and renders the scene right
-    // (the same image: it differs only in code the scene does not reach), else nothing renders
-    // (false with no error, m_waitingForBuild) and the accumulated image stays as it is.
+    // once: meanwhile a stand-in renders where one is built and renders the scene right
+    // (standInProgram: the same image, it differs only in code the scene does not reach or in
+    // where it reads the geometry), else nothing renders (false with no error, m_waitingForBuild)
+    // and the accumulated image stays as it is.
     std::string why;
     bool pending = false;
     bool* async = m_builder ? &pending : nullptr;
-    const unsigned selected = buildProgram("integrator/path.comp", selectedDefines(), &why, async);
+    const ShaderDefines wanted = selectedDefines();
+    if (m_builder) settleBuilds(programKey("integrator/path.comp", wanted));
+    const unsigned selected = buildProgram("integrator/path.comp", wanted, &why, async);
     if (selected) m_program = selected;
     m_waitingForBuild = pending;
     const bool built = selected != 0;
@@ -297,7 +305,7 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
                 return 0;
             }
             const unsigned program = it->second->program();
-            if (program) keepProgram(key, program, defines);
+            if (program) keepProgram(key, program);
             else m_programFailures.emplace(key, *error = it->second->error());
             m_building.erase(it);
             return program;
@@ -312,19 +320,39 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
         return 0;
     }
     const unsigned program = compileComputeProgram(source, file, error, m_config.compileTimes);
-    if (program) keepProgram(key, program, defines);
+    if (program) keepProgram(key, program);
     else m_programFailures.emplace(key, *error);
     return program;
 }
 
-void Renderer::keepProgram(const std::string& key, unsigned program, const ShaderDefines& defines) {
+void Renderer::settleBuilds(const std::string& wantedKey) {
+    for (auto it = m_building.begin(); it != m_building.end();) {
+        if (it->first == wantedKey) {
+            ++it;
+            continue;
+        }
+        if (it->second->done()) {
+            // Finished for a scene no longer shown (an edit came first): kept like any other (baked
+            // ones bounded by keepProgram), so that the builder's programs never pile up here.
+            if (const unsigned program = it->second->program()) keepProgram(it->first, program);
+            else m_programFailures.emplace(it->first, it->second->error());
+            it = m_building.erase(it);
+        } else if (bakedKey(it->first)) {
+            // A baked program for geometry that has changed since: not built at all if it has not
+            // started (a build the scene needs must not queue behind it), deleted if it has.
+            if (const unsigned program = it->second->abandon()) glDeleteProgram(program);
+            it = m_building.erase(it);
+        } else {
+            ++it;
+        }
+    }
+}
+
+void Renderer::keepProgram(const std::string& key, unsigned program) {
     m_programs.emplace(key, program);
     // A program with baked geometry serves one geometry: the editor bakes each time it idles after
     // a geometry edit, so only the last few are kept (the one in use never goes).
-    const bool baked = std::any_of(defines.begin(), defines.end(), [](const auto& d) {
-        return d.first == "CAUSTIC_BAKED_PRIMITIVES" || d.first == "CAUSTIC_BAKED_TOP_LEVEL";
-    });
-    if (!baked) return;
+    if (!bakedKey(key)) return;
     m_bakedKeys.push_back(key);
     constexpr std::size_t kKeptBaked = 4;
     for (auto it = m_bakedKeys.begin(); m_bakedKeys.size() > kKeptBaked && it != m_bakedKeys.end();) {

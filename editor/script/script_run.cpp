@@ -78,7 +78,7 @@ bool ScriptRun::waitFor(EditorUi& ui, const ScriptLine& line, bool done, double 
 void ScriptRun::recordFrame(const EditorUi& ui, double frameSeconds) {
     allFrameMs.push_back(frameSeconds * 1e3);
     if (editTime >= 0.0) sinceEditFrameMs.push_back(frameSeconds * 1e3);
-    if (shadersBuilding(ui)) ++framesBuilding;
+    if (ui.app.session.buildingShaders) ++framesBuilding;
     // The viewport's render size, divisor and samples, whenever one of the first two changes
     // (`record_sizes` starts the list afresh): the refinement after an edit, panel resizes.
     if (ui.app.session.sceneUploaded) {

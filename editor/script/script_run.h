@@ -54,7 +54,7 @@ struct ScriptRun {
     std::vector<double> phaseMs[4];         // rendering frames: RenderSession::phases (ui, render step less path tracing, previews, draw and swap)
     std::vector<double> editLatencyMs;      // edit -> end of the first frame showing it
     std::vector<double> sinceEditFrameMs;   // every frame since the last edit (a build's frames among them)
-    int framesBuilding = 0;                 // frames that showed "Building shaders..."
+    int framesBuilding = 0;                 // frames whose viewport showed "Building shaders..."
     std::vector<int> samplesPerFrame;
     std::vector<std::array<int, 4>> sizes;  // viewport: width, height, divisor, samples (report)
     double editTime = -1.0;

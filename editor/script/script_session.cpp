@@ -261,11 +261,12 @@ ScriptStep holdBuilds(ScriptContext& c) {
     return ScriptStep::done();
 }
 
-// yes: the viewport says "Building shaders..." now; no: it does not.
+// yes: the viewport says "Building shaders..." now; no: it does not (the previews say theirs).
 ScriptStep expectBuilding(ScriptContext& c) {
     bool yes = false;
     if (!c.onOff(&yes)) return ScriptStep::done();
-    if (shadersBuilding(c.ui) != yes) c.fail(yes ? "no shaders are being built" : "shaders are being built");
+    if (c.app.session.buildingShaders != yes)
+        c.fail(yes ? "the viewport builds no shaders" : "the viewport is building shaders");
     return ScriptStep::done();
 }
 
@@ -301,7 +302,7 @@ const ScriptCommand kCommands[] = {
     {"mouse_click", 1, 1, "", mouseClick},             // left | right: click where the mouse is
     {"focus", 1, 1, "", focus},                        // focus a panel: viewport | outliner | inspector
     {"hold_builds", 1, 1, "", holdBuilds},             // on | off: the background program builder starts no build while on
-    {"expect_building", 1, 1, "", expectBuilding},     // yes | no: the viewport says "Building shaders..."
+    {"expect_building", 1, 1, "", expectBuilding},     // yes | no: the viewport says "Building shaders..." (its own builds)
     {"quit", 0, 0, "", quit},
 };
 

@@ -93,7 +93,8 @@ void previewSection(EditorUi& ui, const Material& m) {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("a key light and an even grey fill");
     if (p.lighting == PreviewLighting::Scene && ui.app.state.scene.environment.type == EnvironmentType::None)
         ImGui::TextDisabled("(no environment:\n a studio light)");
-    ImGui::TextDisabled("%d / %d spp", p.samples(), MaterialPreview::kSamples);
+    if (p.buildingShaders()) ImGui::TextDisabled("building shaders...");
+    else ImGui::TextDisabled("%d / %d spp", p.samples(), MaterialPreview::kSamples);
     ImGui::EndGroup();
     if (!p.error().empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "preview: %s", p.error().c_str());
 }
@@ -358,7 +359,8 @@ void cameraInspector(EditorUi& ui) {
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("points of light across the frame at ten times the focus distance: the bokeh's shape at "
                               "each place of the frame");
-        ImGui::TextDisabled("%d / %d spp", p.samples(), p.targetSamples());
+        if (p.buildingShaders()) ImGui::TextDisabled("building shaders...");
+        else ImGui::TextDisabled("%d / %d spp", p.samples(), p.targetSamples());
         if (!p.error().empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "preview: %s", p.error().c_str());
     }
     ImGui::SeparatorText("Saved views");

@@ -566,7 +566,7 @@ void drawViewportPanel(EditorUi& ui) {
     if (ui.app.session.previewDivisor > 1)
         dl->AddText(ImVec2(pos.x + 6.0f, pos.y + size.y - 20.0f), IM_COL32(255, 255, 255, 200), "preview resolution");
     if (ui.app.session.behind) drawLastGoodBanner(ui, pos, size);
-    if (shadersBuilding(ui)) {
+    if (ui.app.session.buildingShaders) {   // the viewport's own (the previews say theirs)
         const char* text = "Building shaders...";
         const ImVec2 t = ImGui::CalcTextSize(text);
         const ImVec2 c(pos.x + size.x * 0.5f, pos.y + size.y * 0.5f);
