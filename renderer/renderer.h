@@ -14,7 +14,6 @@
 
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -152,9 +151,8 @@ public:
     // few analytic primitives and no mesh: CAUSTIC_BAKED_PRIMITIVES, renderer_programs.cpp
     // bakedPrimitiveTests): 1.8x on llvmpipe for the Cornell box, but every change of geometry
     // then builds a new program (about a second on llvmpipe). For renders whose geometry stays
-    // put (batch mode, caustic-bench) and for the editor once it is idle with builds in the
-    // background (render_session.h, kBakeAfter). Off by default; without specialisation it does
-    // nothing. IntegratorConfig::bakeGeometry, where set, overrides it.
+    // put (batch mode, caustic-bench), not for the editor. Off by default; without
+    // specialisation it does nothing. IntegratorConfig::bakeGeometry, where set, overrides it.
     void setBakeGeometry(bool bake) { m_bakeGeometry = bake; }
     // The integrator the last dispatch used (before any: the general one, built if need be).
     unsigned program();
@@ -219,9 +217,8 @@ private:
     // Whether the general program renders the current scene as its own would: the general one
     // leaves out alpha masks and the media of surface parts and random walks (kGeneralMedia).
     bool generalRendersScene() const;
-    // What renders while the scene's program is built in the background: the scene's program
-    // without baked geometry where that is built, else the general one where it renders the scene
-    // right, else none (0).
+    // What renders while the scene's program is built in the background: the general program where
+    // it is built and renders the scene right, else none (0).
     unsigned standInProgram() const;
     // The program of `file` with these defines, compiled the first time; 0 with the compiler's
     // message. With pending (and a builder), one not built yet is asked of the builder (once) and
@@ -230,10 +227,8 @@ private:
                           bool* pending = nullptr);
 
     // The builds asked of the builder other than the one for wantedKey: finished ones kept (or
-    // their failures), unfinished ones with baked geometry abandoned (their geometry is gone).
+    // their failures).
     void settleBuilds(const std::string& wantedKey);
-    // Keeps a built program under its key; of those with baked geometry only the last few.
-    void keepProgram(const std::string& key, unsigned program);
 
     std::string m_shaderDir;
     ResolvedIntegratorConfig m_config;
@@ -241,7 +236,6 @@ private:
     bool m_bakeGeometry = false; // setBakeGeometry
     std::map<std::string, unsigned> m_programs;  // by their defines
     std::map<std::string, std::string> m_programFailures;  // the compiler's message, by the same keys
-    std::deque<std::string> m_bakedKeys;   // the programs with baked geometry kept, oldest first
     unsigned m_general = 0;      // the program without feature defines (but CAUSTIC_ALPHA_MASK 0: renderer_programs.cpp, generalDefines)
     unsigned m_program = 0;      // the one the last dispatch used
     bool m_programFellBack = false;  // programFellBack

@@ -189,23 +189,9 @@ std::string programKey(const std::string& file, const ShaderDefines& defines) {
     return key;
 }
 
-// Whether the program of this key holds baked geometry (serves one geometry only).
-bool bakedKey(const std::string& key) {
-    return key.find("CAUSTIC_BAKED_PRIMITIVES=") != std::string::npos || key.find("CAUSTIC_BAKED_TOP_LEVEL=") != std::string::npos;
-}
-
 }  // namespace
 
-unsigned Renderer::standInProgram() const {
-    // The scene's own program without baked geometry: the same kinds of content, the geometry read
-    // from the buffers (the editor asks for the baked one once it is idle).
-    ShaderDefines unbaked = selectedDefines();
-    std::erase_if(unbaked, [](const auto& d) {
-        return d.first == "CAUSTIC_BAKED_PRIMITIVES" || d.first == "CAUSTIC_BAKED_TOP_LEVEL" || d.first == "CAUSTIC_PAIRED_TRACE";
-    });
-    if (auto it = m_programs.find(programKey("integrator/path.comp", unbaked)); it != m_programs.end()) return it->second;
-    return m_general != 0 && generalRendersScene() ? m_general : 0u;
-}
+unsigned Renderer::standInProgram() const { return m_general != 0 && generalRendersScene() ? m_general : 0u; }
 
 bool Renderer::generalRendersScene() const {
     return !hasAlphaMask(m_compiled) && (mediaBits(makeFrame(m_scene, m_compiled, m_strategy), m_compiled) & ~kGeneralMedia) == 0u;
@@ -242,9 +228,9 @@ bool Renderer::selectProgram(std::string* error) {
     // is no program (m_program 0) and dispatches render nothing until one builds.
     // With a builder (setProgramBuilder) a program not built yet is asked for and this returns at
     // once: meanwhile a stand-in renders where one is built and renders the scene right
-    // (standInProgram: the same image, it differs only in code the scene does not reach or in
-    // where it reads the geometry), else nothing renders (false with no error, m_waitingForBuild)
-    // and the accumulated image stays as it is.
+    // (standInProgram: the same image, it differs only in code the scene does not reach), else
+    // nothing renders (false with no error, m_waitingForBuild) and the accumulated image stays as
+    // it is.
     std::string why;
     bool pending = false;
     bool* async = m_builder ? &pending : nullptr;
@@ -305,7 +291,7 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
                 return 0;
             }
             const unsigned program = it->second->program();
-            if (program) keepProgram(key, program);
+            if (program) m_programs.emplace(key, program);
             else m_programFailures.emplace(key, *error = it->second->error());
             m_building.erase(it);
             return program;
@@ -320,52 +306,22 @@ unsigned Renderer::buildProgram(const std::string& file, const ShaderDefines& de
         return 0;
     }
     const unsigned program = compileComputeProgram(source, file, error, m_config.compileTimes);
-    if (program) keepProgram(key, program);
+    if (program) m_programs.emplace(key, program);
     else m_programFailures.emplace(key, *error);
     return program;
 }
 
 void Renderer::settleBuilds(const std::string& wantedKey) {
+    // Finished for a scene no longer shown (an edit came first): kept like any other, so that what
+    // the builder made never piles up here.
     for (auto it = m_building.begin(); it != m_building.end();) {
-        if (it->first == wantedKey) {
+        if (it->first == wantedKey || !it->second->done()) {
             ++it;
             continue;
         }
-        if (it->second->done()) {
-            // Finished for a scene no longer shown (an edit came first): kept like any other (baked
-            // ones bounded by keepProgram), so that the builder's programs never pile up here.
-            if (const unsigned program = it->second->program()) keepProgram(it->first, program);
-            else m_programFailures.emplace(it->first, it->second->error());
-            it = m_building.erase(it);
-        } else if (bakedKey(it->first)) {
-            // A baked program for geometry that has changed since: not built at all if it has not
-            // started (a build the scene needs must not queue behind it), deleted if it has.
-            if (const unsigned program = it->second->abandon()) glDeleteProgram(program);
-            it = m_building.erase(it);
-        } else {
-            ++it;
-        }
-    }
-}
-
-void Renderer::keepProgram(const std::string& key, unsigned program) {
-    m_programs.emplace(key, program);
-    // A program with baked geometry serves one geometry: the editor bakes each time it idles after
-    // a geometry edit, so only the last few are kept (the one in use never goes).
-    if (!bakedKey(key)) return;
-    m_bakedKeys.push_back(key);
-    constexpr std::size_t kKeptBaked = 4;
-    for (auto it = m_bakedKeys.begin(); m_bakedKeys.size() > kKeptBaked && it != m_bakedKeys.end();) {
-        const auto found = m_programs.find(*it);
-        if (found != m_programs.end() && found->second == m_program) {
-            ++it;
-            continue;
-        }
-        if (found != m_programs.end()) {
-            glDeleteProgram(found->second);
-            m_programs.erase(found);
-        }
-        it = m_bakedKeys.erase(it);
+        if (const unsigned program = it->second->program()) m_programs.emplace(it->first, program);
+        else m_programFailures.emplace(it->first, it->second->error());
+        it = m_building.erase(it);
     }
 }
 

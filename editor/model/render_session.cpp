@@ -163,9 +163,6 @@ RenderStep RenderSession::step(Renderer& renderer, EditorState& state, double no
     const RenderSettings& rs = state.scene.render;
     const double budget = frameBudget(now);
     if (!sceneUploaded) return out;
-    // Baked geometry once idle (kBakeAfter), never built on this thread. A change of program, not
-    // of the image: accumulation goes on (the baked program renders the same samples).
-    renderer.setBakeGeometry(renderer.buildsInBackground() && bakeWanted(now));
     // The scene needs an integrator program not built yet (the editor defers builds to the first
     // dispatch: Renderer::setDeferredProgramBuilds). Built in the background (the editor's
     // ProgramBuilder), the dispatch asks for it and returns: the last image stays with "Building

@@ -40,12 +40,6 @@ inline constexpr double kInteractionHold = 0.25;
 // every frame); the first input after that waits at most one such frame.
 inline constexpr double kIdleAfter = 1.0;
 inline constexpr double kIdleBudget = 0.25;
-// Idle this long with builds in the background (Renderer::buildsInBackground), the renderer may
-// hold the scene's geometry as constants of its program (Renderer::setBakeGeometry: batch mode's
-// speed on llvmpipe, 1.6-2.2x for a few analytic primitives), built while the program that reads
-// the geometry from buffers goes on rendering. Longer than kIdleAfter: a pause between two drags
-// should not start a build.
-inline constexpr double kBakeAfter = 2.0;
 
 // What one step did, for the UI to show.
 struct RenderStep {
@@ -102,7 +96,6 @@ public:
     void noteInput(double now) { m_lastInput = now; }
     bool idlePacing = true;
     bool idle(double now) const { return idlePacing && !interacting && now - m_lastInput > kIdleAfter; }
-    bool bakeWanted(double now) const { return idlePacing && !interacting && now - m_lastInput > kBakeAfter; }
 
     // Something is being dragged this frame (preview resolution), at `now`.
     void noteInteraction(double now) {
