@@ -129,6 +129,12 @@ bool initAndCreate(EGLDisplay display, EGLContext* ctxOut, EGLConfig* configOut,
 int glDebugErrorCount() { return g_debugErrors.load(); }
 int takeGlDebugErrors() { return g_debugErrors.exchange(0); }
 
+void enableGlDebugOutput() {
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(debugCallback, nullptr);
+}
+
 bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::string* error) {
     const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(getProc));
     if (version == 0) { *error = "could not load OpenGL functions"; return false; }
@@ -140,11 +146,7 @@ bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::strin
 #if defined(__SANITIZE_ADDRESS__)
     pinGlDriversForLeakChecks();
 #endif
-    if (debugOutput) {
-        glEnable(GL_DEBUG_OUTPUT);
-        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-        glDebugMessageCallback(debugCallback, nullptr);
-    }
+    if (debugOutput) enableGlDebugOutput();
     return true;
 }
 
@@ -239,6 +241,7 @@ std::unique_ptr<HeadlessGlContext> HeadlessGlContext::create(bool debugOutput, s
     ctx->m_context = context;
     ctx->m_config = config;
     ctx->m_minor = minor;
+    ctx->m_debugOutput = debugOutput;
     if (!loadGlFunctions(reinterpret_cast<void* (*)(const char*)>(eglGetProcAddress), debugOutput, error)) {
         *error = platform + ": " + *error;
         return nullptr;
@@ -260,10 +263,15 @@ ProgramBuilder::WorkerContext HeadlessGlContext::sharedWorkerContext(std::string
         return {};
     }
     EGLDisplay display = m_display;
-    // Made current on the worker thread, and destroyed there when the worker lets it go.
-    return {[display, shared] {
+    const bool debug = m_debugOutput;
+    // Made current on the worker thread (with this context's debug output: errors there count
+    // too), and destroyed there when the worker lets it go.
+    return {[display, shared, debug] {
                 eglBindAPI(EGL_OPENGL_API);
-                if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, shared)) return true;
+                if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, shared)) {
+                    if (debug) enableGlDebugOutput();
+                    return true;
+                }
                 eglDestroyContext(display, shared);
                 return false;
             },

@@ -43,12 +43,17 @@ private:
     void* m_context = nullptr;
     void* m_config = nullptr;   // EGL_NO_CONFIG_KHR where the display has EGL_KHR_no_config_context
     int m_minor = 5;            // the context's OpenGL 4.x minor version
+    bool m_debugOutput = false; // create's debugOutput, for the shared contexts too
     GlContextInfo m_info;
 };
 
 // Loads GL entry points with glad through the given loader and, if asked, installs the debug
 // callback. Shared by the headless context and the editor's window context.
 bool loadGlFunctions(void* (*getProc)(const char*), bool debugOutput, std::string* error);
+
+// Installs the debug callback on the current context (loadGlFunctions does for the first; a second,
+// sharing context, such as a ProgramBuilder's, needs its own: the callback is per context).
+void enableGlDebugOutput();
 
 // Number of GL errors reported through the debug callback so far (tests assert it stays zero).
 int glDebugErrorCount();

@@ -480,9 +480,12 @@ int runEditor(const std::optional<std::string>& sceneFile) {
     {
         auto app = std::make_unique<AppState>();
         if (builderWindow) {
-            ProgramBuilder::WorkerContext context{[builderWindow] {
+            const bool debug = debugEnv && *debugEnv && *debugEnv != '0';
+            ProgramBuilder::WorkerContext context{[builderWindow, debug] {
                                                        glfwMakeContextCurrent(builderWindow);
-                                                       return glfwGetCurrentContext() == builderWindow;
+                                                       if (glfwGetCurrentContext() != builderWindow) return false;
+                                                       if (debug) enableGlDebugOutput();   // errors there count too
+                                                       return true;
                                                    },
                                                    [] { glfwMakeContextCurrent(nullptr); }};
             app->programBuilder = ProgramBuilder::start(std::move(context), &error);
