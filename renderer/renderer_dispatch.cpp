@@ -250,8 +250,8 @@ Renderer::Progress Renderer::renderFor(double budgetSeconds, int maxSamples) {
     // so progress never stops (a tile of 64 pixels is the smallest unit of work: on llvmpipe a
     // row of tiles across a 512-pixel image took 20 ms, more than a frame's budget). Not after
     // whole samples: the call returns a little early instead, because every run that waits for its
-    // dispatch to finish with nothing queued behind it costs throughput (on llvmpipe at 512 x 512,
-    // 32 calls of one sample took 1.66x the time of one call of 32; docs/performance.md).
+    // dispatch to finish with nothing queued behind it costs throughput (docs/performance.md,
+    // "An idle editor against batch mode").
     const std::uint32_t tiles = tileCount();
     while (p.samplesCompleted < maxSamples && !(p.samplesCompleted > 0 && m_bandTile == 0)) {
         const double left = budgetSeconds - elapsed();

@@ -37,10 +37,11 @@ public:
     CommandStack history;
     std::string path;            // the file the scene belongs to; empty while untitled
 
-    // The viewport's own view (Blender's free view, the Blender key map): navigation and the
-    // numpad views move it instead of the scene's camera; it is neither saved nor undone, and a
-    // new or opened scene starts without one. Empty: the viewport looks through the scene camera
-    // (always so in the default key map, where navigating moves the camera: lookdev's way).
+    // The viewport's own view (Blender's free view: the Blender key map navigates it, the default
+    // map once View > Free view turns it on): navigation and the numpad views move it instead of
+    // the scene's camera; it is neither saved nor undone, and a new or opened scene starts without
+    // one. Empty: the viewport looks through the scene camera, and the default map's navigation
+    // moves the camera (lookdev's way).
     std::optional<Camera> freeView;
     const Camera& viewCamera() const { return freeView ? *freeView : scene.camera; }
     // Navigation to `to`: into the free view (freeView mode; made from the camera if there was

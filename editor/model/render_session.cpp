@@ -68,8 +68,8 @@ private:
 Scene RenderSession::viewportScene(const EditorState& state, glm::ivec2 size) {
     Scene scene = hidden.empty() ? state.scene : withoutHidden(state.scene, hidden, &renderedObjects);
     if (hidden.empty()) renderedObjects.clear();
-    // The viewport's free view (Blender key map); Render to file and scripts at the output size
-    // render through the scene camera.
+    // The viewport's free view (EditorState::freeView); Render to file and scripts at the output
+    // size render through the scene camera.
     if (state.freeView && !outputSize) scene.camera = *state.freeView;
     scene.render.width = size.x;
     scene.render.height = size.y;

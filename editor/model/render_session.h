@@ -163,10 +163,10 @@ private:
     // The scene (EditorState::generation) of which the viewport shows a whole image, if any.
     std::optional<std::uint64_t> m_displayedWholeImageOf;
     std::vector<std::string> m_appliedHidden;
-    std::uint32_t m_deferredDirty = 0;
+    std::uint32_t m_deferredDirty = 0;   // unseen material edits, handed over with the next real update
     int m_buildWait = 0;   // frames still to draw before the program build
     bool m_throughFreeView = false;   // the renderer's camera is the free view
-    bool m_programFailed = false;     // renderError is the renderer's programError  // unseen material edits, handed over with the next real update
+    bool m_programFailed = false;     // renderError is the renderer's programError
 };
 
 }  // namespace caustic::editor

@@ -528,8 +528,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
         else showError(*ui, "the path tracer's shaders did not compile (fix them and press F5):\n" + error);
         app->display = Display::create(app->shaderDir, &error);
         app->denoiser = std::make_unique<ViewportDenoiser>();
-        // Denoise when idle shares the CPU with the path tracer on llvmpipe (time to 128 spp at
-        // 512 x 512: +46 %, docs/performance.md): off there by default, on where a GPU renders.
+        // Denoise when idle shares the CPU with the path tracer on llvmpipe (it slows convergence
+        // there: docs/performance.md): off there by default, on where a GPU renders.
         if (app->renderer && onLlvmpipe()) app->denoiser->settings.idleDenoise = false;
         if (!app->display) showError(*ui, error);
 
@@ -578,8 +578,8 @@ int runEditor(const std::optional<std::string>& sceneFile) {
             const int queuedBefore = ImGui::GetCurrentContext()->InputEventsQueue.Size;
             // Only waiting for a program built in the background: a few frames a second, leaving
             // the CPU to the build (on llvmpipe the window's drawing takes a core of its own).
-            const bool onlyBuilding = shadersBuilding(*ui) && !app->preview->converging() && !app->bokehPreview->converging() &&
-                                      app->renderer && app->renderer->waitingForBuild();
+            const bool onlyBuilding = app->renderer && app->renderer->waitingForBuild() && !app->preview->converging() &&
+                                      !app->bokehPreview->converging();
             if (!busy && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone) glfwWaitEventsTimeout(0.25);
             else if (onlyBuilding && app->driver->mayWaitForInput() && app->state.pendingDirty() == kDirtyNone)
                 glfwWaitEventsTimeout(0.1);

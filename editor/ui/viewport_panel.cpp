@@ -407,12 +407,11 @@ void navigate(EditorUi& ui, ImVec2 imageSize) {
     }
 }
 
-// What the viewport shows along the ray, as a click picks it: objects and lights (hidden objects
+// What the viewport shows along a ray, as a click picks it: objects and lights (hidden objects
 // left out, indices mapped back), meshes through the renderer's own CPU copy of their BVHs (the
 // canonical shapes know no triangles; the renderer's objects mapped by session.renderedObjects),
-// through the alpha cut-outs as the render shows them.
-// A Picker holds the scene without its hidden objects, made once for many rays (the selection
-// outline casts thousands a frame).
+// through the alpha cut-outs as the render shows them. A Picker makes the scene without its
+// hidden objects once for many rays (the selection outline casts thousands a frame).
 struct Picker {
     EditorUi& ui;
     std::optional<Scene> withoutHiddenScene;   // with hidden objects only
